@@ -1,0 +1,19 @@
+/* Capacities of the host build configuration: sized for two 640x480 depth sensors
+ * at the default 5 mm voxel leaf inside the default workspace crop box.
+ * Every value here is a compile-time constant; core/include/fg/core/limits.hpp
+ * supplies defaults for anything a configuration leaves out and checks the relations. */
+#ifndef FG_LIMITS_H
+#define FG_LIMITS_H
+
+#define FG_MAX_VOXELS 98304u          /* occupied voxels of the merged cloud */
+#define FG_VOXEL_HASH_SLOTS 262144u   /* open-addressing slots, a power of two > 2x voxels */
+#define FG_MAX_OBJECT_POINTS 16384u   /* voxel centroids of the target object */
+#define FG_HULL_GRID_DIM 256u         /* silhouette raster is at most DIM x DIM cells */
+#define FG_MAX_CONTOUR_VERTICES 4096u /* concave hull polygon */
+#define FG_MAX_SCAN_LINES 512u        /* scan lines over one silhouette */
+#define FG_MAX_VIEWPOINTS 256u        /* virtual viewpoints over all families */
+#define FG_MAX_CANDIDATES 512u        /* ranked grasp candidates kept for the checks */
+#define FG_RANSAC_MAX_ITERS 1024u     /* upper bound of the configured iteration count */
+#define FG_MAX_SENSORS 2u             /* head and hand */
+
+#endif

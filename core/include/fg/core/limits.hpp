@@ -1,0 +1,56 @@
+// Compile-time capacities of the build configuration (config/<preset>/fg_limits.h),
+// with defaults for anything left out and the relations between them checked.
+#pragma once
+#include <cstdint>
+#include "fg_limits.h"
+
+#ifndef FG_MAX_VOXELS
+#define FG_MAX_VOXELS 98304u
+#endif
+#ifndef FG_VOXEL_HASH_SLOTS
+#define FG_VOXEL_HASH_SLOTS 262144u
+#endif
+#ifndef FG_MAX_OBJECT_POINTS
+#define FG_MAX_OBJECT_POINTS 16384u
+#endif
+#ifndef FG_HULL_GRID_DIM
+#define FG_HULL_GRID_DIM 256u
+#endif
+#ifndef FG_MAX_CONTOUR_VERTICES
+#define FG_MAX_CONTOUR_VERTICES 4096u
+#endif
+#ifndef FG_MAX_SCAN_LINES
+#define FG_MAX_SCAN_LINES 512u
+#endif
+#ifndef FG_MAX_VIEWPOINTS
+#define FG_MAX_VIEWPOINTS 256u
+#endif
+#ifndef FG_MAX_CANDIDATES
+#define FG_MAX_CANDIDATES 512u
+#endif
+#ifndef FG_RANSAC_MAX_ITERS
+#define FG_RANSAC_MAX_ITERS 1024u
+#endif
+#ifndef FG_MAX_SENSORS
+#define FG_MAX_SENSORS 2u
+#endif
+
+namespace fg {
+inline constexpr uint32_t kMaxVoxels = FG_MAX_VOXELS;
+inline constexpr uint32_t kVoxelHashSlots = FG_VOXEL_HASH_SLOTS;
+inline constexpr uint32_t kMaxObjectPoints = FG_MAX_OBJECT_POINTS;
+inline constexpr uint32_t kHullGridDim = FG_HULL_GRID_DIM;
+inline constexpr uint32_t kMaxContourVertices = FG_MAX_CONTOUR_VERTICES;
+inline constexpr uint32_t kMaxScanLines = FG_MAX_SCAN_LINES;
+inline constexpr uint32_t kMaxViewpoints = FG_MAX_VIEWPOINTS;
+inline constexpr uint32_t kMaxCandidates = FG_MAX_CANDIDATES;
+inline constexpr uint32_t kRansacMaxIters = FG_RANSAC_MAX_ITERS;
+inline constexpr uint32_t kMaxSensors = FG_MAX_SENSORS;
+
+static_assert(kMaxVoxels > 0 && kMaxObjectPoints > 0, "capacities must be positive");
+static_assert((kVoxelHashSlots & (kVoxelHashSlots - 1)) == 0, "hash slots must be a power of two");
+static_assert(kVoxelHashSlots >= 2 * kMaxVoxels, "keep the voxel hash at most half full");
+static_assert(kMaxObjectPoints <= kMaxVoxels, "the object is a subset of the voxels");
+static_assert(kHullGridDim >= 16 && kHullGridDim <= 4096, "hull raster size out of range");
+static_assert(kMaxContourVertices >= 8, "contour capacity too small");
+}  // namespace fg

@@ -1,0 +1,33 @@
+// Host-only: a point cloud as read from a file (PCD or PLY). Host code may allocate.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace fg::host {
+
+struct PointCloud {
+  std::vector<float> xyz;         //!< 3 floats per point, x y z; NaN kept for missing pixels
+  uint32_t width = 0;             //!< organized: image width; unorganized: point count
+  uint32_t height = 1;            //!< organized: image height; unorganized: 1
+  bool organized() const { return height > 1; }
+  size_t size() const { return xyz.size() / 3; }
+  //! PCD VIEWPOINT tx ty tz qw qx qy qz (identity when the file has none)
+  std::array<double, 7> viewpoint{{0, 0, 0, 1, 0, 0, 0}};
+};
+
+//! Limits a reader enforces before it allocates anything.
+struct ReadLimits {
+  uint64_t max_points = 10'000'000;     //!< more declared points -> error
+  uint64_t max_file_bytes = 1ull << 31; //!< larger files -> error
+};
+
+//! The outcome of a read: ok, or an error message naming the file and the problem.
+struct ReadResult {
+  bool ok = true;
+  std::string error;
+  static ReadResult failure(std::string msg) { return ReadResult{false, std::move(msg)}; }
+};
+
+}  // namespace fg::host

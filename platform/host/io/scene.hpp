@@ -1,0 +1,45 @@
+// Host-only: the scene manifest of spec/scene-and-cli.md.
+#pragma once
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+#include "point_cloud.hpp"
+
+namespace fg::host {
+
+struct PoseD {
+  std::array<double, 3> position{{0, 0, 0}};
+  std::array<std::array<double, 3>, 3> rotation{{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
+};
+
+struct SceneSensor {
+  std::string name;        //!< "head" or "hand"
+  std::string cloud_path;  //!< resolved against the manifest's folder
+  std::optional<PoseD> pose;                    //!< world_T_sensor
+  std::optional<std::array<double, 6>> joints;  //!< UR5 joints, instead of pose
+  std::optional<PoseD> hand_eye;                //!< tool0_T_sensor with joints
+};
+
+struct SceneGripper {
+  double max_opening = 0.085;
+  double finger_width = 0.022;
+  double finger_depth = 0.040;
+};
+
+struct Scene {
+  std::string manifest_path;
+  std::vector<SceneSensor> sensors;
+  SceneGripper gripper;
+};
+
+//! Parses and validates a manifest: JSON syntax, nesting depth, sensor names (head,
+//! hand; each at most once), pose shapes and finiteness, rotation orthonormality,
+//! gripper ranges. Errors name the file and the problem.
+ReadResult read_scene(const std::string& path, Scene& out);
+ReadResult parse_scene(const std::string& text, const std::string& manifest_path, Scene& out);
+
+//! Writes a manifest (used by exporters and tests).
+ReadResult write_scene(const std::string& path, const Scene& scene);
+
+}  // namespace fg::host
