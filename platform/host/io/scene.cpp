@@ -1,1 +1,232 @@
+// Host-only scene manifest reader/writer (spec/scene-and-cli.md).
 #include "scene.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+namespace fg::host {
+namespace {
+using nlohmann::json;
+
+constexpr size_t kMaxManifestBytes = 1u << 20;  // a manifest is a few hundred bytes
+constexpr int kMaxNesting = 32;
+constexpr size_t kMaxSensors = 8;  // more is never a valid scene; keeps errors short
+
+std::string dir_of(const std::string& path) {
+  const size_t slash = path.find_last_of('/');
+  return slash == std::string::npos ? std::string() : path.substr(0, slash + 1);
+}
+
+// Depth of [ and { outside strings: rejects absurd nesting before parsing.
+int max_nesting(const std::string& s) {
+  int depth = 0, worst = 0;
+  bool in_str = false, esc = false;
+  for (char ch : s) {
+    if (in_str) {
+      if (esc) esc = false;
+      else if (ch == '\\') esc = true;
+      else if (ch == '"') in_str = false;
+      continue;
+    }
+    if (ch == '"') in_str = true;
+    else if (ch == '[' || ch == '{') worst = std::max(worst, ++depth);
+    else if (ch == ']' || ch == '}') --depth;
+  }
+  return worst;
+}
+
+struct Ctx {
+  std::string file;
+  std::string err;
+  bool fail(const std::string& what) {
+    if (err.empty()) err = file + ": " + what;
+    return false;
+  }
+};
+
+bool finite_number(const json& v, double& out) {
+  if (!v.is_number()) return false;
+  out = v.get<double>();
+  return std::isfinite(out);
+}
+
+bool read_vec(const json& v, size_t n, double* out, Ctx& c, const std::string& what) {
+  if (!v.is_array() || v.size() != n)
+    return c.fail(what + " must be an array of " + std::to_string(n) + " numbers");
+  for (size_t i = 0; i < n; ++i)
+    if (!finite_number(v[i], out[i]))
+      return c.fail(what + " has a value that is not a finite number (NaN, Inf or not a number)");
+  return true;
+}
+
+bool read_pose(const json& v, PoseD& p, Ctx& c, const std::string& what) {
+  if (!v.is_object()) return c.fail(what + " must be an object with position and rotation");
+  if (!v.contains("position")) return c.fail(what + " has no position");
+  if (!v.contains("rotation")) return c.fail(what + " has no rotation");
+  if (!read_vec(v["position"], 3, p.position.data(), c, what + ".position")) return false;
+  const json& r = v["rotation"];
+  if (!r.is_array() || r.size() != 3) return c.fail(what + ".rotation must be 3 rows of 3 numbers");
+  for (size_t i = 0; i < 3; ++i)
+    if (!read_vec(r[i], 3, p.rotation[i].data(), c, what + ".rotation row " + std::to_string(i)))
+      return false;
+  double worst = 0;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      double dot = 0;
+      for (int k = 0; k < 3; ++k) dot += p.rotation[k][i] * p.rotation[k][j];
+      worst = std::max(worst, std::fabs(dot - (i == j ? 1.0 : 0.0)));
+    }
+  if (worst > 1e-3)
+    return c.fail(what + ".rotation is not orthonormal (R^T R differs from identity by " +
+                  std::to_string(worst) + ")");
+  const auto& R = p.rotation;
+  const double det = R[0][0] * (R[1][1] * R[2][2] - R[1][2] * R[2][1]) -
+                     R[0][1] * (R[1][0] * R[2][2] - R[1][2] * R[2][0]) +
+                     R[0][2] * (R[1][0] * R[2][1] - R[1][1] * R[2][0]);
+  if (det < 0) return c.fail(what + ".rotation is a reflection (determinant -1)");
+  for (double x : p.position)
+    if (std::fabs(x) > 100.0) return c.fail(what + ".position is more than 100 m from the robot");
+  return true;
+}
+
+bool read_gripper(const json& v, SceneGripper& g, Ctx& c) {
+  if (!v.is_object()) return c.fail("gripper must be an object");
+  struct Field {
+    const char* name;
+    double* out;
+    double lo, hi;
+  } fields[] = {{"max_opening", &g.max_opening, 0.005, 0.5},
+                {"finger_width", &g.finger_width, 0.002, 0.2},
+                {"finger_depth", &g.finger_depth, 0.005, 0.3}};
+  for (const Field& f : fields) {
+    if (!v.contains(f.name)) continue;
+    double x = 0;
+    if (!finite_number(v[f.name], x))
+      return c.fail(std::string("gripper.") + f.name + " must be a finite number");
+    if (x < f.lo || x > f.hi)
+      return c.fail(std::string("gripper.") + f.name + " = " + std::to_string(x) + " is outside " +
+                    std::to_string(f.lo) + ".." + std::to_string(f.hi) + " m");
+    *f.out = x;
+  }
+  return true;
+}
+}  // namespace
+
+ReadResult parse_scene(const std::string& text, const std::string& manifest_path, Scene& out) {
+  Ctx c{manifest_path, {}};
+  out = Scene{};
+  out.manifest_path = manifest_path;
+  if (text.size() > kMaxManifestBytes)
+    return ReadResult::failure(manifest_path + ": manifest is larger than 1 MiB");
+  if (max_nesting(text) > kMaxNesting)
+    return ReadResult::failure(manifest_path + ": JSON nesting deeper than " +
+                               std::to_string(kMaxNesting) + " levels");
+  json root;
+  try {
+    root = json::parse(text);
+  } catch (const json::exception& e) {
+    return ReadResult::failure(manifest_path + ": invalid JSON: " + e.what());
+  }
+  if (!root.is_object()) return ReadResult::failure(manifest_path + ": the manifest must be a JSON object");
+  if (!root.contains("sensors")) return ReadResult::failure(manifest_path + ": no \"sensors\" array");
+  const json& sensors = root["sensors"];
+  if (!sensors.is_array() || sensors.empty())
+    return ReadResult::failure(manifest_path + ": \"sensors\" must be a non-empty array");
+  if (sensors.size() > kMaxSensors || sensors.size() > 2)
+    return ReadResult::failure(manifest_path + ": " + std::to_string(sensors.size()) +
+                               " sensors; at most two (head and hand) are supported");
+  const std::string base = dir_of(manifest_path);
+  for (size_t i = 0; i < sensors.size(); ++i) {
+    const json& s = sensors[i];
+    const std::string where = "sensors[" + std::to_string(i) + "]";
+    if (!s.is_object()) return ReadResult::failure(manifest_path + ": " + where + " must be an object");
+    SceneSensor ss;
+    if (!s.contains("name") || !s["name"].is_string())
+      return ReadResult::failure(manifest_path + ": " + where + " has no name string");
+    ss.name = s["name"].get<std::string>();
+    if (ss.name != "head" && ss.name != "hand")
+      return ReadResult::failure(manifest_path + ": " + where + " is named \"" + ss.name +
+                                 "\"; sensors must be named head or hand");
+    for (const SceneSensor& prev : out.sensors)
+      if (prev.name == ss.name)
+        return ReadResult::failure(manifest_path + ": sensor \"" + ss.name + "\" appears twice");
+    const std::string sw = "sensor \"" + ss.name + "\"";
+    if (!s.contains("cloud") || !s["cloud"].is_string() || s["cloud"].get<std::string>().empty())
+      return ReadResult::failure(manifest_path + ": " + sw + " has no \"cloud\" file name");
+    const std::string cloud = s["cloud"].get<std::string>();
+    if (cloud.find('\0') != std::string::npos)
+      return ReadResult::failure(manifest_path + ": " + sw + " cloud path has a NUL byte");
+    ss.cloud_path = (!cloud.empty() && cloud[0] == '/') ? cloud : base + cloud;
+    if (s.contains("pose")) {
+      PoseD p;
+      if (!read_pose(s["pose"], p, c, sw + " pose")) return ReadResult::failure(c.err);
+      ss.pose = p;
+    } else if (s.contains("joints")) {
+      std::array<double, 6> q{};
+      if (!read_vec(s["joints"], 6, q.data(), c, sw + " joints")) return ReadResult::failure(c.err);
+      ss.joints = q;
+      if (s.contains("hand_eye")) {
+        PoseD he;
+        if (!read_pose(s["hand_eye"], he, c, sw + " hand_eye")) return ReadResult::failure(c.err);
+        ss.hand_eye = he;
+      }
+    } else {
+      return ReadResult::failure(manifest_path + ": " + sw + " has neither \"pose\" nor \"joints\"");
+    }
+    out.sensors.push_back(ss);
+  }
+  if (root.contains("gripper") && !read_gripper(root["gripper"], out.gripper, c))
+    return ReadResult::failure(c.err);
+  return {};
+}
+
+ReadResult read_scene(const std::string& path, Scene& out) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) return ReadResult::failure(path + ": cannot open the scene manifest");
+  f.seekg(0, std::ios::end);
+  const std::streamoff size = f.tellg();
+  if (size < 0) return ReadResult::failure(path + ": cannot read the scene manifest");
+  if (static_cast<size_t>(size) > kMaxManifestBytes)
+    return ReadResult::failure(path + ": manifest is larger than 1 MiB");
+  f.seekg(0);
+  std::string text(static_cast<size_t>(size), '\0');
+  if (!f.read(text.data(), size)) return ReadResult::failure(path + ": cannot read the scene manifest");
+  return parse_scene(text, path, out);
+}
+
+namespace {
+json pose_json(const PoseD& p) {
+  json r = json::array();
+  for (const auto& row : p.rotation) r.push_back({row[0], row[1], row[2]});
+  return json{{"position", {p.position[0], p.position[1], p.position[2]}}, {"rotation", r}};
+}
+}  // namespace
+
+ReadResult write_scene(const std::string& path, const Scene& scene) {
+  json sensors = json::array();
+  const std::string base = dir_of(path);
+  for (const SceneSensor& s : scene.sensors) {
+    std::string cloud = s.cloud_path;
+    if (!base.empty() && cloud.rfind(base, 0) == 0) cloud = cloud.substr(base.size());
+    json js{{"name", s.name}, {"cloud", cloud}};
+    if (s.pose) js["pose"] = pose_json(*s.pose);
+    if (s.joints) js["joints"] = *s.joints;
+    if (s.hand_eye) js["hand_eye"] = pose_json(*s.hand_eye);
+    sensors.push_back(js);
+  }
+  json root{{"sensors", sensors},
+            {"gripper",
+             {{"max_opening", scene.gripper.max_opening},
+              {"finger_width", scene.gripper.finger_width},
+              {"finger_depth", scene.gripper.finger_depth}}}};
+  std::ofstream f(path);
+  if (!f) return ReadResult::failure(path + ": cannot write the scene manifest");
+  f << root.dump(1) << "\n";
+  if (!f) return ReadResult::failure(path + ": write failed");
+  return {};
+}
+
+}  // namespace fg::host

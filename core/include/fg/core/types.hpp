@@ -2,6 +2,8 @@
 #pragma once
 #include <cstdint>
 #include <Eigen/Core>
+#include <Eigen/Geometry>  // cross products
+#include <Eigen/LU>        // 3x3 determinant
 
 namespace fg {
 

@@ -1,0 +1,36 @@
+// Euclidean clustering on the voxel grid (cells within `cells` of each other are
+// neighbours: 26-connectivity for 1) and the choice of the target cluster.
+#pragma once
+#include <cstdint>
+#include "fg/core/config.hpp"
+#include "fg/core/voxel_grid.hpp"
+
+namespace fg {
+
+//! Per-voxel state used by the clustering (one byte per voxel).
+enum VoxelState : uint8_t { kVoxelRemoved = 0, kVoxelFree = 1, kVoxelVisited = 2, kVoxelTarget = 3 };
+
+struct ClusterParams {
+  uint32_t cells = 1;
+  uint32_t min_points = 30;
+  float centre_x = 0.5f, centre_y = 0.f;
+  TargetRule rule = TargetRule::nearest_to_centre;
+};
+
+struct ClusterResult {
+  uint32_t clusters = 0;        //!< clusters of at least min_points
+  uint32_t target_size = 0;     //!< voxels in the target (0: none)
+  uint32_t other_points = 0;    //!< non-removed voxels outside the target
+};
+
+//! Labels the connected components of the voxels whose state is kVoxelFree, picks the
+//! target (nearest centroid to the centre in x-y, or the largest; ties go to the
+//! component found first) and marks its voxels kVoxelTarget (the others
+//! kVoxelVisited). `queue` needs grid.size() entries. Target voxel indices are written
+//! to `target` in breadth-first order (at most target_capacity; the caller checks
+//! target_size against it). O(voxels * neighbours): every voxel is queued once.
+ClusterResult cluster_and_pick(const VoxelGrid& grid, uint8_t* state, uint32_t* queue,
+                               const ClusterParams& params, uint32_t* target,
+                               uint32_t target_capacity);
+
+}  // namespace fg

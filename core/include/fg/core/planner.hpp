@@ -1,0 +1,206 @@
+// The grasp planner: one fixed-size workspace object that ingests the sensors'
+// points and plans a force-balance grasp (design/algorithm.md A-F).
+// It never allocates, throws or recurses; every loop is bounded by a capacity of
+// fg_limits.h or a configured count. Construct it once (it is large: keep it static
+// or in caller memory), configure(), then per plan: reset(), add_*(), plan().
+#pragma once
+#include <cstdint>
+#include "fg/core/cluster.hpp"
+#include "fg/core/config.hpp"
+#include "fg/core/force_balance.hpp"
+#include "fg/core/hull.hpp"
+#include "fg/core/limits.hpp"
+#include "fg/core/plane.hpp"
+#include "fg/core/point_buffer.hpp"
+#include "fg/core/status.hpp"
+#include "fg/core/types.hpp"
+#include "fg/core/voxel_grid.hpp"
+
+namespace fg {
+
+enum class SensorRole : uint8_t { head = 0, hand = 1 };
+
+struct PinholeIntrinsics {
+  float fx = 525.f, fy = 525.f, cx = 319.5f, cy = 239.5f;
+};
+
+//! Pipeline stages, each timed.
+enum class Stage : uint8_t { ingest, plane, cluster, frame, xoy, xoz, select, total, count };
+const char* to_string(Stage s);
+
+//! Viewpoint families: the paper's arc between the sensors, then (extend_search)
+//! the rest of the circle about the principal axis and circles about the other axes.
+enum class ViewFamily : uint8_t { sensor_arc = 0, full_circle = 1, middle_axis = 2, minor_axis = 3 };
+
+struct Grasp {
+  Vec3 position = Vec3::Zero();  //!< world, centre between the pads
+  Vec3 approach = Vec3::UnitZ(); //!< world unit vector, palm towards object
+  Vec3 closing = Vec3::UnitX();  //!< world unit vector, one finger towards the other
+  float width = 0.f;             //!< object width between the contact regions (m)
+  float beta = 0.f;              //!< XOY force balance (rad)
+  float dz = 0.f;                //!< XOZ force balance (m)
+  float viewpoint = 0.f;         //!< rotation of the chosen viewpoint about its axis (rad)
+  ViewFamily family = ViewFamily::sensor_arc;
+  Vec3 pregrasp = Vec3::Zero();  //!< position backed off along -approach
+};
+
+struct PointCounts {
+  uint32_t input = 0;         //!< points offered by the sensors
+  uint32_t finite = 0;        //!< finite points
+  uint32_t after_filter = 0;  //!< inside the range filter and the crop box
+  uint32_t voxels = 0;        //!< occupied voxels of the merged cloud
+  uint32_t plane = 0;         //!< voxels of the support plane
+  uint32_t object = 0;        //!< voxels of the target object
+};
+
+//! Why candidates were turned down during the checks (counts).
+struct RejectCounts {
+  uint32_t table = 0, collision = 0, friction = 0, contact = 0;
+};
+
+struct PlanResult {
+  Status status = Status::internal_error;
+  NoGraspReason reason = NoGraspReason::none;
+  const char* message = "";  //!< static text naming the problem
+  Grasp grasp;
+  PointCounts points;
+  RejectCounts rejected;
+  uint32_t viewpoints = 0;   //!< viewpoints analysed
+  uint32_t candidates = 0;   //!< candidates ranked
+  uint32_t stage_us[static_cast<uint32_t>(Stage::count)] = {};
+};
+
+//! Per-viewpoint summary kept for reports and pictures.
+struct ViewRecord {
+  ViewFamily family;
+  float theta;      //!< rad about the family's axis
+  Vec3 X, Y, Z;     //!< the virtual object frame (closing, axis, approach)
+  bool has_candidate;
+  float beta;       //!< best candidate's beta (when has_candidate)
+  float dz;         //!< best candidate's dz
+};
+
+//! A stage-by-stage picture of one viewpoint, recomputed on demand (host pictures).
+struct ViewDetail {
+  Vec2 points[kMaxObjectPoints];
+  uint32_t n_points = 0;
+  Vec2 contour[kMaxContourVertices];
+  uint32_t n_contour = 0;
+  ScanLine lines[kMaxScanLines];
+  uint32_t n_lines = 0;
+  SideFit best;
+  bool has_best = false;
+};
+
+class Planner {
+ public:
+  Planner() = default;
+  Planner(const Planner&) = delete;
+  Planner& operator=(const Planner&) = delete;
+
+  //! Validates and installs cfg (invalid_config names the field via *field), and resets.
+  Status configure(const PlannerConfig& cfg, const char** field = nullptr);
+  const PlannerConfig& config() const { return cfg_; }
+
+  //! Forgets all sensor data.
+  void reset();
+
+  //! Adds `count` points (x, y, z floats, `stride_bytes` apart) given in the sensor's
+  //! optical frame. Non-finite points and points outside the range filter or the crop
+  //! box are dropped and counted. Each role may be added once per plan.
+  Status add_points(SensorRole role, const float* xyz, uint32_t count, uint32_t stride_bytes,
+                    const Pose& world_T_sensor);
+
+  //! Adds a depth image (uint16 millimetres, 0 = no reading, row-major width x height).
+  Status add_depth_image(SensorRole role, const uint16_t* depth_mm, uint16_t width,
+                         uint16_t height, const PinholeIntrinsics& k, const Pose& world_T_sensor);
+
+  //! Plans on everything added since reset().
+  Status plan(PlanResult& out);
+
+  //! The message of the last add_* or plan failure (static text).
+  const char* last_message() const { return message_; }
+
+  // Inspection after plan(), for reports and pictures (host side).
+  const Plane& plane() const { return plane_; }
+  bool plane_found() const { return plane_found_; }
+  const PointSpan& object_points() const { return object_; }
+  const VoxelGrid& voxels() const { return grid_; }
+  uint8_t voxel_state(uint32_t i) const { return state_[i]; }
+  uint32_t view_count() const { return n_views_; }
+  const ViewRecord& view(uint32_t i) const { return views_[i]; }
+  int32_t chosen_view() const { return chosen_view_; }
+  const Vec3& object_centroid() const { return centroid_; }
+  //! Recomputes the silhouette, contour, scan lines and best window of a viewpoint.
+  Status analyze_view(uint32_t view_index, ViewDetail& out);
+
+ private:
+  struct Candidate {
+    uint32_t view;
+    float beta, dz, width, rank;
+    Vec3 position;  //!< world
+    bool balanced;  //!< beta <= beta_max
+  };
+  struct ViewFrame {
+    Vec3 X, Y, Z;
+  };
+
+  Status check_pose(const Pose& p);
+  Status ingest_begin(SensorRole role, const Pose& world_T_sensor);
+  bool build_object_frame(Vec3 axes[3], Vec3& X0);
+  uint32_t add_family(ViewFamily fam, const Vec3& axis, const Vec3& X0, float from, float to,
+                      bool skip_arc, float arc_from, float arc_to);
+  void analyse_views(uint32_t first, uint32_t last, PlanResult& out);
+  void project(const ViewFrame& f);
+  bool xoz(const ViewFrame& f, const SideFit& w, Candidate& c);
+  bool executable(const Candidate& c, PlanResult& out);
+  bool friction_ok(const Vec3& pos, const ViewFrame& f, float width);
+  bool normal_at(uint32_t object_index, Vec3& n);
+  uint32_t rank_and_check(uint32_t first_candidate, PlanResult& out);
+  void fill_grasp(const Candidate& c, PlanResult& out);
+  float view_theta_step() const;
+
+  PlannerConfig cfg_;
+  const char* message_ = "";
+
+  // Sensors
+  bool role_added_[kMaxSensors] = {};
+  Vec3 sensor_origin_[kMaxSensors];
+  PointCounts counts_;
+  Vec3 crop_min_ = Vec3::Zero(), crop_max_ = Vec3::Zero();
+  uint32_t ingest_us_ = 0;
+  bool overflow_ = false;
+
+  // A. partial model
+  VoxelGrid grid_;
+  uint8_t state_[kMaxVoxels];
+  uint32_t queue_[kMaxVoxels];
+  Vec3 centroids_[kMaxVoxels];
+  uint32_t object_voxel_[kMaxObjectPoints];
+  PointBuffer<kMaxObjectPoints> object_;
+  Plane plane_;
+  bool plane_found_ = false;
+
+  // B/C. frames and viewpoints
+  Vec3 centroid_ = Vec3::Zero();
+  ViewRecord views_[kMaxViewpoints];
+  uint32_t n_views_ = 0;
+  int32_t chosen_view_ = -1;
+
+  // D/E. per-viewpoint work memory
+  Vec2 proj_[kMaxObjectPoints];
+  float depth_[kMaxObjectPoints];
+  ConcaveHullScratch hull_scratch_;
+  Vec2 contour_[kMaxContourVertices];
+  ScanLine lines_[kMaxScanLines];
+  SideFit windows_[16];
+  Candidate candidates_[kMaxCandidates];
+  uint32_t n_candidates_ = 0;
+  uint16_t order_[kMaxCandidates];
+
+  // Normals of object points, computed on demand for the friction test.
+  Vec3 normals_[kMaxObjectPoints];
+  uint8_t normal_state_[kMaxObjectPoints];  // 0 unknown, 1 valid, 2 undefined
+};
+
+}  // namespace fg

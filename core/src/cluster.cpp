@@ -1,0 +1,103 @@
+#include "fg/core/cluster.hpp"
+
+namespace fg {
+namespace {
+struct Offset {
+  int32_t dx, dy, dz;
+};
+// Neighbour offsets within `cells` (Euclidean in cell units, so 1 -> 26, 2 -> 32).
+uint32_t make_offsets(uint32_t cells, Offset* out) {
+  const int32_t r = static_cast<int32_t>(cells);
+  uint32_t n = 0;
+  for (int32_t dz = -r; dz <= r; ++dz)
+    for (int32_t dy = -r; dy <= r; ++dy)
+      for (int32_t dx = -r; dx <= r; ++dx) {
+        const int32_t d2 = dx * dx + dy * dy + dz * dz;
+        if (d2 == 0) continue;
+        if (r > 1 && d2 > r * r) continue;
+        out[n++] = Offset{dx, dy, dz};
+      }
+  return n;
+}
+
+// Breadth-first walk of the component of `seed`; marks it `mark`; returns its size
+// and leaves its voxels in queue[0, size).
+uint32_t flood(const VoxelGrid& grid, uint8_t* state, uint32_t* queue, uint32_t seed,
+               const Offset* off, uint32_t n_off, uint8_t mark, float& sum_x, float& sum_y) {
+  uint32_t head = 0, tail = 0;
+  queue[tail++] = seed;
+  state[seed] = mark;
+  sum_x = sum_y = 0.f;
+  while (head < tail) {  // bounded: each voxel enters the queue at most once
+    const uint32_t i = queue[head++];
+    const Vec3 c = grid.centroid(i);
+    sum_x += c.x();
+    sum_y += c.y();
+    const uint32_t k = grid.voxel(i).key;
+    const int32_t x = static_cast<int32_t>(VoxelGrid::key_x(k));
+    const int32_t y = static_cast<int32_t>(VoxelGrid::key_y(k));
+    const int32_t z = static_cast<int32_t>(VoxelGrid::key_z(k));
+    for (uint32_t o = 0; o < n_off; ++o) {
+      // Inserted cells keep a 2-cell margin inside the key range: no wrap-around.
+      const uint32_t nk = VoxelGrid::pack(static_cast<uint32_t>(x + off[o].dx),
+                                          static_cast<uint32_t>(y + off[o].dy),
+                                          static_cast<uint32_t>(z + off[o].dz));
+      const uint32_t j = grid.find(nk);
+      if (j == VoxelGrid::kNone || state[j] != kVoxelFree) continue;
+      state[j] = mark;
+      queue[tail++] = j;
+    }
+  }
+  return tail;
+}
+}  // namespace
+
+ClusterResult cluster_and_pick(const VoxelGrid& grid, uint8_t* state, uint32_t* queue,
+                               const ClusterParams& prm, uint32_t* target,
+                               uint32_t target_capacity) {
+  Offset off[128];
+  const uint32_t n_off = make_offsets(prm.cells > 2 ? 2u : prm.cells, off);
+  ClusterResult res;
+  const uint32_t n = grid.size();
+  uint32_t best_seed = VoxelGrid::kNone;
+  float best_score = 0.f;
+  uint32_t free_total = 0;
+  for (uint32_t i = 0; i < n; ++i) {
+    if (state[i] != kVoxelFree) continue;
+    float sx = 0.f, sy = 0.f;
+    const uint32_t size = flood(grid, state, queue, i, off, n_off, kVoxelVisited, sx, sy);
+    free_total += size;
+    if (size < prm.min_points) continue;
+    ++res.clusters;
+    float score;
+    if (prm.rule == TargetRule::largest) {
+      score = -static_cast<float>(size);
+    } else {
+      const float cx = sx / static_cast<float>(size) - prm.centre_x;
+      const float cy = sy / static_cast<float>(size) - prm.centre_y;
+      score = cx * cx + cy * cy;
+    }
+    if (best_seed == VoxelGrid::kNone || score < best_score) {
+      best_seed = i;
+      best_score = score;
+    }
+  }
+  if (best_seed == VoxelGrid::kNone) {
+    res.other_points = free_total;
+    return res;
+  }
+  // Walk the winner again, turning it from visited into target.
+  for (uint32_t i = 0; i < n; ++i)
+    if (state[i] == kVoxelVisited) state[i] = kVoxelFree;
+  float sx = 0.f, sy = 0.f;
+  const uint32_t size = flood(grid, state, queue, best_seed, off, n_off, kVoxelTarget, sx, sy);
+  for (uint32_t i = 0; i < n; ++i)
+    if (state[i] == kVoxelFree) state[i] = kVoxelVisited;
+  res.target_size = size;
+  res.other_points = free_total - size;
+  const uint32_t m = size < target_capacity ? size : target_capacity;
+  for (uint32_t i = 0; i < m; ++i) target[i] = queue[i];
+  return res;
+}
+
+}  // namespace fg

@@ -1,0 +1,118 @@
+#include "fg/core/force_balance.hpp"
+
+#include <cmath>
+#include "fg/core/hull.hpp"
+
+namespace fg {
+
+uint32_t build_scan_lines(const Vec2* contour, uint32_t n_contour, float y_min, float y_max,
+                          float delta, ScanLine* lines, uint32_t capacity, float& used_delta) {
+  used_delta = delta;
+  if (contour == nullptr || n_contour < 3 || capacity == 0 || !(y_max >= y_min) || !(delta > 0.f))
+    return 0;
+  const float span = y_max - y_min;
+  uint32_t n = static_cast<uint32_t>(span / delta) + 1u;
+  if (n > capacity) {
+    n = capacity;
+    used_delta = capacity > 1 ? span / static_cast<float>(capacity - 1) : span;
+  }
+  for (uint32_t j = 0; j < n; ++j) {
+    ScanLine& l = lines[j];
+    l.y = y_min + static_cast<float>(j) * used_delta;
+    l.hit = polygon_span_at_y(contour, n_contour, l.y, l.left, l.right);
+    if (!l.hit) l.left = l.right = 0.f;
+    l.kept = false;
+  }
+  return n;
+}
+
+void mark_graspable(ScanLine* lines, uint32_t n, float min_width, float max_width) {
+  for (uint32_t j = 0; j < n; ++j) {
+    const float w = lines[j].right - lines[j].left;
+    lines[j].kept = lines[j].hit && w >= min_width && w < max_width;
+  }
+}
+
+bool fit_x_of_y(const float* y, const float* x, uint32_t n, float& a, float& b) {
+  if (n < 2) return false;
+  double sy = 0, sx = 0;
+  for (uint32_t i = 0; i < n; ++i) {
+    sy += y[i];
+    sx += x[i];
+  }
+  const double my = sy / n, mx = sx / n;
+  double syy = 0, sxy = 0;
+  for (uint32_t i = 0; i < n; ++i) {
+    const double dy = y[i] - my;
+    syy += dy * dy;
+    sxy += dy * (x[i] - mx);
+  }
+  if (!(syy > 1e-18)) return false;
+  const double aa = sxy / syy;
+  a = static_cast<float>(aa);
+  b = static_cast<float>(mx - aa * my);
+  return std::isfinite(a) && std::isfinite(b);
+}
+
+float side_angle(float a_left, float a_right) {
+  return std::fabs(std::atan(a_left) - std::atan(a_right));
+}
+
+namespace {
+// Inserts c into the sorted list out[0, n) of at most cap entries.
+void insert_best(SideFit* out, uint32_t& n, uint32_t cap, const SideFit& c) {
+  uint32_t pos = n;
+  while (pos > 0 && c.rank < out[pos - 1].rank) --pos;
+  if (pos >= cap) return;
+  const uint32_t last = n < cap ? n : cap - 1;
+  for (uint32_t i = last; i > pos; --i) out[i] = out[i - 1];
+  out[pos] = c;
+  if (n < cap) ++n;
+}
+}  // namespace
+
+uint32_t best_windows(const ScanLine* lines, uint32_t n, float dx_threshold, uint32_t k,
+                      float y_ref, float centre_weight, SideFit* out, uint32_t max_out) {
+  if (lines == nullptr || out == nullptr || max_out == 0 || k < 2 || n < k) return 0;
+  constexpr uint32_t kMaxK = 256;
+  if (k > kMaxK) return 0;
+  float ys[kMaxK], ls[kMaxK], rs[kMaxK];
+  uint32_t found = 0;
+  uint32_t j = 0;
+  while (j < n) {
+    if (!lines[j].kept) {
+      ++j;
+      continue;
+    }
+    // Region [j, e): consecutive kept lines without a jump on either side.
+    uint32_t e = j + 1;
+    while (e < n && lines[e].kept && std::fabs(lines[e].left - lines[e - 1].left) <= dx_threshold &&
+           std::fabs(lines[e].right - lines[e - 1].right) <= dx_threshold)
+      ++e;
+    for (uint32_t s = j; s + k <= e; ++s) {
+      SideFit c;
+      c.first = s;
+      c.count = k;
+      float xc = 0.f, w = 0.f;
+      for (uint32_t i = 0; i < k; ++i) {
+        ys[i] = lines[s + i].y;
+        ls[i] = lines[s + i].left;
+        rs[i] = lines[s + i].right;
+        xc += 0.5f * (ls[i] + rs[i]);
+        w += rs[i] - ls[i];
+      }
+      if (!fit_x_of_y(ys, ls, k, c.a_left, c.b_left) || !fit_x_of_y(ys, rs, k, c.a_right, c.b_right))
+        continue;
+      c.beta = side_angle(c.a_left, c.a_right);
+      c.y_centre = 0.5f * (ys[0] + ys[k - 1]);
+      c.x_centre = xc / static_cast<float>(k);
+      c.width = w / static_cast<float>(k);
+      c.rank = c.beta + centre_weight * std::fabs(c.y_centre - y_ref);
+      insert_best(out, found, max_out, c);
+    }
+    j = e;
+  }
+  return found;
+}
+
+}  // namespace fg

@@ -1,0 +1,604 @@
+// Planner: the plan itself (algorithm.md A.5-F): support plane, target cluster,
+// object frame, virtual viewpoints, XOY and XOZ force balance, ranking and the
+// executability checks.
+#include <algorithm>
+#include <cmath>
+
+#include "fg/core/eigen_sym3.hpp"
+#include "fg/core/planner.hpp"
+#include "fg/platform/platform.hpp"
+
+namespace fg {
+
+const char* to_string(Stage s) {
+  switch (s) {
+    case Stage::ingest: return "ingest";
+    case Stage::plane: return "plane";
+    case Stage::cluster: return "cluster";
+    case Stage::frame: return "frame";
+    case Stage::xoy: return "xoy";
+    case Stage::xoz: return "xoz";
+    case Stage::select: return "select";
+    case Stage::total: return "total";
+    case Stage::count: break;
+  }
+  return "unknown";
+}
+
+namespace {
+constexpr float kPi = 3.14159265358979f;
+// Approaches pointing up more steeply than this come from below the object: skipped.
+constexpr float kMaxApproachUp = 0.5f;
+
+class StageTimer {
+ public:
+  explicit StageTimer(uint32_t& slot) : slot_(slot), t0_(platform::monotonic_us()) {}
+  ~StageTimer() { slot_ += static_cast<uint32_t>(platform::monotonic_us() - t0_); }
+  StageTimer(const StageTimer&) = delete;
+  StageTimer& operator=(const StageTimer&) = delete;
+
+ private:
+  uint32_t& slot_;
+  uint64_t t0_;
+};
+
+uint32_t& stage(PlanResult& r, Stage s) { return r.stage_us[static_cast<uint32_t>(s)]; }
+
+Vec3 rotate_about(const Vec3& v, const Vec3& axis_unit, float theta) {
+  // Rodrigues for a vector orthogonal or not to the axis.
+  const float c = std::cos(theta), s = std::sin(theta);
+  return v * c + axis_unit.cross(v) * s + axis_unit * axis_unit.dot(v) * (1.f - c);
+}
+
+// A unit vector orthogonal to `axis`, derived from `hint` (projected), with fallbacks.
+Vec3 orthogonal_from(const Vec3& axis, const Vec3& hint) {
+  const Vec3 cands[3] = {hint, Vec3::UnitZ(), Vec3::UnitX()};
+  for (const Vec3& h : cands) {
+    const Vec3 v = h.cross(axis);  // orthogonal to the axis
+    const float n = v.norm();
+    if (n > 1e-3f * (h.norm() + 1e-12f)) return v / n;
+  }
+  return Vec3::UnitY();
+}
+}  // namespace
+
+Status Planner::plan(PlanResult& out) {
+  out = PlanResult{};
+  const uint64_t t_start = platform::monotonic_us();
+  stage(out, Stage::ingest) = ingest_us_;
+  auto finish = [&](Status s, NoGraspReason r, const char* msg) {
+    out.status = s;
+    out.reason = r;
+    out.message = msg;
+    message_ = msg;
+    out.points = counts_;
+    out.viewpoints = n_views_;
+    out.candidates = n_candidates_;
+    stage(out, Stage::total) =
+        static_cast<uint32_t>(platform::monotonic_us() - t_start) + ingest_us_;
+    return s;
+  };
+  n_views_ = 0;
+  n_candidates_ = 0;
+  chosen_view_ = -1;
+  object_.clear();
+
+  if (!role_added_[0] && !role_added_[1])
+    return finish(Status::no_input, NoGraspReason::none, "no sensor data was added before plan()");
+  if (overflow_)
+    return finish(Status::capacity_exceeded, NoGraspReason::none,
+                  "more occupied voxels than the build's FG_MAX_VOXELS");
+  const uint32_t nv = grid_.size();
+  counts_.voxels = nv;
+  if (nv == 0)
+    return finish(Status::no_grasp, NoGraspReason::no_points,
+                  "no point is left after the range filter and the workspace crop box");
+
+  // A.5 support plane
+  {
+    StageTimer t(stage(out, Stage::plane));
+    for (uint32_t i = 0; i < nv; ++i) centroids_[i] = grid_.centroid(i);
+    PlaneParams pp;
+    pp.distance_m = cfg_.plane_distance_m;
+    pp.iterations = cfg_.ransac_iterations;
+    pp.seed = cfg_.ransac_seed;
+    pp.max_tilt_rad = cfg_.plane_max_tilt_rad;
+    uint32_t inl = 0;
+    plane_found_ = ransac_plane(centroids_, nv, pp, plane_, inl);
+    if (!plane_found_) {
+      // No support plane in view: nothing is removed, and the lowest point stands in
+      // for the floor in the clearance checks.
+      float zmin = centroids_[0].z();
+      for (uint32_t i = 1; i < nv; ++i) zmin = std::min(zmin, centroids_[i].z());
+      plane_.n = Vec3::UnitZ();
+      plane_.d = -zmin;
+    }
+    uint32_t removed = 0;
+    for (uint32_t i = 0; i < nv; ++i) {
+      const bool table = plane_found_ && plane_.height(centroids_[i]) < cfg_.object_min_height_m;
+      state_[i] = table ? kVoxelRemoved : kVoxelFree;
+      removed += table ? 1u : 0u;
+    }
+    counts_.plane = removed;
+  }
+
+  // A.6 target cluster
+  {
+    StageTimer t(stage(out, Stage::cluster));
+    ClusterParams cp;
+    cp.cells = cfg_.cluster_cells;
+    cp.min_points = cfg_.min_object_points;
+    cp.centre_x = cfg_.workspace_centre_x_m;
+    cp.centre_y = cfg_.workspace_centre_y_m;
+    cp.rule = cfg_.target_rule;
+    const ClusterResult cr =
+        cluster_and_pick(grid_, state_, queue_, cp, object_voxel_, kMaxObjectPoints);
+    if (cr.target_size == 0)
+      return finish(Status::no_grasp, NoGraspReason::no_object,
+                    plane_found_ ? "no cluster large enough stands on the support plane"
+                                 : "no support plane and no cluster large enough");
+    if (cr.target_size > kMaxObjectPoints)
+      return finish(Status::capacity_exceeded, NoGraspReason::none,
+                    "the target object has more voxels than the build's FG_MAX_OBJECT_POINTS");
+    for (uint32_t i = 0; i < cr.target_size; ++i) {
+      (void)object_.push(centroids_[object_voxel_[i]]);
+      normal_state_[i] = 0;
+    }
+    counts_.object = cr.target_size;
+  }
+
+  // B/C. object frame and the sensor arc
+  Vec3 axes[3];
+  Vec3 X0;
+  uint32_t arc_views = 0;
+  float arc_from = 0.f, arc_to = 0.f;
+  {
+    StageTimer t(stage(out, Stage::frame));
+    if (!build_object_frame(axes, X0))
+      return finish(Status::no_grasp, NoGraspReason::degenerate,
+                    "the object points have no defined principal axis (all identical)");
+    const Vec3& Y = axes[0];
+    const Vec3 Z0 = X0.cross(Y);
+    if (role_added_[0] && role_added_[1]) {
+      // theta_1: the head sensor's direction about Y, measured from the hand's.
+      const Vec3 zh = orthogonal_from(Y, sensor_origin_[0] - centroid_).cross(Y);
+      arc_to = std::atan2(zh.dot(X0), zh.dot(Z0));
+      arc_from = 0.f;
+    } else {
+      arc_from = -cfg_.single_sensor_arc_rad;
+      arc_to = cfg_.single_sensor_arc_rad;
+    }
+    if (arc_to < arc_from) std::swap(arc_from, arc_to);
+    arc_views = add_family(ViewFamily::sensor_arc, Y, X0, arc_from, arc_to, false, 0.f, 0.f);
+  }
+  analyse_views(0, arc_views, out);
+  uint32_t found = rank_and_check(0, out);
+
+  if (found == kMaxCandidates && cfg_.extend_search) {
+    const uint32_t first_view = n_views_, first_cand = n_candidates_;
+    {
+      StageTimer t(stage(out, Stage::frame));
+      add_family(ViewFamily::full_circle, axes[0], X0, 0.f, 2.f * kPi, true, arc_from, arc_to);
+      for (int a = 1; a <= 2; ++a) {
+        const Vec3 hint = sensor_origin_[role_added_[1] ? 1 : 0] - centroid_;
+        const Vec3 Xa = orthogonal_from(axes[a], hint);
+        add_family(a == 1 ? ViewFamily::middle_axis : ViewFamily::minor_axis, axes[a], Xa, 0.f,
+                   2.f * kPi, false, 0.f, 0.f);
+      }
+    }
+    analyse_views(first_view, n_views_, out);
+    found = rank_and_check(first_cand, out);
+  }
+
+  if (found == kMaxCandidates) {
+    bool any_kept = false;
+    for (uint32_t v = 0; v < n_views_; ++v) any_kept = any_kept || views_[v].has_candidate;
+    if (n_candidates_ == 0) {
+      // Nothing survived the width filter and the window search.
+      return finish(Status::no_grasp, any_kept ? NoGraspReason::no_candidate : NoGraspReason::too_wide,
+                    "the object is wider than the gripper opening from every viewpoint searched");
+    }
+    const RejectCounts& rj = out.rejected;
+    if (rj.friction >= rj.collision + rj.table && rj.friction >= rj.contact)
+      return finish(Status::no_grasp, NoGraspReason::friction,
+                    "every candidate's contact normals lie outside the friction cone");
+    if (rj.contact > rj.collision + rj.table)
+      return finish(Status::no_grasp, NoGraspReason::no_candidate,
+                    "no candidate has contacts within reach of both pads");
+    return finish(Status::no_grasp, NoGraspReason::collision,
+                  "every candidate hits the support plane or another object");
+  }
+  fill_grasp(candidates_[found], out);
+  return finish(Status::ok, NoGraspReason::none, "ok");
+}
+
+bool Planner::build_object_frame(Vec3 axes[3], Vec3& X0) {
+  Vec3 evals;
+  Mat3 evecs;
+  if (!pca(object_.data(), object_.size(), centroid_, evals, evecs)) return false;
+  if (!(evals[2] > 1e-12f)) return false;
+  Vec3 Y = evecs.col(2);
+  const float up = std::fabs(Y.z());
+  const bool ill_defined = evals[2] < cfg_.axis_ratio_min * evals[1];
+  if (ill_defined || up > std::cos(cfg_.vertical_snap_rad)) {
+    Y = Vec3::UnitZ();  // gravity is the better axis for upright or round objects
+  } else if (up > 0.05f) {
+    if (Y.z() < 0) Y = -Y;
+  } else if (Y.x() < 0) {
+    Y = -Y;
+  }
+  axes[0] = Y;
+  // The other two axes: PCA's, made orthogonal to Y.
+  Vec3 m = evecs.col(1) - Y * Y.dot(evecs.col(1));
+  if (m.norm() < 1e-3f) m = orthogonal_from(Y, evecs.col(0));
+  axes[1] = m.normalized();
+  axes[2] = Y.cross(axes[1]).normalized();
+  // Paper eq. (2): X = normalize(Sp x Y) with Sp the hand sensor relative to c;
+  // then the head sensor, then world z.
+  const uint32_t first = role_added_[1] ? 1u : 0u;
+  Vec3 hint = sensor_origin_[first] - centroid_;
+  if (hint.cross(Y).norm() < 1e-3f * (hint.norm() + 1e-12f) && role_added_[1 - first])
+    hint = sensor_origin_[1 - first] - centroid_;
+  X0 = orthogonal_from(Y, hint);  // normalize(Sp x Y), with fallbacks
+  return X0.allFinite() && Y.allFinite();
+}
+
+uint32_t Planner::add_family(ViewFamily fam, const Vec3& axis, const Vec3& X0, float from,
+                             float to, bool skip_arc, float arc_from, float arc_to) {
+  const Vec3 Z0 = X0.cross(axis);
+  const float step = cfg_.dtheta_rad;
+  const uint32_t steps = static_cast<uint32_t>((to - from) / step + 1e-4f);
+  const bool circle = fam != ViewFamily::sensor_arc;
+  // The arc runs from `from` to exactly `to` (theta_1); circles stop short of 2 pi.
+  const bool add_end = !circle && (to - from) - static_cast<float>(steps) * step > 1e-4f;
+  uint32_t added = 0;
+  for (uint32_t s = 0; s <= steps + (add_end ? 1u : 0u) && n_views_ < kMaxViewpoints; ++s) {
+    const float th = s > steps ? to : from + static_cast<float>(s) * step;
+    if (circle && th >= 2.f * kPi - 1e-4f) break;
+    if (skip_arc) {
+      const float wrapped = th > kPi ? th - 2.f * kPi : th;
+      if (wrapped >= arc_from - 1e-4f && wrapped <= arc_to + 1e-4f) continue;
+    }
+    ViewRecord& v = views_[n_views_];
+    v.family = fam;
+    v.theta = th;
+    v.Y = axis;
+    v.X = rotate_about(X0, axis, th);
+    v.Z = rotate_about(Z0, axis, th);
+    if (v.Z.z() > kMaxApproachUp) continue;  // from below the object
+    v.has_candidate = false;
+    v.beta = v.dz = 0.f;
+    ++n_views_;
+    ++added;
+  }
+  return added;
+}
+
+void Planner::project(const ViewFrame& f) {
+  const uint32_t n = object_.size();
+  for (uint32_t i = 0; i < n; ++i) {
+    const Vec3 d = object_[i] - centroid_;
+    proj_[i] = Vec2{f.X.dot(d), f.Y.dot(d)};
+    depth_[i] = f.Z.dot(d);
+  }
+}
+
+Status Planner::analyze_view(uint32_t view_index, ViewDetail& out) {
+  if (view_index >= n_views_) return Status::invalid_argument;
+  const ViewRecord& v = views_[view_index];
+  const ViewFrame f{v.X, v.Y, v.Z};
+  project(f);
+  const uint32_t n = object_.size();
+  for (uint32_t i = 0; i < n; ++i) out.points[i] = proj_[i];
+  out.n_points = n;
+  ConcaveHullParams hp;
+  hp.cell_m = cfg_.hull_cell_m;
+  hp.closing_cells = cfg_.hull_closing_cells;
+  float cell = 0.f;
+  bool inside = false;
+  const Status s = concave_hull_2d(proj_, n, hp, hull_scratch_, out.contour, kMaxContourVertices,
+                                   out.n_contour, cell, inside);
+  if (s != Status::ok) return s;
+  float ymin = 0.f, ymax = 0.f;
+  for (uint32_t i = 0; i < out.n_contour; ++i) {
+    ymin = i == 0 ? out.contour[i].y : std::min(ymin, out.contour[i].y);
+    ymax = i == 0 ? out.contour[i].y : std::max(ymax, out.contour[i].y);
+  }
+  float delta = cfg_.scan_delta_m;
+  out.n_lines = build_scan_lines(out.contour, out.n_contour, ymin, ymax, cfg_.scan_delta_m,
+                                 out.lines, kMaxScanLines, delta);
+  mark_graspable(out.lines, out.n_lines, cfg_.gripper.min_opening_m,
+                 cfg_.gripper.max_opening_m - cfg_.width_margin_m);
+  const uint32_t k = static_cast<uint32_t>(std::ceil(cfg_.gripper.finger_width_m / delta - 1e-4f));
+  out.has_best = best_windows(out.lines, out.n_lines, cfg_.dx_threshold_m, k < 2 ? 2 : k, 0.f,
+                              cfg_.centre_weight, &out.best, 1) > 0;
+  return Status::ok;
+}
+
+void Planner::analyse_views(uint32_t first, uint32_t last, PlanResult& out) {
+  ConcaveHullParams hp;
+  hp.cell_m = cfg_.hull_cell_m;
+  hp.closing_cells = cfg_.hull_closing_cells;
+  const uint32_t n = object_.size();
+  for (uint32_t vi = first; vi < last; ++vi) {
+    ViewRecord& v = views_[vi];
+    const ViewFrame f{v.X, v.Y, v.Z};
+    uint32_t n_windows = 0;
+    float delta = cfg_.scan_delta_m;
+    {
+      StageTimer t(stage(out, Stage::xoy));
+      project(f);
+      uint32_t nc = 0;
+      float cell = 0.f;
+      bool inside = false;
+      if (concave_hull_2d(proj_, n, hp, hull_scratch_, contour_, kMaxContourVertices, nc, cell,
+                          inside) != Status::ok || nc < 3)
+        continue;
+      float ymin = contour_[0].y, ymax = contour_[0].y;
+      for (uint32_t i = 1; i < nc; ++i) {
+        ymin = std::min(ymin, contour_[i].y);
+        ymax = std::max(ymax, contour_[i].y);
+      }
+      const uint32_t nl =
+          build_scan_lines(contour_, nc, ymin, ymax, cfg_.scan_delta_m, lines_, kMaxScanLines, delta);
+      mark_graspable(lines_, nl, cfg_.gripper.min_opening_m,
+                     cfg_.gripper.max_opening_m - cfg_.width_margin_m);
+      uint32_t k = static_cast<uint32_t>(std::ceil(cfg_.gripper.finger_width_m / delta - 1e-4f));
+      if (k < 2) k = 2;
+      n_windows = best_windows(lines_, nl, cfg_.dx_threshold_m, k, 0.f, cfg_.centre_weight,
+                               windows_, cfg_.candidates_per_view);
+    }
+    StageTimer t(stage(out, Stage::xoz));
+    for (uint32_t w = 0; w < n_windows && n_candidates_ < kMaxCandidates; ++w) {
+      Candidate c;
+      c.view = vi;
+      if (!xoz(f, windows_[w], c)) continue;
+      if (!v.has_candidate) {
+        v.has_candidate = true;
+        v.beta = c.beta;
+        v.dz = c.dz;
+      }
+      candidates_[n_candidates_++] = c;
+    }
+    if (n_windows > 0 && !v.has_candidate) {
+      v.has_candidate = true;  // windows exist, but no contact within reach
+      v.beta = windows_[0].beta;
+      v.dz = -1.f;
+    }
+  }
+}
+
+// E + F: contact regions, the depth rule (with the support plane), dZ and width.
+bool Planner::xoz(const ViewFrame& f, const SideFit& w, Candidate& c) {
+  const GripperGeometry& g = cfg_.gripper;
+  const uint32_t n = object_.size();
+  const float yc = w.y_centre;
+  const float half_pad = 0.5f * g.finger_width_m;
+  const float half_palm = 0.5f * std::max(g.palm_width_m, g.finger_width_m);
+  const float half_outer = 0.5f * g.max_opening_m + g.finger_thickness_m;
+  const float half_fd = 0.5f * g.finger_depth_m;
+  const float xc = w.x_centre;
+
+  // Contact regions of the fitted sides (paper eq. 7) and the first surface ahead of
+  // the palm.
+  double zl = 0, zr = 0;
+  uint32_t nl = 0, nr = 0;
+  float z_first_palm = 1e9f;
+  for (uint32_t i = 0; i < n; ++i) {
+    const float x = proj_[i].x, y = proj_[i].y - yc, z = depth_[i];
+    if (std::fabs(y) <= half_palm && std::fabs(x - xc) <= half_outer) z_first_palm = std::min(z_first_palm, z);
+    if (std::fabs(y) > half_pad) continue;
+    const float yy = proj_[i].y;
+    if (x <= w.a_left * yy + w.b_left + cfg_.contact_band_m) {
+      zl += z;
+      ++nl;
+    }
+    if (x >= w.a_right * yy + w.b_right - cfg_.contact_band_m) {
+      zr += z;
+      ++nr;
+    }
+  }
+  if (nl == 0 || nr == 0) return false;
+  float pos_z = static_cast<float>(0.5 * (zl / nl + zr / nr));
+  if (!cfg_.paper_depth) pos_z = std::min(pos_z, z_first_palm + half_fd);
+
+  // The support plane bounds the depth: every corner of the open fingers and the palm
+  // must stay table_clearance above it. Height is linear in pos_z.
+  if (cfg_.executability_checks) {
+    const Vec3 o = centroid_ + f.X * xc + f.Y * yc;
+    const float h_o = plane_.height(o);
+    const float nx = plane_.n.dot(f.X), ny = plane_.n.dot(f.Y), nz = plane_.n.dot(f.Z);
+    float lo = -1e9f, hi = 1e9f;
+    const float xs[2] = {-half_outer, half_outer};
+    const float ys[2] = {-half_palm, half_palm};
+    const float zs[2] = {-half_fd - g.palm_depth_m, half_fd};  // relative to pos_z
+    for (float xx : xs)
+      for (float yy : ys)
+        for (float zz : zs) {
+          const float h0 = h_o + nx * xx + ny * yy + nz * zz - cfg_.table_clearance_m;
+          // need h0 + nz * pos_z >= 0
+          if (nz < -1e-6f) hi = std::min(hi, h0 / -nz);
+          else if (nz > 1e-6f) lo = std::max(lo, -h0 / nz);
+          else if (h0 < 0.f) return false;
+        }
+    pos_z = std::min(pos_z, hi);
+    if (pos_z < lo) return false;
+  }
+
+  // Contacts within the pads' reach at that depth.
+  float xmin = 1e9f, xmax = -1e9f;
+  for (uint32_t i = 0; i < n; ++i) {
+    if (std::fabs(proj_[i].y - yc) > half_pad || std::fabs(depth_[i] - pos_z) > half_fd) continue;
+    xmin = std::min(xmin, proj_[i].x);
+    xmax = std::max(xmax, proj_[i].x);
+  }
+  if (!(xmax >= xmin)) return false;
+  const float width = xmax - xmin;
+  if (width < g.min_opening_m || width > g.max_opening_m - cfg_.width_margin_m) return false;
+  zl = zr = 0;
+  nl = nr = 0;
+  for (uint32_t i = 0; i < n; ++i) {
+    if (std::fabs(proj_[i].y - yc) > half_pad || std::fabs(depth_[i] - pos_z) > half_fd) continue;
+    if (proj_[i].x <= xmin + cfg_.contact_band_m) {
+      zl += depth_[i];
+      ++nl;
+    }
+    if (proj_[i].x >= xmax - cfg_.contact_band_m) {
+      zr += depth_[i];
+      ++nr;
+    }
+  }
+  c.dz = static_cast<float>(std::fabs(zl / nl - zr / nr));
+  c.width = width;
+  c.beta = w.beta;
+  c.rank = w.rank;
+  c.balanced = w.beta <= cfg_.beta_max_rad;
+  c.position = centroid_ + f.X * (0.5f * (xmin + xmax)) + f.Y * yc + f.Z * pos_z;
+  return c.position.allFinite() && std::isfinite(c.dz);
+}
+
+uint32_t Planner::rank_and_check(uint32_t first, PlanResult& out) {
+  StageTimer t(stage(out, Stage::select));
+  const uint32_t m = n_candidates_ - first;
+  for (uint32_t i = 0; i < m; ++i) order_[i] = static_cast<uint16_t>(first + i);
+  // Paper E.3: balanced candidates (beta <= beta_max) by dZ, then the rest by beta.
+  // The index breaks ties, so the order is total and the result deterministic.
+  const Candidate* cs = candidates_;
+  std::sort(order_, order_ + m, [cs](uint16_t a, uint16_t b) {
+    const Candidate &ca = cs[a], &cb = cs[b];
+    if (ca.balanced != cb.balanced) return ca.balanced;
+    const float ka = ca.balanced ? ca.dz : ca.beta, kb = cb.balanced ? cb.dz : cb.beta;
+    if (ka != kb) return ka < kb;
+    return a < b;
+  });
+  for (uint32_t i = 0; i < m; ++i) {
+    const Candidate& c = candidates_[order_[i]];
+    if (!cfg_.executability_checks || executable(c, out)) return order_[i];
+  }
+  return kMaxCandidates;
+}
+
+bool Planner::executable(const Candidate& c, PlanResult& out) {
+  const ViewRecord& v = views_[c.view];
+  const GripperGeometry& g = cfg_.gripper;
+  const float half_open = 0.5f * g.max_opening_m, t = g.finger_thickness_m;
+  const float half_fd = 0.5f * g.finger_depth_m;
+  const float back = g.finger_depth_m + cfg_.pregrasp_clearance_m;  // approach stroke
+  struct Box {
+    float x0, x1, y0, y1, z0, z1;
+  };
+  // Fingers open and palm, swept from the pre-grasp to the grasp (grasp frame).
+  const Box boxes[3] = {
+      {-half_open - t, -half_open, -0.5f * g.finger_width_m, 0.5f * g.finger_width_m,
+       -half_fd - back, half_fd},
+      {half_open, half_open + t, -0.5f * g.finger_width_m, 0.5f * g.finger_width_m,
+       -half_fd - back, half_fd},
+      {-half_open - t, half_open + t, -0.5f * g.palm_width_m, 0.5f * g.palm_width_m,
+       -half_fd - g.palm_depth_m - back, -half_fd},
+  };
+  // Support plane: every corner above it.
+  for (const Box& b : boxes)
+    for (int k = 0; k < 8; ++k) {
+      const Vec3 p = c.position + v.X * ((k & 1) ? b.x1 : b.x0) + v.Y * ((k & 2) ? b.y1 : b.y0) +
+                     v.Z * ((k & 4) ? b.z1 : b.z0);
+      if (plane_.height(p) < cfg_.table_clearance_m - 1e-4f) {
+        ++out.rejected.table;
+        return false;
+      }
+    }
+  // Every voxel that is not table (the target and its neighbours) stays out of the boxes.
+  const float tol = cfg_.collision_tolerance_m;
+  const uint32_t nv = grid_.size();
+  for (uint32_t i = 0; i < nv; ++i) {
+    if (state_[i] == kVoxelRemoved) continue;
+    const Vec3 d = centroids_[i] - c.position;
+    const float x = v.X.dot(d), y = v.Y.dot(d), z = v.Z.dot(d);
+    for (const Box& b : boxes) {
+      if (x > b.x0 + tol && x < b.x1 - tol && y > b.y0 + tol && y < b.y1 - tol && z > b.z0 + tol &&
+          z < b.z1 - tol) {
+        ++out.rejected.collision;
+        return false;
+      }
+    }
+  }
+  if (cfg_.friction_mu > 0.f && !friction_ok(c.position, ViewFrame{v.X, v.Y, v.Z}, c.width)) {
+    ++out.rejected.friction;
+    return false;
+  }
+  return true;
+}
+
+bool Planner::normal_at(uint32_t oi, Vec3& nrm) {
+  if (normal_state_[oi] != 0) {
+    nrm = normals_[oi];
+    return normal_state_[oi] == 1;
+  }
+  normal_state_[oi] = 2;
+  const uint32_t key = grid_.voxel(object_voxel_[oi]).key;
+  const int32_t x = static_cast<int32_t>(VoxelGrid::key_x(key));
+  const int32_t y = static_cast<int32_t>(VoxelGrid::key_y(key));
+  const int32_t z = static_cast<int32_t>(VoxelGrid::key_z(key));
+  Vec3 pts[27];
+  uint32_t m = 0;
+  for (int32_t dz = -1; dz <= 1; ++dz)
+    for (int32_t dy = -1; dy <= 1; ++dy)
+      for (int32_t dx = -1; dx <= 1; ++dx) {
+        const uint32_t j = grid_.find(VoxelGrid::pack(static_cast<uint32_t>(x + dx),
+                                                      static_cast<uint32_t>(y + dy),
+                                                      static_cast<uint32_t>(z + dz)));
+        if (j != VoxelGrid::kNone && state_[j] == kVoxelTarget) pts[m++] = centroids_[j];
+      }
+  if (m < 5) return false;
+  Vec3 c, ev;
+  Mat3 vecs;
+  if (!pca(pts, m, c, ev, vecs)) return false;
+  // A surface patch: the smallest spread must be clearly below the middle one.
+  if (!(ev[0] < 0.5f * ev[1])) return false;
+  normals_[oi] = vecs.col(0);
+  normal_state_[oi] = 1;
+  nrm = normals_[oi];
+  return true;
+}
+
+// Contact normals inside the friction cone: at least half of each pad's contact
+// points with a defined normal have |n . closing| >= cos(atan(mu)). Corner and edge
+// contacts fail; faces and rounded sides pass (algorithm.md G).
+bool Planner::friction_ok(const Vec3& pos, const ViewFrame& f, float width) {
+  const GripperGeometry& g = cfg_.gripper;
+  const float cos_cone = std::cos(std::atan(cfg_.friction_mu));
+  const uint32_t n = object_.size();
+  uint32_t pass[2] = {0, 0}, total[2] = {0, 0};
+  for (uint32_t i = 0; i < n; ++i) {
+    const Vec3 d = object_[i] - pos;
+    const float x = f.X.dot(d), y = f.Y.dot(d), z = f.Z.dot(d);
+    if (std::fabs(y) > 0.5f * g.finger_width_m || std::fabs(z) > 0.5f * g.finger_depth_m) continue;
+    int side = -1;
+    if (x <= -0.5f * width + cfg_.contact_band_m) side = 0;
+    else if (x >= 0.5f * width - cfg_.contact_band_m) side = 1;
+    if (side < 0) continue;
+    Vec3 nrm;
+    if (!normal_at(i, nrm)) continue;
+    ++total[side];
+    pass[side] += std::fabs(nrm.dot(f.X)) >= cos_cone ? 1u : 0u;
+  }
+  for (int s = 0; s < 2; ++s)
+    if (total[s] >= 3 && 2 * pass[s] < total[s]) return false;
+  return true;
+}
+
+void Planner::fill_grasp(const Candidate& c, PlanResult& out) {
+  const ViewRecord& v = views_[c.view];
+  chosen_view_ = static_cast<int32_t>(c.view);
+  Grasp& g = out.grasp;
+  g.position = c.position;
+  g.approach = v.Z.normalized();
+  g.closing = v.X.normalized();
+  g.width = c.width;
+  g.beta = c.beta;
+  g.dz = c.dz;
+  g.viewpoint = v.theta;
+  g.family = v.family;
+  g.pregrasp = c.position - g.approach * (cfg_.gripper.finger_depth_m + cfg_.pregrasp_clearance_m);
+}
+
+}  // namespace fg

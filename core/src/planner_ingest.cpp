@@ -1,0 +1,205 @@
+// Planner: configuration, pose validation and ingest of sensor data into the shared
+// voxel grid (algorithm.md A.1-A.4).
+#include <cmath>
+#include <cstring>
+
+#include "fg/core/planner.hpp"
+#include "fg/platform/platform.hpp"
+
+namespace fg {
+
+Status Planner::configure(const PlannerConfig& cfg, const char** field) {
+  const Status s = validate(cfg, field);
+  if (s != Status::ok) {
+    message_ = "invalid planner configuration";
+    return s;
+  }
+  cfg_ = cfg;
+  reset();
+  return Status::ok;
+}
+
+void Planner::reset() {
+  for (uint32_t i = 0; i < kMaxSensors; ++i) {
+    role_added_[i] = false;
+    sensor_origin_[i] = Vec3::Zero();
+  }
+  counts_ = PointCounts{};
+  ingest_us_ = 0;
+  overflow_ = false;
+  crop_min_ = Vec3(cfg_.workspace_centre_x_m - cfg_.crop_half_x_m,
+                   cfg_.workspace_centre_y_m - cfg_.crop_half_y_m, cfg_.crop_min_z_m);
+  crop_max_ = Vec3(cfg_.workspace_centre_x_m + cfg_.crop_half_x_m,
+                   cfg_.workspace_centre_y_m + cfg_.crop_half_y_m, cfg_.crop_max_z_m);
+  // 2.5 cells of margin below the crop box: every accepted point has a key with room
+  // for the +-2 cell neighbour offsets of the clustering (voxel_grid.hpp).
+  grid_.reset(crop_min_ - Vec3::Constant(2.5f * cfg_.voxel_leaf_m), cfg_.voxel_leaf_m);
+  object_.clear();
+  plane_found_ = false;
+  n_views_ = 0;
+  n_candidates_ = 0;
+  chosen_view_ = -1;
+  message_ = "";
+}
+
+Status Planner::check_pose(const Pose& p) {
+  if (!p.R.allFinite() || !p.t.allFinite()) {
+    message_ = "sensor pose has a NaN or Inf value";
+    return Status::non_finite;
+  }
+  const Mat3 e = p.R.transpose() * p.R - Mat3::Identity();
+  if (e.cwiseAbs().maxCoeff() > 1e-3f) {
+    message_ = "sensor pose rotation is not orthonormal";
+    return Status::invalid_pose;
+  }
+  if (p.R.determinant() < 0.f) {
+    message_ = "sensor pose rotation is a reflection (determinant -1)";
+    return Status::invalid_pose;
+  }
+  if (p.t.cwiseAbs().maxCoeff() > 100.f) {
+    message_ = "sensor pose position is more than 100 m from the robot";
+    return Status::invalid_pose;
+  }
+  return Status::ok;
+}
+
+Status Planner::ingest_begin(SensorRole role, const Pose& world_T_sensor) {
+  const uint32_t r = static_cast<uint32_t>(role);
+  if (r >= kMaxSensors) {
+    message_ = "unknown sensor role";
+    return Status::invalid_sensor;
+  }
+  if (role_added_[r]) {
+    message_ = "this sensor role was already added since reset()";
+    return Status::invalid_sensor;
+  }
+  const Status s = check_pose(world_T_sensor);
+  if (s != Status::ok) return s;
+  role_added_[r] = true;
+  sensor_origin_[r] = world_T_sensor.t;
+  return Status::ok;
+}
+
+namespace {
+// The filter-transform-insert step shared by both kinds of input (hot loop).
+struct Ingest {
+  float r[9], t[3];
+  float zmin, zmax;
+  Vec3 lo, hi;
+  uint32_t finite = 0, kept = 0;
+
+  // Returns false when the grid is full.
+  bool add(VoxelGrid& grid, float x, float y, float z, Status& st) {
+    if (!(std::isfinite(x) && std::isfinite(y) && std::isfinite(z))) return true;
+    ++finite;
+    if (!(z >= zmin && z <= zmax)) return true;
+    const float wx = r[0] * x + r[1] * y + r[2] * z + t[0];
+    const float wy = r[3] * x + r[4] * y + r[5] * z + t[1];
+    const float wz = r[6] * x + r[7] * y + r[8] * z + t[2];
+    if (!(wx >= lo.x() && wx <= hi.x() && wy >= lo.y() && wy <= hi.y() && wz >= lo.z() &&
+          wz <= hi.z()))
+      return true;
+    const Status s = grid.insert(Vec3(wx, wy, wz));
+    if (s == Status::capacity_exceeded) {
+      st = s;
+      return false;
+    }
+    kept += s == Status::ok ? 1u : 0u;
+    return true;
+  }
+};
+
+Ingest make_ingest(const Pose& p, const PlannerConfig& cfg, const Vec3& lo, const Vec3& hi) {
+  Ingest in;
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) in.r[i * 3 + j] = p.R(i, j);
+    in.t[i] = p.t(i);
+  }
+  in.zmin = cfg.range_min_m;
+  in.zmax = cfg.range_max_m;
+  in.lo = lo;
+  in.hi = hi;
+  return in;
+}
+}  // namespace
+
+Status Planner::add_points(SensorRole role, const float* xyz, uint32_t count,
+                           uint32_t stride_bytes, const Pose& world_T_sensor) {
+  if (xyz == nullptr && count > 0) {
+    message_ = "point array is null";
+    return Status::invalid_argument;
+  }
+  if (stride_bytes < 3 * sizeof(float)) {
+    message_ = "point stride is smaller than three floats";
+    return Status::invalid_argument;
+  }
+  const Status s = ingest_begin(role, world_T_sensor);
+  if (s != Status::ok) return s;
+  const uint64_t t0 = platform::monotonic_us();
+  Ingest in = make_ingest(world_T_sensor, cfg_, crop_min_, crop_max_);
+  Status st = Status::ok;
+  const uint8_t* base = reinterpret_cast<const uint8_t*>(xyz);
+  for (uint32_t i = 0; i < count; ++i) {
+    float p[3];
+    std::memcpy(p, base + static_cast<size_t>(i) * stride_bytes, sizeof p);  // any alignment
+    if (!in.add(grid_, p[0], p[1], p[2], st)) break;
+  }
+  counts_.input += count;
+  counts_.finite += in.finite;
+  counts_.after_filter += in.kept;
+  ingest_us_ += static_cast<uint32_t>(platform::monotonic_us() - t0);
+  if (st != Status::ok) {
+    overflow_ = true;
+    message_ = "more occupied voxels than the build's FG_MAX_VOXELS; shrink the crop box or enlarge the voxel leaf";
+  }
+  return st;
+}
+
+Status Planner::add_depth_image(SensorRole role, const uint16_t* depth_mm, uint16_t width,
+                                uint16_t height, const PinholeIntrinsics& k,
+                                const Pose& world_T_sensor) {
+  if (depth_mm == nullptr || width == 0 || height == 0) {
+    message_ = "depth image is null or empty";
+    return Status::invalid_argument;
+  }
+  if (!(std::isfinite(k.fx) && std::isfinite(k.fy) && std::isfinite(k.cx) && std::isfinite(k.cy))) {
+    message_ = "depth intrinsics have a NaN or Inf value";
+    return Status::non_finite;
+  }
+  if (!(k.fx > 1.f && k.fy > 1.f && k.fx < 1e5f && k.fy < 1e5f) ||
+      std::fabs(k.cx) > 1e5f || std::fabs(k.cy) > 1e5f) {
+    message_ = "depth intrinsics are out of range (focal length must be 1..1e5 px)";
+    return Status::invalid_argument;
+  }
+  const Status s = ingest_begin(role, world_T_sensor);
+  if (s != Status::ok) return s;
+  const uint64_t t0 = platform::monotonic_us();
+  Ingest in = make_ingest(world_T_sensor, cfg_, crop_min_, crop_max_);
+  Status st = Status::ok;
+  const float ifx = 1.f / k.fx, ify = 1.f / k.fy;
+  bool full = false;
+  for (uint32_t v = 0; v < height && !full; ++v) {
+    const float yf = (static_cast<float>(v) - k.cy) * ify;
+    const uint16_t* row = depth_mm + static_cast<size_t>(v) * width;
+    for (uint32_t u = 0; u < width; ++u) {
+      if (row[u] == 0) continue;
+      const float z = static_cast<float>(row[u]) * 0.001f;
+      const float x = (static_cast<float>(u) - k.cx) * ifx * z;
+      if (!in.add(grid_, x, yf * z, z, st)) {
+        full = true;
+        break;
+      }
+    }
+  }
+  counts_.input += static_cast<uint32_t>(width) * height;
+  counts_.finite += in.finite;
+  counts_.after_filter += in.kept;
+  ingest_us_ += static_cast<uint32_t>(platform::monotonic_us() - t0);
+  if (st != Status::ok) {
+    overflow_ = true;
+    message_ = "more occupied voxels than the build's FG_MAX_VOXELS; shrink the crop box or enlarge the voxel leaf";
+  }
+  return st;
+}
+
+}  // namespace fg

@@ -1,0 +1,195 @@
+#include "plan_command.hpp"
+
+#include <cmath>
+#include <memory>
+#include <sstream>
+
+#include "config_options.hpp"
+#include "fg/platform/platform.hpp"
+#include "fg/robot/ur5.hpp"
+#include "io/pcd.hpp"
+#include "io/ply.hpp"
+#include "io/scene.hpp"
+#include "svg_pictures.hpp"
+
+namespace fg::host {
+namespace {
+using nlohmann::json;
+
+Pose to_pose(const PoseD& p) {
+  Pose out;
+  for (int i = 0; i < 3; ++i) {
+    out.t(i) = static_cast<float>(p.position[i]);
+    for (int j = 0; j < 3; ++j) out.R(i, j) = static_cast<float>(p.rotation[i][j]);
+  }
+  return out;
+}
+
+json vec(const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
+
+PlanOutcome invalid(const std::string& error) {
+  PlanOutcome o;
+  o.exit_code = kExitInvalid;
+  o.report = json{{"status", "invalid_input"}, {"error", error}};
+  return o;
+}
+
+// The planner is large (a few MiB): one instance per process, created on first use.
+Planner& planner_instance() {
+  static std::unique_ptr<Planner> p(new Planner());
+  return *p;
+}
+}  // namespace
+
+PlanOutcome run_plan(const PlanOptions& opts) {
+  try {
+    const uint64_t t_process = platform::monotonic_us();
+    PlannerConfig cfg;
+    Scene scene;
+    if (ReadResult r = read_scene(opts.scene_path, scene); !r.ok) return invalid(r.error);
+    cfg.gripper.max_opening_m = static_cast<float>(scene.gripper.max_opening);
+    cfg.gripper.finger_width_m = static_cast<float>(scene.gripper.finger_width);
+    cfg.gripper.finger_depth_m = static_cast<float>(scene.gripper.finger_depth);
+    std::string err;
+    if (!opts.config_path.empty() && !load_config_file(cfg, opts.config_path, err)) return invalid(err);
+    for (const std::string& s : opts.sets) {
+      const size_t eq = s.find('=');
+      if (eq == std::string::npos) return invalid("--set " + s + ": expected name=value");
+      if (!set_config_option(cfg, s.substr(0, eq), s.substr(eq + 1), err)) return invalid(err);
+    }
+    Planner& planner = planner_instance();
+    const char* field = nullptr;
+    if (planner.configure(cfg, &field) != Status::ok)
+      return invalid(std::string("configuration value out of range: ") + (field ? field : "?"));
+
+    // Read every cloud first, so a file error is reported before any planning.
+    std::vector<PointCloud> clouds(scene.sensors.size());
+    std::vector<Pose> poses(scene.sensors.size());
+    for (size_t i = 0; i < scene.sensors.size(); ++i) {
+      const SceneSensor& s = scene.sensors[i];
+      if (ReadResult r = read_cloud(s.cloud_path, clouds[i]); !r.ok) return invalid(r.error);
+      if (s.pose) {
+        poses[i] = to_pose(*s.pose);
+      } else {
+        float q[6];
+        for (int j = 0; j < 6; ++j) q[j] = static_cast<float>((*s.joints)[j]);
+        Pose tool0;
+        if (!robot::ur5_forward(robot::ur5_nominal(), q, tool0))
+          return invalid(opts.scene_path + ": sensor \"" + s.name + "\" joints are not finite");
+        const Pose he = s.hand_eye ? to_pose(*s.hand_eye) : robot::default_hand_eye();
+        poses[i].R = tool0.R * he.R;
+        poses[i].t = tool0.R * he.t + tool0.t;
+      }
+    }
+    const uint64_t t_plan = platform::monotonic_us();
+    for (size_t i = 0; i < scene.sensors.size(); ++i) {
+      const SceneSensor& s = scene.sensors[i];
+      const SensorRole role = s.name == "head" ? SensorRole::head : SensorRole::hand;
+      const PointCloud& c = clouds[i];
+      if (c.size() > 0xFFFFFFFFull) return invalid(s.cloud_path + ": too many points");
+      const Status st = planner.add_points(role, c.xyz.data(), static_cast<uint32_t>(c.size()),
+                                           3 * sizeof(float), poses[i]);
+      if (st != Status::ok)
+        return invalid(s.cloud_path + ": " + planner.last_message() + " (" + to_string(st) + ")");
+    }
+    PlanResult res;
+    const Status st = planner.plan(res);
+    const uint64_t t_done = platform::monotonic_us();
+
+    PlanOutcome o;
+    json& j = o.report;
+    if (st == Status::ok) {
+      o.exit_code = kExitOk;
+      j["status"] = "ok";
+      const Grasp& g = res.grasp;
+      j["grasp"] = json{{"position", vec(g.position)},
+                        {"approach", vec(g.approach)},
+                        {"closing", vec(g.closing)},
+                        {"width", g.width},
+                        {"beta", g.beta},
+                        {"dz", g.dz},
+                        {"viewpoint", g.viewpoint},
+                        {"family", g.family == ViewFamily::sensor_arc    ? "sensor_arc"
+                                   : g.family == ViewFamily::full_circle ? "full_circle"
+                                   : g.family == ViewFamily::middle_axis ? "middle_axis"
+                                                                         : "minor_axis"},
+                        {"pregrasp", vec(g.pregrasp)}};
+    } else if (st == Status::no_grasp) {
+      o.exit_code = kExitNoGrasp;
+      j["status"] = "no_grasp";
+      j["reason"] = to_string(res.reason);
+      j["message"] = res.message;
+    } else if (st == Status::internal_error || st == Status::numeric_failure) {
+      o.exit_code = kExitInternal;
+      j["status"] = "internal_error";
+      j["error"] = res.message;
+    } else {
+      return invalid(opts.scene_path + ": " + res.message + " (" + to_string(st) + ")");
+    }
+    j["points"] = json{{"input", res.points.input},
+                       {"after_filter", res.points.after_filter},
+                       {"voxels", res.points.voxels},
+                       {"plane", res.points.plane},
+                       {"object", res.points.object}};
+    json timing = json::object();
+    timing["total"] = res.stage_us[static_cast<int>(Stage::total)];
+    for (int s = 0; s < static_cast<int>(Stage::total); ++s)
+      timing[to_string(static_cast<Stage>(s))] = res.stage_us[s];
+    timing["process_plan"] = t_done - t_plan;
+    timing["process_read"] = t_plan - t_process;
+    j["timing_us"] = timing;
+    j["search"] = json{{"viewpoints", res.viewpoints},
+                       {"candidates", res.candidates},
+                       {"rejected", {{"table", res.rejected.table},
+                                     {"collision", res.rejected.collision},
+                                     {"friction", res.rejected.friction}}}};
+    if (planner.plane_found())
+      j["support_plane"] = json{{"normal", vec(planner.plane().n)}, {"d", planner.plane().d}};
+    if (!opts.pictures_dir.empty()) {
+      std::string perr;
+      if (!write_pictures(planner, res, opts.pictures_dir, perr)) j["pictures_error"] = perr;
+      else j["pictures"] = opts.pictures_dir;
+    }
+    return o;
+  } catch (const std::exception& e) {
+    PlanOutcome o;
+    o.exit_code = kExitInternal;
+    o.report = json{{"status", "internal_error"}, {"error", e.what()}};
+    return o;
+  }
+}
+
+std::string human_summary(const json& r) {
+  std::ostringstream os;
+  os.setf(std::ios::fixed);
+  os.precision(3);
+  const std::string status = r.value("status", "?");
+  if (status == "ok") {
+    const json& g = r["grasp"];
+    auto v3 = [&](const char* k) {
+      std::ostringstream s;
+      s.setf(std::ios::fixed);
+      s.precision(3);
+      s << "(" << g[k][0].get<double>() << ", " << g[k][1].get<double>() << ", " << g[k][2].get<double>() << ")";
+      return s.str();
+    };
+    os << "grasp found\n  position " << v3("position") << " m\n  approach " << v3("approach")
+       << "\n  closing  " << v3("closing") << "\n  width    " << g["width"].get<double>() * 1000.0
+       << " mm\n  beta     " << g["beta"].get<double>() << " rad, dz " << g["dz"].get<double>() * 1000.0
+       << " mm, viewpoint " << g["viewpoint"].get<double>() << " rad (" << g["family"].get<std::string>() << ")\n";
+  } else if (status == "no_grasp") {
+    os << "no grasp: " << r.value("reason", "") << " - " << r.value("message", "") << "\n";
+  } else {
+    os << status << ": " << r.value("error", "") << "\n";
+  }
+  if (r.contains("points")) {
+    const json& p = r["points"];
+    os << "  points   " << p["input"] << " input, " << p["after_filter"] << " after filters, "
+       << p["voxels"] << " voxels, " << p["object"] << " on the object\n";
+  }
+  if (r.contains("timing_us")) os << "  time     " << r["timing_us"]["total"] << " us in the planner\n";
+  if (r.contains("pictures")) os << "  pictures " << r["pictures"].get<std::string>() << "\n";
+  return os.str();
+}
+
+}  // namespace fg::host

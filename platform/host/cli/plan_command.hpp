@@ -1,0 +1,34 @@
+// Host-only: `forcegrasp plan` — read a scene, run the planner, report (spec/scene-and-cli.md).
+#pragma once
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "fg/core/config.hpp"
+#include "fg/core/planner.hpp"
+
+namespace fg::host {
+
+struct PlanOptions {
+  std::string scene_path;
+  std::string config_path;             //!< optional JSON of options
+  std::vector<std::string> sets;       //!< name=value overrides
+  std::string pictures_dir;            //!< write SVG pictures here when set
+};
+
+//! Exit codes of the contract.
+enum ExitCode : int { kExitOk = 0, kExitInternal = 1, kExitInvalid = 2, kExitNoGrasp = 3 };
+
+struct PlanOutcome {
+  int exit_code = kExitInternal;
+  nlohmann::json report;  //!< the JSON object the contract prints
+};
+
+//! The whole command; never throws (internal errors become exit code 1).
+PlanOutcome run_plan(const PlanOptions& opts);
+
+//! The short human summary printed without --json.
+std::string human_summary(const nlohmann::json& report);
+
+}  // namespace fg::host
