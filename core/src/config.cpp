@@ -44,6 +44,7 @@ Status validate(const PlannerConfig& c, const char** field) {
   else if (!in(c.single_sensor_arc_rad, 0.0f, 3.1416f)) bad = "single_sensor_arc";
   else if (!in(c.vertical_snap_rad, 0.0f, 1.5708f)) bad = "vertical_snap";
   else if (!in(c.axis_ratio_min, 1.0f, 100.f)) bad = "axis_ratio_min";
+  else if (!in(c.approach_view_max_rad, 0.0f, 3.1416f)) bad = "approach_view_max";
   else if (!in(c.scan_delta_m, 0.0005f, 0.05f)) bad = "scan_delta";
   else if (!in(c.dx_threshold_m, 0.0001f, 0.1f)) bad = "dx_threshold";
   else if (!in(c.width_margin_m, 0.0f, g.max_opening_m * 0.5f)) bad = "width_margin";
@@ -53,6 +54,7 @@ Status validate(const PlannerConfig& c, const char** field) {
   else if (!in(c.centre_weight, 0.0f, 100.f)) bad = "centre_weight";
   else if (!in(c.beta_max_rad, 0.0f, 1.5708f)) bad = "beta_max";
   else if (!in(c.contact_band_m, 0.0005f, 0.05f)) bad = "contact_band";
+  else if (!in(c.reach_width_ratio, 0.0f, 1.0f)) bad = "reach_width_ratio";
   else if (!in(c.friction_mu, 0.0f, 10.f)) bad = "friction_mu";
   else if (!in(c.table_clearance_m, -0.05f, 0.1f)) bad = "table_clearance";
   else if (!in(c.collision_tolerance_m, 0.0f, 0.02f)) bad = "collision_tolerance";

@@ -29,6 +29,8 @@ namespace {
 constexpr float kPi = 3.14159265358979f;
 // Approaches pointing up more steeply than this come from below the object: skipped.
 constexpr float kMaxApproachUp = 0.5f;
+// Normals within 30 deg of the approach belong to surfaces facing the gripper.
+constexpr float kFrontFacingCos = 0.866f;
 
 class StageTimer {
  public:
@@ -266,12 +268,27 @@ uint32_t Planner::add_family(ViewFamily fam, const Vec3& axis, const Vec3& X0, f
     v.X = rotate_about(X0, axis, th);
     v.Z = rotate_about(Z0, axis, th);
     if (v.Z.z() > kMaxApproachUp) continue;  // from below the object
+    if (!seen_from_a_sensor(v.Z)) continue;
     v.has_candidate = false;
     v.beta = v.dz = 0.f;
     ++n_views_;
     ++added;
   }
   return added;
+}
+
+// The partial cloud only shows the sides the sensors faced: an approach is allowed
+// when it comes from within approach_view_max of some sensor's line of sight, so the
+// surfaces the palm and fingers move through were observed.
+bool Planner::seen_from_a_sensor(const Vec3& approach) const {
+  const float min_cos = std::cos(cfg_.approach_view_max_rad);
+  for (uint32_t r = 0; r < kMaxSensors; ++r) {
+    if (!role_added_[r]) continue;
+    const Vec3 sight = centroid_ - sensor_origin_[r];
+    const float len = sight.norm();
+    if (!(len > 1e-6f) || approach.dot(sight) >= min_cos * len) return true;
+  }
+  return false;
 }
 
 void Planner::project(const ViewFrame& f) {
@@ -435,6 +452,10 @@ bool Planner::xoz(const ViewFrame& f, const SideFit& w, Candidate& c) {
   if (!(xmax >= xmin)) return false;
   const float width = xmax - xmin;
   if (width < g.min_opening_m || width > g.max_opening_m - cfg_.width_margin_m) return false;
+  // The silhouette's width must be within the pads' reach: when the points in reach
+  // span much less, the object's widest part lies beyond the fingertips (or only a
+  // sliver is seen there) and closing would not meet the sides that were balanced.
+  if (width < cfg_.reach_width_ratio * w.width) return false;
   zl = zr = 0;
   nl = nr = 0;
   for (uint32_t i = 0; i < n; ++i) {
@@ -449,6 +470,8 @@ bool Planner::xoz(const ViewFrame& f, const SideFit& w, Candidate& c) {
     }
   }
   c.dz = static_cast<float>(std::fabs(zl / nl - zr / nr));
+  c.sides_in_cone = cfg_.friction_mu <= 0.f ||
+                    (std::fabs(w.a_left) <= cfg_.friction_mu && std::fabs(w.a_right) <= cfg_.friction_mu);
   c.width = width;
   c.beta = w.beta;
   c.rank = w.rank;
@@ -521,7 +544,10 @@ bool Planner::executable(const Candidate& c, PlanResult& out) {
       }
     }
   }
-  if (cfg_.friction_mu > 0.f && !friction_ok(c.position, ViewFrame{v.X, v.Y, v.Z}, c.width)) {
+  // Each fitted side's normal within the cone in XOY (beta alone only compares the two
+  // sides), and the contact normals in 3D.
+  if (cfg_.friction_mu > 0.f &&
+      (!c.sides_in_cone || !friction_ok(c.position, ViewFrame{v.X, v.Y, v.Z}, c.width))) {
     ++out.rejected.friction;
     return false;
   }
@@ -578,11 +604,16 @@ bool Planner::friction_ok(const Vec3& pos, const ViewFrame& f, float width) {
     if (side < 0) continue;
     Vec3 nrm;
     if (!normal_at(i, nrm)) continue;
+    // Surfaces facing the approach are what the pads slide along, not what they
+    // squeeze (a side the sensors did not see leaves only its front edge in the band).
+    if (std::fabs(nrm.dot(f.Z)) > kFrontFacingCos) continue;
     ++total[side];
     pass[side] += std::fabs(nrm.dot(f.X)) >= cos_cone ? 1u : 0u;
   }
+  // A corner or edge contact has (nearly) no normal inside the cone; noisy normals on
+  // small faces still have a good share inside.
   for (int s = 0; s < 2; ++s)
-    if (total[s] >= 3 && 2 * pass[s] < total[s]) return false;
+    if (total[s] >= 3 && 3 * pass[s] < total[s]) return false;
   return true;
 }
 

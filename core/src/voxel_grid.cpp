@@ -24,8 +24,10 @@ void VoxelGrid::reset(const Vec3& origin, float leaf_m) {
   }
   initialised_ = true;
   size_ = 0;
-  last_key_ = 0xFFFFFFFFu;
-  last_index_ = 0;
+  for (uint32_t i = 0; i < (1u << kCacheBits); ++i) {
+    cache_key_[i] = 0xFFFFFFFFu;
+    cache_index_[i] = 0;
+  }
 }
 
 uint32_t VoxelGrid::find(uint32_t key) const {

@@ -2,6 +2,7 @@
 
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -42,6 +43,7 @@ std::vector<ConfigOption> config_options(PlannerConfig& c) {
       {"vertical_snap", "principal axis this close to z becomes z (rad)", K::real, &c.vertical_snap_rad},
       {"axis_ratio_min", "largest/middle eigenvalue below this: axis = z", K::real, &c.axis_ratio_min},
       {"extend_search", "search other viewpoint families when the arc fails", K::flag, &c.extend_search},
+      {"approach_view_max", "approaches stay within this angle of a sensor's sight line (rad)", K::real, &c.approach_view_max_rad},
       {"delta", "scan line spacing (m)", K::real, &c.scan_delta_m},
       {"dx_th", "discontinuity threshold (m)", K::real, &c.dx_threshold_m},
       {"width_margin", "lines must be narrower than max_opening - margin (m)", K::real, &c.width_margin_m},
@@ -51,6 +53,7 @@ std::vector<ConfigOption> config_options(PlannerConfig& c) {
       {"centre_weight", "rank = beta + weight * |window - centroid| (rad/m)", K::real, &c.centre_weight},
       {"beta_max", "XOY balance threshold (rad)", K::real, &c.beta_max_rad},
       {"contact_band", "contact region depth (m)", K::real, &c.contact_band_m},
+      {"reach_width_ratio", "width within the pads' reach / silhouette width, at least", K::real, &c.reach_width_ratio},
       {"friction_mu", "friction coefficient of the contact-normal test (0: off)", K::real, &c.friction_mu},
       {"table_clearance", "gripper clearance above the support plane (m)", K::real, &c.table_clearance_m},
       {"collision_tolerance", "points this close to a gripper box face are tolerated (m)", K::real, &c.collision_tolerance_m},
@@ -118,6 +121,27 @@ bool set_config_option(PlannerConfig& cfg, const std::string& name, const std::s
   }
   error = "unknown option \"" + name + "\"";
   return false;
+}
+
+nlohmann::json default_config_json() {
+  PlannerConfig cfg;
+  nlohmann::json j = nlohmann::json::object();
+  for (const ConfigOption& o : config_options(cfg)) {
+    switch (o.kind) {
+      case ConfigOption::real: {
+        char buf[32];  // the float's shortest faithful decimal, not its double expansion
+        std::snprintf(buf, sizeof buf, "%.7g", static_cast<double>(*static_cast<float*>(o.field)));
+        j[o.name] = std::strtod(buf, nullptr);
+        break;
+      }
+      case ConfigOption::count: j[o.name] = *static_cast<uint32_t*>(o.field); break;
+      case ConfigOption::flag: j[o.name] = *static_cast<bool*>(o.field); break;
+      case ConfigOption::rule:
+        j[o.name] = *static_cast<TargetRule*>(o.field) == TargetRule::largest ? "largest" : "nearest";
+        break;
+    }
+  }
+  return j;
 }
 
 bool load_config_file(PlannerConfig& cfg, const std::string& path, std::string& error) {

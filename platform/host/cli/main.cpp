@@ -4,6 +4,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "config_options.hpp"
 #include "plan_command.hpp"
 
 int main(int argc, char** argv) {
@@ -19,6 +20,8 @@ int main(int argc, char** argv) {
     plan->add_option("--pictures", po.pictures_dir, "write SVG pictures of the stages to this folder");
     plan->add_option("--config", po.config_path, "JSON file of planner options");
     plan->add_option("--set", po.sets, "override one option: name=value (repeatable)");
+    CLI::App* config = app.add_subcommand(
+        "config", "print every planner option with its default, as a --config JSON file");
     try {
       app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -32,6 +35,10 @@ int main(int argc, char** argv) {
       else
         std::cout << human_summary(o.report);
       return o.exit_code;
+    }
+    if (config->parsed()) {
+      std::cout << default_config_json().dump(1) << "\n";
+      return 0;
     }
     return kExitInvalid;
   } catch (const std::exception& e) {

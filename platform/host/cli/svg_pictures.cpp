@@ -1,7 +1,1026 @@
+// SVG pictures of the planner's stages (host only): the object cloud with the grasp
+// and the gripper seen from above and from the side, the chosen viewpoint's
+// silhouette with its scan lines and fitted sides, and the force-balance figures of
+// every viewpoint. Plain SVG 1.1, one self-contained file each, plus an index.html.
 #include "svg_pictures.hpp"
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <exception>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <system_error>
+#include <utility>
+#include <vector>
+
 namespace fg::host {
-bool write_pictures(Planner&, const PlanResult&, const std::string&, std::string& error) {
-  error = "pictures are not written yet";
-  return false;
+namespace {
+
+using V3 = Eigen::Vector3d;
+constexpr double kPi = 3.14159265358979323846;
+
+// ---------------------------------------------------------------------------------
+// Text and numbers
+
+std::string fmt(double v, int decimals) {
+  if (!std::isfinite(v)) return "0";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+  std::string s(buf);
+  if (s.find('.') != std::string::npos) {
+    while (!s.empty() && s.back() == '0') s.pop_back();
+    if (!s.empty() && s.back() == '.') s.pop_back();
+  }
+  if (s == "-0") s = "0";
+  return s;
 }
+std::string px(double v) { return fmt(v, 2); }
+
+std::string esc(const std::string& s) {
+  std::string o;
+  o.reserve(s.size());
+  for (const char c : s) {
+    switch (c) {
+      case '&': o += "&amp;"; break;
+      case '<': o += "&lt;"; break;
+      case '>': o += "&gt;"; break;
+      case '"': o += "&quot;"; break;
+      case '\'': o += "&apos;"; break;
+      default: o += c;
+    }
+  }
+  return o;
+}
+
+std::string vec_text(const V3& v, int decimals = 3) {
+  return "(" + fmt(v.x(), decimals) + ", " + fmt(v.y(), decimals) + ", " + fmt(v.z(), decimals) + ")";
+}
+
+const char* family_name(ViewFamily f) {
+  switch (f) {
+    case ViewFamily::sensor_arc: return "sensor_arc";
+    case ViewFamily::full_circle: return "full_circle";
+    case ViewFamily::middle_axis: return "middle_axis";
+    case ViewFamily::minor_axis: return "minor_axis";
+  }
+  return "?";
+}
+
+// Largest of 1, 2, 5 x 10^k not above v (v > 0).
+double nice_floor(double v) {
+  const double mag = std::pow(10.0, std::floor(std::log10(v)));
+  const double n = v / mag;
+  return (n >= 5 ? 5 : n >= 2 ? 2 : 1) * mag;
+}
+// A 1-2-5 tick step giving about `count` ticks over `range`.
+double nice_step(double range, double count) {
+  const double raw = range / count;
+  const double mag = std::pow(10.0, std::floor(std::log10(raw)));
+  const double n = raw / mag;
+  return (n < 1.5 ? 1 : n < 3 ? 2 : n < 7 ? 5 : 10) * mag;
+}
+int step_decimals(double step) {
+  const int d = static_cast<int>(-std::floor(std::log10(step) + 1e-9));
+  return d > 0 ? d : 0;
+}
+
+// ---------------------------------------------------------------------------------
+// The SVG document
+
+struct P2 {
+  double x = 0, y = 0;
+};
+
+std::string attrs(const std::string& stroke, double width, const std::string& fill,
+                  const std::string& extra = "") {
+  std::string s = "stroke=\"" + stroke + "\" stroke-width=\"" + fmt(width, 2) + "\" fill=\"" + fill + "\"";
+  if (!extra.empty()) s += " " + extra;
+  return s;
+}
+
+class Svg {
+ public:
+  Svg(double w, double h) : w_(w), h_(h) {}
+  double width() const { return w_; }
+  double height() const { return h_; }
+
+  void raw(const std::string& s) { os_ << s << "\n"; }
+  void def(const std::string& s) { defs_ << s << "\n"; }
+  void line(P2 a, P2 b, const std::string& style) {
+    os_ << "<line x1=\"" << px(a.x) << "\" y1=\"" << px(a.y) << "\" x2=\"" << px(b.x) << "\" y2=\""
+        << px(b.y) << "\" " << style << "/>\n";
+  }
+  void circle(P2 c, double r, const std::string& style) {
+    os_ << "<circle cx=\"" << px(c.x) << "\" cy=\"" << px(c.y) << "\" r=\"" << px(r) << "\" " << style
+        << "/>\n";
+  }
+  void rect(double x, double y, double w, double h, const std::string& style) {
+    os_ << "<rect x=\"" << px(x) << "\" y=\"" << px(y) << "\" width=\"" << px(std::max(w, 0.0))
+        << "\" height=\"" << px(std::max(h, 0.0)) << "\" " << style << "/>\n";
+  }
+  void poly(const char* tag, const std::vector<P2>& pts, const std::string& style) {
+    if (pts.empty()) return;
+    os_ << "<" << tag << " points=\"";
+    for (size_t i = 0; i < pts.size(); ++i) os_ << (i ? " " : "") << px(pts[i].x) << "," << px(pts[i].y);
+    os_ << "\" " << style << "/>\n";
+  }
+  void polygon(const std::vector<P2>& pts, const std::string& style) { poly("polygon", pts, style); }
+  void polyline(const std::vector<P2>& pts, const std::string& style) { poly("polyline", pts, style); }
+  //! Text at `at`; `extra` holds further attributes (anchor, size, colour, transform).
+  void text(P2 at, const std::string& s, const std::string& extra = "") {
+    os_ << "<text x=\"" << px(at.x) << "\" y=\"" << px(at.y) << "\"" << (extra.empty() ? "" : " ")
+        << extra << ">" << esc(s) << "</text>\n";
+  }
+  void open(const std::string& tag_and_attrs) { os_ << "<" << tag_and_attrs << ">\n"; }
+  void close(const char* tag) { os_ << "</" << tag << ">\n"; }
+
+  //! Arrow from a to b with a filled head of `head` px.
+  void arrow(P2 a, P2 b, const std::string& colour, double width, double head = 10) {
+    const double dx = b.x - a.x, dy = b.y - a.y, len = std::hypot(dx, dy);
+    if (len < 1e-6) return;
+    const double ux = dx / len, uy = dy / len;
+    const double h = std::min(head, 0.6 * len);
+    const P2 base{b.x - ux * h, b.y - uy * h};
+    line(a, base, attrs(colour, width, "none", "stroke-linecap=\"round\""));
+    polygon({b, {base.x - uy * h * 0.45, base.y + ux * h * 0.45}, {base.x + uy * h * 0.45, base.y - ux * h * 0.45}},
+            "stroke=\"none\" fill=\"" + colour + "\"");
+  }
+
+  std::string str(const std::string& title, const std::string& desc) const {
+    std::ostringstream o;
+    o << "<?xml version=\"1.0\" encoding=\"UTF-8\" standalone=\"no\"?>\n"
+      << "<svg xmlns=\"http://www.w3.org/2000/svg\" version=\"1.1\" width=\"" << px(w_) << "\" height=\""
+      << px(h_) << "\" viewBox=\"0 0 " << px(w_) << " " << px(h_)
+      << "\" font-family=\"DejaVu Sans, Arial, Helvetica, sans-serif\" font-size=\"13\">\n"
+      << "<title>" << esc(title) << "</title>\n"
+      << "<desc>" << esc(desc) << "</desc>\n";
+    const std::string d = defs_.str();
+    if (!d.empty()) o << "<defs>\n" << d << "</defs>\n";
+    o << "<rect x=\"0\" y=\"0\" width=\"" << px(w_) << "\" height=\"" << px(h_) << "\" fill=\"#ffffff\"/>\n"
+      << os_.str() << "</svg>\n";
+    return o.str();
+  }
+
+ private:
+  double w_, h_;
+  std::ostringstream os_;
+  std::ostringstream defs_;
+};
+
+// ---------------------------------------------------------------------------------
+// Plots: a pixel rectangle showing a data rectangle (y up).
+
+struct Bounds {
+  double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
+  bool empty() const { return !(x1 >= x0 && y1 >= y0); }
+  void add(double x, double y) {
+    if (!std::isfinite(x) || !std::isfinite(y)) return;
+    x0 = std::min(x0, x);
+    x1 = std::max(x1, x);
+    y0 = std::min(y0, y);
+    y1 = std::max(y1, y);
+  }
+  void add(P2 p) { add(p.x, p.y); }
+};
+
+struct Plot {
+  double left = 0, top = 0, w = 1, h = 1;      // pixels
+  double x0 = 0, x1 = 1, y0 = 0, y1 = 1;       // data
+  P2 map(double x, double y) const {
+    return {left + (x - x0) / (x1 - x0) * w, top + h - (y - y0) / (y1 - y0) * h};
+  }
+  P2 map(P2 p) const { return map(p.x, p.y); }
+  double sx() const { return w / (x1 - x0); }  // pixels per data unit
+  double sy() const { return h / (y1 - y0); }
+};
+
+//! Fits `b` (grown by `pad` of its size and to at least `min_span`) into the pixel
+//! rectangle; equal_aspect keeps one scale for both axes (geometric pictures).
+Plot make_plot(double left, double top, double w, double h, Bounds b, double pad, double min_span,
+               bool equal_aspect) {
+  if (b.empty()) b = Bounds{-min_span / 2, min_span / 2, -min_span / 2, min_span / 2};
+  auto grow = [&](double& lo, double& hi) {
+    double span = hi - lo;
+    const double c = 0.5 * (lo + hi);
+    span = std::max(span * (1 + 2 * pad), min_span);
+    lo = c - span / 2;
+    hi = c + span / 2;
+  };
+  grow(b.x0, b.x1);
+  grow(b.y0, b.y1);
+  Plot p;
+  p.left = left;
+  p.top = top;
+  p.w = w;
+  p.h = h;
+  p.x0 = b.x0;
+  p.x1 = b.x1;
+  p.y0 = b.y0;
+  p.y1 = b.y1;
+  if (equal_aspect) {
+    const double s = std::min(w / (b.x1 - b.x0), h / (b.y1 - b.y0));
+    const double cx = 0.5 * (b.x0 + b.x1), cy = 0.5 * (b.y0 + b.y1);
+    p.x0 = cx - 0.5 * w / s;
+    p.x1 = cx + 0.5 * w / s;
+    p.y0 = cy - 0.5 * h / s;
+    p.y1 = cy + 0.5 * h / s;
+  }
+  return p;
+}
+
+//! Grid, ticks, tick labels, frame and axis labels; defines clip path `clip_id`.
+void draw_axes(Svg& svg, const Plot& p, const std::string& xlabel, const std::string& ylabel,
+               const std::string& clip_id) {
+  svg.def("<clipPath id=\"" + clip_id + "\"><rect x=\"" + px(p.left) + "\" y=\"" + px(p.top) +
+          "\" width=\"" + px(p.w) + "\" height=\"" + px(p.h) + "\"/></clipPath>");
+  const double xs = nice_step(p.x1 - p.x0, std::max(3.0, p.w / 90));
+  const double ys = nice_step(p.y1 - p.y0, std::max(3.0, p.h / 70));
+  const int xd = step_decimals(xs), yd = step_decimals(ys);
+  const std::string grid = attrs("#e3e3e3", 1, "none");
+  const std::string tick = attrs("#333333", 1, "none");
+  for (double x = std::ceil(p.x0 / xs) * xs; x <= p.x1 + 1e-9 * xs; x += xs) {
+    const P2 a = p.map(x, p.y0), b = p.map(x, p.y1);
+    svg.line(a, b, grid);
+    svg.line(a, {a.x, a.y + 5}, tick);
+    svg.text({a.x, a.y + 19}, fmt(std::fabs(x) < 1e-9 * xs ? 0.0 : x, xd), "text-anchor=\"middle\" font-size=\"12\"");
+  }
+  for (double y = std::ceil(p.y0 / ys) * ys; y <= p.y1 + 1e-9 * ys; y += ys) {
+    const P2 a = p.map(p.x0, y), b = p.map(p.x1, y);
+    svg.line(a, b, grid);
+    svg.line(a, {a.x - 5, a.y}, tick);
+    svg.text({a.x - 8, a.y + 4}, fmt(std::fabs(y) < 1e-9 * ys ? 0.0 : y, yd), "text-anchor=\"end\" font-size=\"12\"");
+  }
+  svg.rect(p.left, p.top, p.w, p.h, attrs("#333333", 1, "none"));
+  svg.text({p.left + p.w / 2, p.top + p.h + 40}, xlabel, "text-anchor=\"middle\" font-size=\"14\"");
+  const P2 yl{p.left - 58, p.top + p.h / 2};
+  svg.text(yl, ylabel,
+           "text-anchor=\"middle\" font-size=\"14\" transform=\"rotate(-90 " + px(yl.x) + " " + px(yl.y) + ")\"");
+}
+
+void draw_title(Svg& svg, const std::string& title, const std::vector<std::string>& sub) {
+  svg.text({20, 30}, title, "font-size=\"19\" font-weight=\"bold\"");
+  for (size_t i = 0; i < sub.size(); ++i)
+    svg.text({20, 52 + 17 * static_cast<double>(i)}, sub[i], "font-size=\"12.5\" fill=\"#444444\"");
+}
+
+//! A legend panel: swatches drawn by callbacks, one entry per row.
+class Legend {
+ public:
+  Legend(double x, double y, double w) : x_(x), y_(y), w_(w) {}
+  void add(std::function<void(Svg&, P2)> swatch, std::string label) {
+    entries_.push_back({std::move(swatch), std::move(label)});
+  }
+  //! Draws the panel and returns the y below it.
+  double draw(Svg& svg) const {
+    const double row = 22;
+    const double h = 34 + row * static_cast<double>(entries_.size());
+    svg.rect(x_, y_, w_, h, attrs("#999999", 1, "#fafafa"));
+    svg.text({x_ + 10, y_ + 20}, "Legend", "font-weight=\"bold\"");
+    double y = y_ + 42;
+    for (const Entry& e : entries_) {
+      e.swatch(svg, P2{x_ + 24, y - 4});
+      svg.text({x_ + 46, y}, e.label, "font-size=\"12.5\"");
+      y += row;
+    }
+    return y_ + h;
+  }
+
+ private:
+  struct Entry {
+    std::function<void(Svg&, P2)> swatch;
+    std::string label;
+  };
+  double x_, y_, w_;
+  std::vector<Entry> entries_;
+};
+
+//! A scale bar of a 1-2-5 length (data units `unit`) at most max_px long; returns y below.
+double draw_scale_bar(Svg& svg, double x, double y, double px_per_unit, double max_px,
+                      const std::string& unit) {
+  if (!(px_per_unit > 0)) return y;
+  const double len = nice_floor(max_px / px_per_unit);
+  const double l = len * px_per_unit;
+  svg.text({x, y}, "Scale", "font-weight=\"bold\"");
+  const double by = y + 16;
+  const std::string st = attrs("#000000", 2, "none");
+  svg.rect(x, by - 3, l / 2, 6, attrs("#000000", 1, "#000000"));
+  svg.rect(x + l / 2, by - 3, l / 2, 6, attrs("#000000", 1, "#ffffff"));
+  svg.line({x, by - 7}, {x, by + 7}, st);
+  svg.line({x + l, by - 7}, {x + l, by + 7}, st);
+  svg.text({x + l / 2, by + 22}, fmt(len, step_decimals(len)) + " " + unit, "text-anchor=\"middle\" font-size=\"12.5\"");
+  return by + 30;
+}
+
+//! A message in the middle of an empty plot.
+void draw_note(Svg& svg, const Plot& p, const std::string& msg) {
+  svg.text({p.left + p.w / 2, p.top + p.h / 2}, msg, "text-anchor=\"middle\" font-size=\"16\" fill=\"#a00000\"");
+}
+
+// ---------------------------------------------------------------------------------
+// Geometry helpers
+
+double cross2(const P2& o, const P2& a, const P2& b) {
+  return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
+}
+
+//! Convex hull (monotone chain), counter-clockwise in data coordinates.
+std::vector<P2> convex_hull(std::vector<P2> pts) {
+  std::sort(pts.begin(), pts.end(), [](const P2& a, const P2& b) { return a.x < b.x || (a.x == b.x && a.y < b.y); });
+  if (pts.size() < 3) return pts;
+  std::vector<P2> h(2 * pts.size());
+  size_t k = 0;
+  for (size_t i = 0; i < pts.size(); ++i) {
+    while (k >= 2 && cross2(h[k - 2], h[k - 1], pts[i]) <= 1e-12) --k;
+    h[k++] = pts[i];
+  }
+  for (size_t i = pts.size() - 1, t = k + 1; i-- > 0;) {
+    while (k >= t && cross2(h[k - 2], h[k - 1], pts[i]) <= 1e-12) --k;
+    h[k++] = pts[i];
+  }
+  h.resize(k > 1 ? k - 1 : k);
+  return h;
+}
+
+//! Orthographic view of the world: picture coordinates in millimetres.
+struct View3 {
+  V3 u, v;    // picture right and up (world unit vectors)
+  V3 into;    // viewing direction (into the picture)
+  P2 operator()(const V3& p) const { return {1000.0 * u.dot(p), 1000.0 * v.dot(p)}; }
+};
+
+struct Box3 {
+  double x0, x1, y0, y1, z0, z1;
+};
+
+struct GraspFrame {
+  V3 o, x, y, z;  // origin, closing, approach x closing, approach
+  V3 at(double a, double b, double c) const { return o + x * a + y * b + z * c; }
+};
+
+std::vector<P2> box_outline(const GraspFrame& f, const Box3& b, const View3& view) {
+  std::vector<P2> pts;
+  for (int k = 0; k < 8; ++k)
+    pts.push_back(view(f.at((k & 1) ? b.x1 : b.x0, (k & 2) ? b.y1 : b.y0, (k & 4) ? b.z1 : b.z0)));
+  return convex_hull(pts);
+}
+
+//! Draws a projected box outline (a polygon, or a segment when seen edge-on).
+void draw_outline(Svg& svg, const Plot& p, const std::vector<P2>& hull, const std::string& style) {
+  std::vector<P2> q;
+  for (const P2& h : hull) q.push_back(p.map(h));
+  if (q.size() >= 3) svg.polygon(q, style);
+  else if (q.size() == 2) svg.polyline(q, style);
+}
+
+// Height colour ramp (dark blue - teal - green - yellow), t in [0, 1].
+std::string ramp(double t) {
+  static const double stops[5][3] = {{68, 1, 84}, {59, 82, 139}, {33, 145, 140}, {94, 201, 98}, {253, 231, 37}};
+  t = std::min(1.0, std::max(0.0, t)) * 4.0;
+  const int i = std::min(3, static_cast<int>(t));
+  const double f = t - i;
+  char buf[16];
+  std::snprintf(buf, sizeof buf, "#%02x%02x%02x",
+                static_cast<int>(stops[i][0] + f * (stops[i + 1][0] - stops[i][0]) + 0.5),
+                static_cast<int>(stops[i][1] + f * (stops[i + 1][1] - stops[i][1]) + 0.5),
+                static_cast<int>(stops[i][2] + f * (stops[i + 1][2] - stops[i][2]) + 0.5));
+  return buf;
+}
+
+std::string status_line(const PlanResult& r) {
+  if (r.status == Status::ok) return "grasp found";
+  if (r.status == Status::no_grasp)
+    return std::string("no grasp: ") + to_string(r.reason) + " - " + (r.message ? r.message : "");
+  return std::string("planner status ") + to_string(r.status) + ": " + (r.message ? r.message : "");
+}
+
+// Palette
+const char* kPoints = "#1f77b4";
+const char* kPalm = "#555555";
+const char* kFinger = "#e06000";
+const char* kPad = "#d62728";
+const char* kApproach = "#2ca02c";
+const char* kClosing = "#9467bd";
+const char* kPlane = "#8c564b";
+
+// ---------------------------------------------------------------------------------
+// 1 and 2: the object and the grasp from above and from the side
+
+std::string world_picture(const Planner& planner, const PlanResult& result, bool top) {
+  const PlannerConfig& cfg = planner.config();
+  const GripperGeometry& g = cfg.gripper;
+  const PointSpan& obj = planner.object_points();
+  const bool ok = result.status == Status::ok;
+  const Grasp& gr = result.grasp;
+
+  GraspFrame f;
+  f.o = gr.position.cast<double>();
+  f.z = gr.approach.cast<double>().normalized();
+  f.x = gr.closing.cast<double>().normalized();
+  f.y = f.z.cross(f.x).normalized();
+
+  View3 view;
+  std::string xlabel, ylabel, seen;
+  if (top) {
+    view.u = V3::UnitX();
+    view.v = V3::UnitY();
+    view.into = -V3::UnitZ();
+    xlabel = "world x (mm)";
+    ylabel = "world y (mm)";
+    seen = "seen from above (looking down world -z)";
+  } else {
+    V3 d = V3::UnitY();
+    if (ok && std::fabs(f.x.z()) < 0.5) {
+      V3 h(f.x.x(), f.x.y(), 0.0);
+      if (h.norm() > 1e-6) d = h.normalized();
+    }
+    view.into = d;
+    view.u = d.cross(V3::UnitZ()).normalized();
+    view.v = V3::UnitZ();
+    const bool along_y = (d - V3::UnitY()).norm() < 1e-9;
+    xlabel = along_y ? "world x (mm)" : "horizontal s = p . " + vec_text(view.u, 2) + " (mm)";
+    ylabel = "world z (mm)";
+    seen = along_y ? "seen from the side, looking along world +y"
+                   : "seen from the side, looking along the closing direction " + vec_text(d, 2) +
+                         " (the two fingers overlap)";
+  }
+
+  const double hf = 0.5 * g.finger_depth_m, hw = 0.5 * g.finger_width_m, t = g.finger_thickness_m;
+  const double ho = 0.5 * g.max_opening_m, wc = 0.5 * gr.width;
+  const Box3 palm{-(ho + t), ho + t, -0.5 * g.palm_width_m, 0.5 * g.palm_width_m, -hf - g.palm_depth_m, -hf};
+  const Box3 fingers_open[2] = {{-ho - t, -ho, -hw, hw, -hf, hf}, {ho, ho + t, -hw, hw, -hf, hf}};
+  const Box3 fingers_closed[2] = {{-wc - t, -wc, -hw, hw, -hf, hf}, {wc, wc + t, -hw, hw, -hf, hf}};
+  const Box3 pads_open[2] = {{-ho, -ho, -hw, hw, -hf, hf}, {ho, ho, -hw, hw, -hf, hf}};
+  const Box3 pads_closed[2] = {{-wc, -wc, -hw, hw, -hf, hf}, {wc, wc, -hw, hw, -hf, hf}};
+  const double back = hf + g.palm_depth_m;  // behind the palm
+  const double arrow_len = std::max(0.03, 0.75 * g.max_opening_m);
+  const V3 ap_from = f.o - f.z * (back + 0.01 + arrow_len), ap_to = f.o - f.z * (back + 0.01);
+
+  // Extent: the object, the gripper (open) and the approach arrow.
+  Bounds b;
+  for (uint32_t i = 0; i < obj.size(); ++i) b.add(view(obj[i].cast<double>()));
+  if (ok) {
+    for (const P2& q : box_outline(f, palm, view)) b.add(q);
+    for (const Box3& fb : fingers_open)
+      for (const P2& q : box_outline(f, fb, view)) b.add(q);
+    b.add(view(ap_from));
+    b.add(view(f.o));
+  }
+  Svg svg(1040, 780);
+  const Plot p = make_plot(95, 100, 640, 600, b, 0.06, 20.0, true);
+
+  std::vector<std::string> sub;
+  sub.push_back(status_line(result) + "; " + std::to_string(obj.size()) + " object points (voxel centroids, " +
+                fmt(cfg.voxel_leaf_m * 1000, 1) + " mm leaf), " + seen);
+  if (ok)
+    sub.push_back("grasp at " + vec_text(f.o * 1000, 1) + " mm, approach " + vec_text(f.z, 2) + ", closing " +
+                  vec_text(f.x, 2) + ", width " + fmt(gr.width * 1000, 1) + " mm");
+  draw_title(svg, top ? "Object cloud and grasp, top view" : "Object cloud and grasp, side view", sub);
+  draw_axes(svg, p, xlabel, ylabel, top ? "clip_top" : "clip_side");
+
+  svg.open(std::string("g clip-path=\"url(#") + (top ? "clip_top" : "clip_side") + ")\"");
+  // Support plane (side view): its trace in the vertical picture plane through the
+  // grasp (or the object centroid), with hatching below it.
+  const bool show_plane = !top && planner.plane_found();
+  if (show_plane) {
+    const Plane& pl = planner.plane();
+    const V3 n = pl.n.cast<double>();
+    const V3 ref = ok ? f.o : planner.object_centroid().cast<double>();
+    const double depth = view.into.dot(ref);
+    auto h_at = [&](double s_mm) {  // picture height (mm) of the plane at picture x s_mm
+      const double s = s_mm / 1000.0;
+      return 1000.0 * -(pl.d + depth * n.dot(view.into) + s * n.dot(view.u)) / n.z();
+    };
+    if (std::fabs(n.z()) > 1e-6) {
+      const P2 a = p.map(p.x0, h_at(p.x0)), c = p.map(p.x1, h_at(p.x1));
+      svg.def("<pattern id=\"hatch\" patternUnits=\"userSpaceOnUse\" width=\"10\" height=\"10\">"
+              "<path d=\"M0,10 L10,0\" stroke=\"#c9a89a\" stroke-width=\"1\"/></pattern>");
+      svg.polygon({a, c, {c.x, p.top + p.h + 50}, {a.x, p.top + p.h + 50}}, "stroke=\"none\" fill=\"url(#hatch)\"");
+      svg.line(a, c, attrs(kPlane, 2.5, "none"));
+    }
+  }
+  // Other points of the scene (neither the target nor the support plane) in reach of
+  // the picture: neighbouring objects, occluders.
+  uint32_t n_other = 0;
+  {
+    const VoxelGrid& grid = planner.voxels();
+    const double m = 8.0;  // mm beyond the frame
+    svg.open("g stroke=\"none\" fill=\"#b0b0b0\" fill-opacity=\"0.7\"");
+    for (uint32_t i = 0; i < grid.size() && obj.size() > 0; ++i) {
+      const uint8_t s = planner.voxel_state(i);
+      if (s == kVoxelRemoved || s == kVoxelTarget) continue;
+      const P2 q = view(grid.centroid(i).cast<double>());
+      if (q.x < p.x0 - m || q.x > p.x1 + m || q.y < p.y0 - m || q.y > p.y1 + m) continue;
+      svg.circle(p.map(q), 1.3, "");
+      ++n_other;
+    }
+    svg.close("g");
+  }
+  // Object points: seen from above, coloured by height and drawn low to high.
+  const double r = std::min(4.0, std::max(1.0, 0.45 * cfg.voxel_leaf_m * 1000 * p.sx()));
+  double hmin = 0, hmax = 0;
+  std::vector<uint32_t> order(obj.size());
+  std::vector<double> height(obj.size());
+  for (uint32_t i = 0; i < obj.size(); ++i) {
+    order[i] = i;
+    height[i] = 1000.0 * (planner.plane_found() ? planner.plane().height(obj[i]) : obj[i].z());
+    hmin = i == 0 ? height[i] : std::min(hmin, height[i]);
+    hmax = i == 0 ? height[i] : std::max(hmax, height[i]);
+  }
+  if (top) {
+    std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t c) { return height[a] < height[c]; });
+    svg.open("g stroke=\"none\" fill-opacity=\"0.85\"");
+    for (const uint32_t i : order)
+      svg.circle(p.map(view(obj[i].cast<double>())), r,
+                 "fill=\"" + ramp(hmax > hmin ? (height[i] - hmin) / (hmax - hmin) : 0.5) + "\"");
+  } else {
+    svg.open(std::string("g stroke=\"none\" fill=\"") + kPoints + "\" fill-opacity=\"0.55\"");
+    for (const uint32_t i : order) svg.circle(p.map(view(obj[i].cast<double>())), r, "");
+  }
+  svg.close("g");
+
+  if (ok) {
+    // Palm, fingers (open dashed, closed filled), pads, arrows and the grasp centre.
+    draw_outline(svg, p, box_outline(f, palm, view), attrs(kPalm, 1.5, kPalm, "fill-opacity=\"0.22\""));
+    for (const Box3& fb : fingers_open)
+      draw_outline(svg, p, box_outline(f, fb, view),
+                   attrs(kFinger, 1.5, kFinger, "fill-opacity=\"0.08\" stroke-dasharray=\"6,4\""));
+    for (const Box3& fb : pads_open)
+      draw_outline(svg, p, box_outline(f, fb, view), attrs(kPad, 1.5, "none", "stroke-dasharray=\"6,4\""));
+    for (const Box3& fb : fingers_closed)
+      draw_outline(svg, p, box_outline(f, fb, view), attrs("#a04000", 1.5, kFinger, "fill-opacity=\"0.45\""));
+    for (const Box3& fb : pads_closed)
+      draw_outline(svg, p, box_outline(f, fb, view), attrs(kPad, 3, kPad, "fill-opacity=\"0.35\" stroke-linejoin=\"round\""));
+
+    const P2 c = p.map(view(f.o));
+    // Approach: an arrow behind the palm, or a symbol when it points into / out of the picture.
+    const P2 a0 = p.map(view(ap_from)), a1 = p.map(view(ap_to));
+    if (std::hypot(a1.x - a0.x, a1.y - a0.y) > 15) {
+      svg.arrow(a0, a1, kApproach, 3, 13);
+    } else {
+      const bool into = f.z.dot(view.into) > 0;
+      svg.circle(c, 13, attrs(kApproach, 2.5, "none"));
+      if (into) {
+        svg.line({c.x - 9, c.y - 9}, {c.x + 9, c.y + 9}, attrs(kApproach, 2.5, "none"));
+        svg.line({c.x - 9, c.y + 9}, {c.x + 9, c.y - 9}, attrs(kApproach, 2.5, "none"));
+      } else {
+        svg.circle(c, 3.5, attrs("none", 0, kApproach));
+      }
+    }
+    // Closing: from the left pad to the right one.
+    const P2 c0 = p.map(view(f.o - f.x * std::max(wc, 0.01))), c1 = p.map(view(f.o + f.x * std::max(wc, 0.01)));
+    if (std::hypot(c1.x - c0.x, c1.y - c0.y) > 12) svg.arrow(c0, c1, kClosing, 2.5, 11);
+    svg.circle(c, 4.5, attrs("#000000", 1.5, "#ffffff"));
+    svg.line({c.x - 7, c.y}, {c.x + 7, c.y}, attrs("#000000", 1.2, "none"));
+    svg.line({c.x, c.y - 7}, {c.x, c.y + 7}, attrs("#000000", 1.2, "none"));
+  }
+  // Object centroid.
+  if (obj.size() > 0) {
+    const P2 oc = p.map(view(planner.object_centroid().cast<double>()));
+    svg.polygon({{oc.x, oc.y - 6}, {oc.x + 6, oc.y}, {oc.x, oc.y + 6}, {oc.x - 6, oc.y}}, attrs("#000000", 1.2, "none"));
+  }
+  svg.close("g");
+  if (obj.size() == 0) draw_note(svg, p, "no object points (" + status_line(result) + ")");
+
+  // Legend, colour bar and scale bar.
+  Legend lg(760, 100, 265);
+  if (top) {
+    lg.add([&](Svg& s, P2 q) {
+      for (int k = 0; k < 4; ++k) s.circle({q.x - 9 + 6.0 * k, q.y}, 2.5, "stroke=\"none\" fill=\"" + ramp(k / 3.0) + "\"");
+    }, "object point (colour: height)");
+  } else {
+    lg.add([&](Svg& s, P2 q) {
+      for (int k = 0; k < 4; ++k) s.circle({q.x - 9 + 6.0 * k, q.y}, 2.5, std::string("stroke=\"none\" fill=\"") + kPoints + "\"");
+    }, "object point");
+  }
+  lg.add([](Svg& s, P2 q) {
+    s.polygon({{q.x, q.y - 6}, {q.x + 6, q.y}, {q.x, q.y + 6}, {q.x - 6, q.y}}, attrs("#000000", 1.2, "none"));
+  }, "object centroid");
+  if (n_other > 0)
+    lg.add([](Svg& s, P2 q) {
+      for (int k = 0; k < 4; ++k) s.circle({q.x - 9 + 6.0 * k, q.y}, 1.6, "stroke=\"none\" fill=\"#b0b0b0\"");
+    }, "other points (not target/table)");
+  if (show_plane)
+    lg.add([](Svg& s, P2 q) { s.line({q.x - 14, q.y}, {q.x + 14, q.y}, attrs(kPlane, 2.5, "none")); }, "support plane");
+  if (ok) {
+    lg.add([](Svg& s, P2 q) {
+      s.circle(q, 4.5, attrs("#000000", 1.5, "#ffffff"));
+      s.line({q.x - 7, q.y}, {q.x + 7, q.y}, attrs("#000000", 1.2, "none"));
+    }, "grasp position");
+    lg.add([](Svg& s, P2 q) { s.rect(q.x - 14, q.y - 6, 28, 12, attrs(kPalm, 1.5, kPalm, "fill-opacity=\"0.22\"")); }, "palm");
+    lg.add([](Svg& s, P2 q) {
+      s.rect(q.x - 14, q.y - 6, 28, 12, attrs(kFinger, 1.5, kFinger, "fill-opacity=\"0.08\" stroke-dasharray=\"6,4\""));
+    }, "fingers, open (max opening)");
+    lg.add([](Svg& s, P2 q) { s.rect(q.x - 14, q.y - 6, 28, 12, attrs("#a04000", 1.5, kFinger, "fill-opacity=\"0.45\"")); },
+           "fingers, closed (width)");
+    lg.add([](Svg& s, P2 q) { s.line({q.x - 14, q.y}, {q.x + 14, q.y}, attrs(kPad, 3, "none")); },
+           "finger pads (dashed: open)");
+    lg.add([](Svg& s, P2 q) { s.arrow({q.x - 15, q.y}, {q.x + 15, q.y}, kApproach, 3, 10); }, "approach (x: into picture)");
+    lg.add([](Svg& s, P2 q) { s.arrow({q.x - 15, q.y}, {q.x + 15, q.y}, kClosing, 2.5, 10); }, "closing direction");
+  }
+  double y = lg.draw(svg) + 28;
+  if (top && obj.size() > 0) {
+    svg.def("<linearGradient id=\"heightramp\" x1=\"0\" y1=\"0\" x2=\"1\" y2=\"0\">"
+            "<stop offset=\"0\" stop-color=\"" + ramp(0) + "\"/><stop offset=\"0.25\" stop-color=\"" + ramp(0.25) +
+            "\"/><stop offset=\"0.5\" stop-color=\"" + ramp(0.5) + "\"/><stop offset=\"0.75\" stop-color=\"" +
+            ramp(0.75) + "\"/><stop offset=\"1\" stop-color=\"" + ramp(1) + "\"/></linearGradient>");
+    svg.text({760, y}, planner.plane_found() ? "Height above support plane" : "Height (world z)", "font-weight=\"bold\"");
+    svg.rect(760, y + 8, 220, 14, "stroke=\"#666666\" stroke-width=\"1\" fill=\"url(#heightramp)\"");
+    svg.text({760, y + 38}, fmt(hmin, 0) + " mm", "font-size=\"12\"");
+    svg.text({980, y + 38}, fmt(hmax, 0) + " mm", "font-size=\"12\" text-anchor=\"end\"");
+    y += 66;
+  }
+  draw_scale_bar(svg, 760, y, p.sx(), 200, "mm");
+  return svg.str(top ? "forcegrasp: object and grasp, top view" : "forcegrasp: object and grasp, side view",
+                 "Object cloud in the world frame and the planned parallel-gripper grasp; " + seen + ".");
+}
+
+// ---------------------------------------------------------------------------------
+// 3: the silhouette of one viewpoint
+
+int32_t picture_view(const Planner& planner) {
+  if (planner.chosen_view() >= 0 && static_cast<uint32_t>(planner.chosen_view()) < planner.view_count())
+    return planner.chosen_view();
+  int32_t best = -1;
+  for (uint32_t i = 0; i < planner.view_count(); ++i) {
+    const ViewRecord& v = planner.view(i);
+    if (v.has_candidate && (best < 0 || v.beta < planner.view(static_cast<uint32_t>(best)).beta))
+      best = static_cast<int32_t>(i);
+  }
+  if (best < 0 && planner.view_count() > 0) best = 0;
+  return best;
+}
+
+std::string silhouette_picture(Planner& planner, const PlanResult& result) {
+  const PlannerConfig& cfg = planner.config();
+  const int32_t vi = picture_view(planner);
+  auto detail = std::make_unique<ViewDetail>();
+  Status st = Status::invalid_argument;
+  if (vi >= 0) st = planner.analyze_view(static_cast<uint32_t>(vi), *detail);
+  const ViewDetail& d = *detail;
+  const bool have = st == Status::ok;
+
+  Bounds b;
+  if (have) {
+    for (uint32_t i = 0; i < d.n_points; ++i) b.add(1000.0 * d.points[i].x, 1000.0 * d.points[i].y);
+    for (uint32_t i = 0; i < d.n_contour; ++i) b.add(1000.0 * d.contour[i].x, 1000.0 * d.contour[i].y);
+  }
+  Svg svg(1040, 780);
+  const Plot p = make_plot(95, 100, 640, 600, b, 0.06, 20.0, true);
+
+  std::vector<std::string> sub;
+  uint32_t kept = 0, hit = 0;
+  for (uint32_t j = 0; have && j < d.n_lines; ++j) {
+    kept += d.lines[j].kept ? 1u : 0u;
+    hit += d.lines[j].hit ? 1u : 0u;
+  }
+  const bool chosen = vi >= 0 && vi == planner.chosen_view();
+  if (vi >= 0) {
+    const ViewRecord& v = planner.view(static_cast<uint32_t>(vi));
+    sub.push_back(std::string(chosen ? "chosen viewpoint " : "viewpoint (none chosen; best beta) ") +
+                  std::to_string(vi) + ": family " + family_name(v.family) + ", theta " +
+                  fmt(v.theta * 180.0 / kPi, 1) + " deg; seen along its Z " + vec_text(v.Z.cast<double>(), 2) +
+                  ", origin at the object centroid");
+    sub.push_back(std::to_string(d.n_points) + " projected points, " + std::to_string(d.n_contour) +
+                  "-vertex concave hull, " + std::to_string(d.n_lines) + " scan lines (" + std::to_string(hit) +
+                  " crossing, " + std::to_string(kept) + " graspable); " + status_line(result));
+  }
+  draw_title(svg, "Silhouette, scan lines and force balance (XOY)", sub);
+  draw_axes(svg, p, "x: closing direction X (mm)", "y: principal axis Y (mm)", "clip_sil");
+
+  svg.open("g clip-path=\"url(#clip_sil)\"");
+  if (have) {
+    double cx0 = 0, cx1 = 0;
+    for (uint32_t i = 0; i < d.n_contour; ++i) {
+      cx0 = i == 0 ? d.contour[i].x : std::min<double>(cx0, d.contour[i].x);
+      cx1 = i == 0 ? d.contour[i].x : std::max<double>(cx1, d.contour[i].x);
+    }
+    cx0 = 1000.0 * cx0 - 4;
+    cx1 = 1000.0 * cx1 + 4;
+    // Points, contour.
+    const double r = std::min(3.0, std::max(0.9, 0.35 * cfg.voxel_leaf_m * 1000 * p.sx()));
+    svg.open("g stroke=\"none\" fill=\"#7a8ca8\" fill-opacity=\"0.55\"");
+    for (uint32_t i = 0; i < d.n_points; ++i) svg.circle(p.map(1000.0 * d.points[i].x, 1000.0 * d.points[i].y), r, "");
+    svg.close("g");
+    std::vector<P2> poly;
+    for (uint32_t i = 0; i < d.n_contour; ++i) poly.push_back(p.map(1000.0 * d.contour[i].x, 1000.0 * d.contour[i].y));
+    svg.polygon(poly, attrs(kPoints, 1.6, kPoints, "fill-opacity=\"0.10\" stroke-linejoin=\"round\""));
+    // Scan lines: all thin grey; the graspable ones green between L and R.
+    svg.open("g stroke=\"#9a9a9a\" stroke-width=\"0.6\"");
+    for (uint32_t j = 0; j < d.n_lines; ++j) {
+      const double y = 1000.0 * d.lines[j].y;
+      svg.line(p.map(cx0, y), p.map(cx1, y), "");
+    }
+    svg.close("g");
+    const double lr = std::max(1.6, std::min(3.0, 0.3 * cfg.scan_delta_m * 1000 * p.sy()));
+    svg.open("g stroke=\"#2ca02c\" stroke-width=\"1.2\"");
+    for (uint32_t j = 0; j < d.n_lines; ++j)
+      if (d.lines[j].kept)
+        svg.line(p.map(1000.0 * d.lines[j].left, 1000.0 * d.lines[j].y),
+                 p.map(1000.0 * d.lines[j].right, 1000.0 * d.lines[j].y), "");
+    svg.close("g");
+    svg.open("g stroke=\"#105010\" stroke-width=\"0.8\"");
+    for (uint32_t j = 0; j < d.n_lines; ++j) {
+      if (!d.lines[j].kept) continue;
+      svg.circle(p.map(1000.0 * d.lines[j].left, 1000.0 * d.lines[j].y), lr, "fill=\"#2ca02c\"");
+      svg.circle(p.map(1000.0 * d.lines[j].right, 1000.0 * d.lines[j].y), lr, "fill=\"#ffffff\"");
+    }
+    svg.close("g");
+    // Best window: its band and the two fitted sides x = a y + b.
+    if (d.has_best && d.best.count > 0 && d.best.first + d.best.count <= d.n_lines) {
+      const SideFit& w = d.best;
+      const double y0 = d.lines[w.first].y, y1 = d.lines[w.first + w.count - 1].y;
+      const P2 b0 = p.map(cx0, 1000.0 * y1), b1 = p.map(cx1, 1000.0 * y0);
+      svg.rect(b0.x, b0.y, b1.x - b0.x, b1.y - b0.y, "stroke=\"none\" fill=\"#d62728\" fill-opacity=\"0.10\"");
+      auto side = [&](double a, double bb, double y) { return p.map(1000.0 * (a * y + bb), 1000.0 * y); };
+      // Thin dashed extensions show the fitted directions beyond the window.
+      const double ext = std::max(0.5 * (y1 - y0), 0.006);
+      for (int s = 0; s < 2; ++s) {
+        const double a = s == 0 ? w.a_left : w.a_right, bb = s == 0 ? w.b_left : w.b_right;
+        svg.line(side(a, bb, y0 - ext), side(a, bb, y1 + ext), attrs(kPad, 1, "none", "stroke-dasharray=\"4,3\""));
+        svg.line(side(a, bb, y0), side(a, bb, y1), attrs(kPad, 3.2, "none", "stroke-linecap=\"round\""));
+      }
+      const P2 lab = side(w.a_right, w.b_right, y1 + ext);
+      const std::string btxt = "beta = " + fmt(w.beta, 4) + " rad (" + fmt(w.beta * 180.0 / kPi, 2) + " deg)";
+      svg.rect(lab.x + 4, lab.y - 21, 8.2 * static_cast<double>(btxt.size()) + 8, 36,
+               "stroke=\"none\" fill=\"#ffffff\" fill-opacity=\"0.8\"");
+      svg.text({lab.x + 8, lab.y - 6}, btxt, std::string("font-size=\"13\" font-weight=\"bold\" fill=\"") + kPad + "\"");
+      svg.text({lab.x + 8, lab.y + 10}, "width " + fmt(w.width * 1000, 1) + " mm",
+               std::string("font-size=\"12\" fill=\"") + kPad + "\"");
+    }
+    // The planned grasp in this frame (its window may be another of the viewpoint's candidates).
+    if (chosen && result.status == Status::ok) {
+      const ViewRecord& v = planner.view(static_cast<uint32_t>(vi));
+      const V3 rel = (result.grasp.position - planner.object_centroid()).cast<double>();
+      const double gx = 1000.0 * v.X.cast<double>().dot(rel), gy = 1000.0 * v.Y.cast<double>().dot(rel);
+      const double hw = 500.0 * cfg.gripper.finger_width_m, wc = 500.0 * result.grasp.width;
+      for (int s = -1; s <= 1; s += 2)
+        svg.line(p.map(gx + s * wc, gy - hw), p.map(gx + s * wc, gy + hw),
+                 attrs(kFinger, 4, "none", "stroke-opacity=\"0.85\""));
+      const P2 c = p.map(gx, gy);
+      svg.circle(c, 4.5, attrs("#000000", 1.5, "#ffffff"));
+      svg.line({c.x - 7, c.y}, {c.x + 7, c.y}, attrs("#000000", 1.2, "none"));
+      svg.line({c.x, c.y - 7}, {c.x, c.y + 7}, attrs("#000000", 1.2, "none"));
+    }
+  }
+  svg.close("g");
+  if (!have)
+    draw_note(svg, p, vi < 0 ? "no viewpoint was analysed (" + status_line(result) + ")"
+                             : std::string("analyze_view failed: ") + to_string(st));
+
+  Legend lg(760, 100, 265);
+  lg.add([](Svg& s, P2 q) {
+    for (int k = 0; k < 4; ++k) s.circle({q.x - 9 + 6.0 * k, q.y}, 2, "stroke=\"none\" fill=\"#7a8ca8\"");
+  }, "projected object point");
+  lg.add([](Svg& s, P2 q) { s.rect(q.x - 14, q.y - 7, 28, 14, attrs(kPoints, 1.6, kPoints, "fill-opacity=\"0.10\"")); },
+         "concave hull contour");
+  lg.add([](Svg& s, P2 q) { s.line({q.x - 14, q.y}, {q.x + 14, q.y}, attrs("#9a9a9a", 0.8, "none")); }, "scan line");
+  lg.add([](Svg& s, P2 q) { s.line({q.x - 14, q.y}, {q.x + 14, q.y}, attrs("#2ca02c", 1.5, "none")); },
+         "graspable line (width < opening)");
+  lg.add([](Svg& s, P2 q) {
+    s.circle({q.x - 7, q.y}, 3, attrs("#105010", 0.8, "#2ca02c"));
+    s.circle({q.x + 7, q.y}, 3, attrs("#105010", 0.8, "#ffffff"));
+  }, "L_j (filled), R_j (open)");
+  lg.add([](Svg& s, P2 q) { s.rect(q.x - 14, q.y - 7, 28, 14, "stroke=\"none\" fill=\"#d62728\" fill-opacity=\"0.15\""); },
+         "best window of the viewpoint");
+  lg.add([](Svg& s, P2 q) { s.line({q.x - 14, q.y}, {q.x + 14, q.y}, attrs(kPad, 3.2, "none")); },
+         "fitted sides x = a y + b");
+  if (chosen && result.status == Status::ok)
+    lg.add([](Svg& s, P2 q) {
+      s.line({q.x - 10, q.y - 7}, {q.x - 10, q.y + 7}, attrs(kFinger, 4, "none"));
+      s.line({q.x + 10, q.y - 7}, {q.x + 10, q.y + 7}, attrs(kFinger, 4, "none"));
+      s.circle(q, 3.5, attrs("#000000", 1.2, "#ffffff"));
+    }, "planned grasp: centre, pads");
+  const double y = lg.draw(svg) + 28;
+  draw_scale_bar(svg, 760, y, p.sx(), 200, "mm");
+  return svg.str("forcegrasp: silhouette of the chosen viewpoint",
+                 "Object points projected onto the viewpoint's XOY plane, their concave hull, the scan lines, "
+                 "the graspable lines with their leftmost and rightmost contour points, and the best window's "
+                 "fitted sides with their angle beta.");
+}
+
+// ---------------------------------------------------------------------------------
+// 4: beta and dz over the viewpoints
+
+void draw_marker(Svg& svg, ViewFamily f, P2 c, double r, const std::string& style) {
+  switch (f) {
+    case ViewFamily::sensor_arc: svg.circle(c, r, style); break;
+    case ViewFamily::full_circle: svg.rect(c.x - r * 0.9, c.y - r * 0.9, 1.8 * r, 1.8 * r, style); break;
+    case ViewFamily::middle_axis:
+      svg.polygon({{c.x, c.y - 1.2 * r}, {c.x + 1.1 * r, c.y + 0.8 * r}, {c.x - 1.1 * r, c.y + 0.8 * r}}, style);
+      break;
+    case ViewFamily::minor_axis:
+      svg.polygon({{c.x, c.y - 1.25 * r}, {c.x + 1.25 * r, c.y}, {c.x, c.y + 1.25 * r}, {c.x - 1.25 * r, c.y}}, style);
+      break;
+  }
+}
+const char* family_colour(ViewFamily f) {
+  switch (f) {
+    case ViewFamily::sensor_arc: return "#1f77b4";
+    case ViewFamily::full_circle: return "#ff7f0e";
+    case ViewFamily::middle_axis: return "#2ca02c";
+    case ViewFamily::minor_axis: return "#9467bd";
+  }
+  return "#000000";
+}
+
+std::string balance_picture(const Planner& planner, const PlanResult& result) {
+  const PlannerConfig& cfg = planner.config();
+  const double beta_max = cfg.beta_max_rad;
+  struct Row {
+    ViewFamily f;
+    double theta_deg, beta, dz_mm;
+    uint32_t index;
+  };
+  std::vector<Row> rows;
+  uint32_t no_cand = 0, no_contact = 0;
+  bool fam_used[4] = {false, false, false, false};
+  Bounds tb;
+  for (uint32_t i = 0; i < planner.view_count(); ++i) {
+    const ViewRecord& v = planner.view(i);
+    tb.add(v.theta * 180.0 / kPi, 0);
+    if (!v.has_candidate) {
+      ++no_cand;
+      continue;
+    }
+    if (v.dz < 0) {
+      ++no_contact;
+      continue;
+    }
+    rows.push_back({v.family, v.theta * 180.0 / kPi, v.beta, v.dz * 1000.0, i});
+    fam_used[static_cast<int>(v.family)] = true;
+  }
+  const bool ok = result.status == Status::ok;
+  const int32_t cv = planner.chosen_view();
+  const bool have_chosen = ok && cv >= 0 && static_cast<uint32_t>(cv) < planner.view_count();
+  double bmax = beta_max, dmax = 0;
+  for (const Row& r : rows) {
+    bmax = std::max(bmax, r.beta);
+    dmax = std::max(dmax, r.dz_mm);
+  }
+  if (have_chosen) {
+    bmax = std::max<double>(bmax, result.grasp.beta);
+    dmax = std::max<double>(dmax, result.grasp.dz * 1000.0);
+  }
+  if (!(dmax > 0)) dmax = 1;
+  if (tb.empty()) tb.add(0, 0);
+  const double span = std::max(10.0, tb.x1 - tb.x0);
+  const double tx0 = tb.x0 - 0.04 * span, tx1 = tb.x1 + 0.04 * span;
+
+  Svg svg(1040, 800);
+  Plot pb;
+  pb.left = 95;
+  pb.top = 100;
+  pb.w = 640;
+  pb.h = 270;
+  pb.x0 = tx0;
+  pb.x1 = tx1;
+  pb.y0 = 0;
+  pb.y1 = bmax * 1.1;
+  Plot pd = pb;
+  pd.top = 450;
+  pd.y1 = dmax * 1.1;
+
+  std::vector<std::string> sub;
+  sub.push_back(std::to_string(planner.view_count()) + " viewpoints analysed: " + std::to_string(rows.size()) +
+                " plotted, " + std::to_string(no_cand) + " without a candidate, " + std::to_string(no_contact) +
+                " without contacts within reach (dz = -1), not plotted");
+  sub.push_back("each viewpoint's best candidate (smallest rank); " + status_line(result) +
+                (have_chosen ? "; chosen grasp: beta " + fmt(result.grasp.beta, 4) + " rad, dz " +
+                                   fmt(result.grasp.dz * 1000, 2) + " mm"
+                             : ""));
+  draw_title(svg, "Force balance over the virtual viewpoints", sub);
+  draw_axes(svg, pb, "viewpoint angle theta about the family's axis (deg)", "beta (rad)", "clip_beta");
+  draw_axes(svg, pd, "viewpoint angle theta about the family's axis (deg)", "dz (mm)", "clip_dz");
+  svg.text({pb.left + 8, pb.top + 18}, "XOY balance: angle between the fitted sides", "font-size=\"12.5\" fill=\"#444444\"");
+  svg.text({pd.left + 8, pd.top + 18}, "XOZ balance: depth difference of the contact regions", "font-size=\"12.5\" fill=\"#444444\"");
+
+  for (int panel = 0; panel < 2; ++panel) {
+    const Plot& p = panel == 0 ? pb : pd;
+    svg.open(std::string("g clip-path=\"url(#") + (panel == 0 ? "clip_beta" : "clip_dz") + ")\"");
+    if (panel == 0) {
+      svg.line(p.map(p.x0, beta_max), p.map(p.x1, beta_max), attrs(kPad, 1.8, "none", "stroke-dasharray=\"8,5\""));
+      const P2 lab = p.map(p.x1, beta_max);
+      svg.text({lab.x - 6, lab.y - 6}, "beta_max = " + fmt(beta_max, 3) + " rad",
+               std::string("text-anchor=\"end\" font-size=\"12\" fill=\"") + kPad + "\"");
+    }
+    if (have_chosen) {
+      const double th = planner.view(static_cast<uint32_t>(cv)).theta * 180.0 / kPi;
+      const double val = panel == 0 ? result.grasp.beta : result.grasp.dz * 1000.0;
+      svg.line(p.map(th, p.y0), p.map(th, p.y1), attrs("#d62728", 1, "none", "stroke-opacity=\"0.35\""));
+      svg.circle(p.map(th, val), 10, attrs("#d62728", 2.5, "#ffd84d", "fill-opacity=\"0.6\""));
+    }
+    for (const Row& r : rows) {
+      const P2 c = p.map(r.theta_deg, panel == 0 ? r.beta : r.dz_mm);
+      draw_marker(svg, r.f, c, 4.2, attrs("#222222", 0.8, family_colour(r.f), "fill-opacity=\"0.85\""));
+    }
+    if (rows.empty()) draw_note(svg, p, "no viewpoint has a candidate with contacts");
+    svg.close("g");
+  }
+
+  Legend lg(760, 100, 265);
+  for (int k = 0; k < 4; ++k) {
+    const ViewFamily f = static_cast<ViewFamily>(k);
+    if (!fam_used[k] && k != 0) continue;
+    lg.add([f](Svg& s, P2 q) { draw_marker(s, f, q, 4.5, attrs("#222222", 0.8, family_colour(f))); },
+           std::string("viewpoint, ") + family_name(f));
+  }
+  if (have_chosen)
+    lg.add([](Svg& s, P2 q) { s.circle(q, 9, attrs("#d62728", 2.5, "#ffd84d", "fill-opacity=\"0.6\"")); },
+           "chosen grasp (its candidate)");
+  lg.add([](Svg& s, P2 q) { s.line({q.x - 14, q.y}, {q.x + 14, q.y}, attrs(kPad, 1.8, "none", "stroke-dasharray=\"8,5\"")); },
+         "beta_max (balanced below)");
+  const double y = lg.draw(svg) + 30;
+  svg.text({760, y}, "Selection (design E.3):", "font-weight=\"bold\" font-size=\"12.5\"");
+  svg.text({760, y + 18}, "among beta <= beta_max the smallest", "font-size=\"12\"");
+  svg.text({760, y + 34}, "dz wins, else the smallest beta, then", "font-size=\"12\"");
+  svg.text({760, y + 50}, "the executability checks.", "font-size=\"12\"");
+  return svg.str("forcegrasp: force balance over the viewpoints",
+                 "beta (XOY force balance, rad) and dz (XOZ force balance, mm) of each viewpoint's best "
+                 "candidate against the viewpoint angle, by viewpoint family.");
+}
+
+// ---------------------------------------------------------------------------------
+
+std::string index_html(const PlanResult& result) {
+  std::ostringstream o;
+  o << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
+    << "<title>forcegrasp pictures</title>\n"
+    << "<style>body{font-family:sans-serif;margin:20px;max-width:1100px}"
+       "img{max-width:100%;border:1px solid #ccc;margin:6px 0 24px 0}</style>\n"
+    << "</head>\n<body>\n<h1>forcegrasp: planner stages</h1>\n<p>" << esc(status_line(result));
+  if (result.status == Status::ok) {
+    const Grasp& g = result.grasp;
+    o << ": position " << esc(vec_text(g.position.cast<double>(), 4)) << " m, approach "
+      << esc(vec_text(g.approach.cast<double>(), 3)) << ", closing " << esc(vec_text(g.closing.cast<double>(), 3))
+      << ", width " << fmt(g.width * 1000, 1) << " mm, beta " << fmt(g.beta, 4) << " rad, dz "
+      << fmt(g.dz * 1000, 2) << " mm (" << family_name(g.family) << ", viewpoint " << fmt(g.viewpoint, 3)
+      << " rad)";
+  }
+  o << ". " << result.points.object << " object points, " << result.viewpoints << " viewpoints, "
+    << result.candidates << " candidates.</p>\n";
+  const char* pics[4][2] = {{"object_top.svg", "Object cloud and grasp from above"},
+                            {"object_side.svg", "Object cloud and grasp from the side, with the support plane"},
+                            {"silhouette.svg", "Silhouette of the chosen viewpoint: contour, scan lines, fitted sides"},
+                            {"balance.svg", "Force balance (beta, dz) over the viewpoints"}};
+  for (const auto& pic : pics)
+    o << "<h2>" << pic[1] << "</h2>\n<p><a href=\"" << pic[0] << "\"><img src=\"" << pic[0] << "\" alt=\""
+      << pic[1] << "\"></a></p>\n";
+  o << "</body>\n</html>\n";
+  return o.str();
+}
+
+bool write_file(const std::filesystem::path& path, const std::string& text, std::string& error) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  if (!out) {
+    error = "cannot write " + path.string() + ": " + std::strerror(errno);
+    return false;
+  }
+  out.write(text.data(), static_cast<std::streamsize>(text.size()));
+  out.close();
+  if (!out) {
+    error = "cannot write " + path.string() + ": write failed";
+    return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+bool write_pictures(Planner& planner, const PlanResult& result, const std::string& dir, std::string& error) {
+  try {
+    namespace fs = std::filesystem;
+    if (dir.empty()) {
+      error = "the pictures folder name is empty";
+      return false;
+    }
+    const fs::path root(dir);
+    std::error_code ec;
+    fs::create_directories(root, ec);
+    if (ec || !fs::is_directory(root, ec)) {
+      error = "cannot create the pictures folder " + dir + (ec ? ": " + ec.message() : ": not a directory");
+      return false;
+    }
+    const std::pair<const char*, std::string> files[] = {
+        {"object_top.svg", world_picture(planner, result, true)},
+        {"object_side.svg", world_picture(planner, result, false)},
+        {"silhouette.svg", silhouette_picture(planner, result)},
+        {"balance.svg", balance_picture(planner, result)},
+        {"index.html", index_html(result)},
+    };
+    for (const auto& f : files)
+      if (!write_file(root / f.first, f.second, error)) return false;
+    return true;
+  } catch (const std::exception& e) {
+    error = std::string("cannot write the pictures into ") + dir + ": " + e.what();
+    return false;
+  }
+}
+
 }  // namespace fg::host

@@ -37,6 +37,7 @@ struct PlannerConfig {
   float vertical_snap_rad = 0.2617994f;      //!< principal axis within 15 deg of z -> z
   float axis_ratio_min = 1.3f;       //!< largest/middle eigenvalue below this -> axis = z
   bool extend_search = true;         //!< rest of the circle + other PCA axes when the arc fails
+  float approach_view_max_rad = 1.3962634f;  //!< approach within 80 deg of a sensor's sight line
 
   // D. XOY force balance
   float scan_delta_m = 0.002f;       //!< scan line spacing
@@ -51,6 +52,7 @@ struct PlannerConfig {
   // E/F. XOZ balance, selection, checks
   float beta_max_rad = 0.2f;
   float contact_band_m = 0.004f;     //!< contact region depth inside each side
+  float reach_width_ratio = 0.6f;    //!< width within the pads' reach / silhouette width, at least
   float friction_mu = 0.5f;          //!< friction-cone test of contact normals (0 = off)
   float table_clearance_m = 0.003f;  //!< gripper boxes stay this far above the plane
   float collision_tolerance_m = 0.001f;

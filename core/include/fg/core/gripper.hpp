@@ -7,7 +7,7 @@ namespace fg {
 
 struct GripperGeometry {
   float max_opening_m = 0.085f;      //!< largest distance between the pad faces
-  float min_opening_m = 0.0f;        //!< smallest graspable width
+  float min_opening_m = 0.005f;      //!< smallest graspable width (below: sensor noise)
   float finger_width_m = 0.022f;     //!< pad extent across the closing plane (grasp y)
   float finger_depth_m = 0.040f;     //!< pad extent along the approach (grasp z)
   float finger_thickness_m = 0.010f; //!< finger extent along the closing direction

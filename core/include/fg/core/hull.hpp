@@ -10,10 +10,14 @@
 namespace fg {
 
 //! Convex hull of n points, counter-clockwise, no repeated first vertex, collinear
-//! points on edges dropped. `scratch` must hold n points (it receives a sorted copy).
-//! Non-finite points are skipped. out_n = 0 for n = 0; 1 or 2 vertices for
-//! degenerate inputs (all identical / all collinear).
-//! Returns capacity_exceeded if the hull has more than out_capacity vertices.
+//! points on edges dropped, starting at the lexicographically smallest (x, then y)
+//! point. `scratch` must hold n points (it receives a sorted copy; it must not alias
+//! `out`). Non-finite points are skipped. out_n = 0 for n = 0 (or no finite point);
+//! 1 or 2 vertices for degenerate inputs (all identical / all collinear: the two
+//! extreme points). Orientation tests are done in double on the float inputs.
+//! Returns capacity_exceeded if the hull has more than out_capacity vertices, and
+//! invalid_argument for a null points / scratch with n > 0 or a null out with
+//! out_capacity > 0. out_n = 0 whenever the status is not ok.
 Status convex_hull_2d(const Vec2* points, uint32_t n, Vec2* scratch, Vec2* out,
                       uint32_t out_capacity, uint32_t& out_n);
 
@@ -25,19 +29,36 @@ struct ConcaveHullScratch {
 
 //! Parameters of the raster concave hull.
 struct ConcaveHullParams {
-  float cell_m = 0.0025f;     //!< raster cell size; grown automatically to fit the grid
-  uint32_t closing_cells = 2; //!< morphological closing radius (bridges sampling gaps)
+  float cell_m = 0.0025f;     //!< raster cell size (> 0, finite); grown automatically to fit the grid
+  uint32_t closing_cells = 2; //!< closing radius in cells, at most (kHullGridDim - 5) / 2
 };
 
-//! Concave hull of n points: the boundary of the outer component of the union of
-//! occupied raster cells after a closing, traced counter-clockwise (Moore
-//! neighbour tracing), vertices at cell corners with collinear runs merged.
-//! Guarantees: every finite input point lies inside or on the polygon; holes are
-//! filled (a ring gives its outer circle); concavities wider than about
-//! 2 * closing_cells cells are followed (L and U shapes). When the points form
-//! several components after the closing, the component holding the most points is
-//! traced and `all_inside` reports false.
-//! out_cell_m receives the cell size actually used.
+//! Concave hull of n points: the outer boundary of one 8-connected component of the
+//! occupied raster cells after a closing and hole filling, traced counter-clockwise
+//! along cell edges (vertices at cell corners, collinear runs merged, no repeated
+//! first vertex; the first vertex is the lower-left corner of the component's lowest,
+//! then leftmost cell).
+//! Steps: bounding box of the finite points; cell = max(cell_m, extent /
+//! (kHullGridDim - 2 * closing_cells - 4)), so the occupied span plus a margin of
+//! closing_cells + 1 empty cells fits the raster; closing (dilate then erode, square
+//! of radius closing_cells); holes filled (background not 4-connected to the border);
+//! the component holding the most points (exact count; ties: the component whose
+//! first cell comes first in row-major order from the smallest y) is traced.
+//! Guarantees: every finite point of the traced component lies inside or on the
+//! polygon (cells are assigned against the same float corner coordinates the
+//! polygon is written with); holes are filled (a ring gives its outer circle);
+//! concavities wider than about 2 * closing_cells cells are followed (L and U
+//! shapes). Where two cells of the component touch only diagonally the polygon
+//! touches itself at that corner (weakly simple). `all_inside` is false when some
+//! finite points lie in other components.
+//! out_cell_m receives the cell size actually used (0 when there is no finite point).
+//! Statuses: ok (out_n = 0 when there is no finite point); invalid_argument (null
+//! points with n > 0, null out with out_capacity > 0, cell_m not a finite value > 0,
+//! closing_cells too large); capacity_exceeded (more than out_capacity vertices);
+//! numeric_failure (the raster's corners overflow float: coordinates near FLT_MAX).
+//! out_n = 0 whenever the status is not ok. Time: O(n + raster cells) (the raster
+//! is at most kHullGridDim^2 cells); each component holding a cell with more than
+//! 255 points costs one extra pass over the points and the raster (exact recount).
 Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& params,
                        ConcaveHullScratch& scratch, Vec2* out, uint32_t out_capacity,
                        uint32_t& out_n, float& out_cell_m, bool& all_inside);
@@ -45,11 +66,14 @@ Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& 
 //! Signed area of a polygon (positive when counter-clockwise).
 float polygon_area(const Vec2* poly, uint32_t n);
 
-//! Point-in-polygon (even-odd rule); points on an edge count as inside.
+//! Point-in-polygon (even-odd rule); points within edge_tol_m of an edge count as
+//! inside. False for a null / empty polygon or a non-finite point.
 bool polygon_contains(const Vec2* poly, uint32_t n, Vec2 p, float edge_tol_m = 1e-6f);
 
-//! Leftmost and rightmost x where the horizontal line y = y_line crosses the polygon
-//! boundary. Returns false when the line misses the polygon.
+//! Leftmost and rightmost x where the horizontal line y = y_line meets the polygon
+//! boundary: every edge is intersected; a line through a vertex counts that vertex,
+//! a line along a horizontal edge counts both its endpoints. Returns false (and
+//! zeros) when the line misses the polygon or y_line is not finite.
 bool polygon_span_at_y(const Vec2* poly, uint32_t n, float y_line, float& x_left, float& x_right);
 
 }  // namespace fg

@@ -140,6 +140,7 @@ class Planner {
     float beta, dz, width, rank;
     Vec3 position;  //!< world
     bool balanced;  //!< beta <= beta_max
+    bool sides_in_cone;  //!< both fitted sides within atan(mu) of the closing normal (XOY)
   };
   struct ViewFrame {
     Vec3 X, Y, Z;
@@ -152,6 +153,7 @@ class Planner {
                       bool skip_arc, float arc_from, float arc_to);
   void analyse_views(uint32_t first, uint32_t last, PlanResult& out);
   void project(const ViewFrame& f);
+  bool seen_from_a_sensor(const Vec3& approach) const;
   bool xoz(const ViewFrame& f, const SideFit& w, Candidate& c);
   bool executable(const Candidate& c, PlanResult& out);
   bool friction_ok(const Vec3& pos, const ViewFrame& f, float width);

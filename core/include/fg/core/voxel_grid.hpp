@@ -38,12 +38,15 @@ class VoxelGrid {
     const uint32_t ix = static_cast<uint32_t>(fx), iy = static_cast<uint32_t>(fy),
                    iz = static_cast<uint32_t>(fz);
     const uint32_t key = ix | (iy << 11) | (iz << 22);
-    uint32_t idx = last_index_;
-    if (key != last_key_) {
+    // A small direct-mapped cache of recent cells: neighbouring pixels of a depth
+    // image (in this row and the rows above) mostly fall in the same few hundred cells.
+    const uint32_t h = (key * 0x9E3779B1u) >> (32 - kCacheBits);
+    uint32_t idx = cache_index_[h];
+    if (cache_key_[h] != key) {
       idx = find_or_add(key);
       if (idx == kNone) return Status::capacity_exceeded;
-      last_key_ = key;
-      last_index_ = idx;
+      cache_key_[h] = key;
+      cache_index_[h] = idx;
     }
     Voxel& v = voxels_[idx];
     v.count += 1;
@@ -77,8 +80,10 @@ class VoxelGrid {
   float leaf_ = 0.005f;
   float inv_leaf_ = 200.f;
   uint32_t size_ = 0;
-  uint32_t last_key_ = 0xFFFFFFFFu;  // no real key has all bits set (z < kMaxZ - 2)
-  uint32_t last_index_ = 0;
+  static constexpr uint32_t kCacheBits = 10;
+  // Empty entries hold 0xFFFFFFFF: no real key has all bits set (z < kMaxZ - 2).
+  uint32_t cache_key_[1u << kCacheBits];
+  uint32_t cache_index_[1u << kCacheBits];
   bool initialised_ = false;
   uint32_t slots_[kVoxelHashSlots];  // voxel index + 1; 0 = empty
   Voxel voxels_[kMaxVoxels];

@@ -1,0 +1,496 @@
+// 2D hulls over caller memory: Andrew's monotone chain (convex) and a raster concave
+// hull (closing, hole filling, component choice, crack-following boundary trace),
+// plus small polygon queries. No allocation, no exceptions; every loop is bounded by
+// n, the raster size or a small constant.
+#include "fg/core/hull.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace fg {
+namespace {
+
+bool is_finite(const Vec2& p) { return std::isfinite(p.x) && std::isfinite(p.y); }
+
+bool same(const Vec2& a, const Vec2& b) { return a.x == b.x && a.y == b.y; }
+
+bool lex_less(const Vec2& a, const Vec2& b) { return a.x < b.x || (a.x == b.x && a.y < b.y); }
+
+//! (a - o) x (b - o) in double: > 0 when o -> a -> b turns left (counter-clockwise).
+double cross(const Vec2& o, const Vec2& a, const Vec2& b) {
+  const double ax = static_cast<double>(a.x) - o.x;
+  const double ay = static_cast<double>(a.y) - o.y;
+  const double bx = static_cast<double>(b.x) - o.x;
+  const double by = static_cast<double>(b.y) - o.y;
+  return ax * by - ay * bx;
+}
+
+// ----------------------------------------------------------------------------------
+// Raster concave hull helpers. Cell flag bits (ConcaveHullScratch::cells):
+//   closing stage : bit0 occupied, bit1 row-dilated, bit2 dilated, bit3 row-eroded,
+//                   bit4 closed
+//   after closing : bit0 foreground (F), bit1 visited, bits2-4 DFS parent direction,
+//                   bit5 "current component" mark used by the exact recount
+// ConcaveHullScratch::temp holds the number of points per cell, saturated at 255.
+constexpr uint8_t kOcc = 0x01;
+constexpr uint8_t kRowDil = 0x02;
+constexpr uint8_t kDil = 0x04;
+constexpr uint8_t kRowEro = 0x08;
+constexpr uint8_t kClosed = 0x10;
+
+constexpr uint8_t kFg = 0x01;
+constexpr uint8_t kVisited = 0x02;
+constexpr uint8_t kParentShift = 2;
+constexpr uint8_t kParentMask = 0x1C;
+constexpr uint8_t kCurrent = 0x20;
+
+// 8 directions, counter-clockwise from east. 4-connectivity uses the even ones.
+constexpr int kDx8[8] = {1, 1, 0, -1, -1, -1, 0, 1};
+constexpr int kDy8[8] = {0, 1, 1, 1, 0, -1, -1, -1};
+
+//! Geometry of the raster: cell (i, j) spans [vx(i), vx(i+1)) x [vy(j), vy(j+1)),
+//! row-major with index j * w + i, row 0 at the smallest y.
+struct Raster {
+  double origin_x;
+  double origin_y;
+  double cell;
+  uint32_t w;
+  uint32_t h;
+
+  float vx(int64_t i) const { return static_cast<float>(origin_x + static_cast<double>(i) * cell); }
+  float vy(int64_t j) const { return static_cast<float>(origin_y + static_cast<double>(j) * cell); }
+
+  //! The cell of a finite point, decided against the same float corner coordinates
+  //! the polygon is written with, so a point is never outside its own cell.
+  uint32_t index_of(const Vec2& p) const {
+    int64_t i = static_cast<int64_t>(std::floor((static_cast<double>(p.x) - origin_x) / cell));
+    int64_t j = static_cast<int64_t>(std::floor((static_cast<double>(p.y) - origin_y) / cell));
+    i = std::min<int64_t>(std::max<int64_t>(i, 0), static_cast<int64_t>(w) - 1);
+    j = std::min<int64_t>(std::max<int64_t>(j, 0), static_cast<int64_t>(h) - 1);
+    for (int it = 0; it < 2; ++it) {  // correct the division's rounding (at most one cell)
+      if (i > 0 && p.x < vx(i)) {
+        --i;
+      } else if (i + 1 < static_cast<int64_t>(w) && p.x >= vx(i + 1)) {
+        ++i;
+      }
+      if (j > 0 && p.y < vy(j)) {
+        --j;
+      } else if (j + 1 < static_cast<int64_t>(h) && p.y >= vy(j + 1)) {
+        ++j;
+      }
+    }
+    return static_cast<uint32_t>(j) * w + static_cast<uint32_t>(i);
+  }
+};
+
+//! One line of a separable square dilation (any src set in the window) or erosion
+//! (the whole window set; outside the raster counts as unset): src bit -> dst bit.
+void morph_line(uint8_t* g, uint32_t start, uint32_t step, uint32_t len, uint32_t r,
+                uint8_t src, uint8_t dst, bool erode) {
+  const uint32_t full = 2 * r + 1;
+  uint32_t count = 0;  // set cells in [t - r, t + r] clipped to the line
+  const uint32_t first = std::min(r, len - 1);
+  for (uint32_t t = 0; t <= first; ++t) count += (g[start + t * step] & src) ? 1u : 0u;
+  for (uint32_t t = 0; t < len; ++t) {
+    const bool on = erode ? (count == full) : (count > 0);
+    if (on) g[start + t * step] = static_cast<uint8_t>(g[start + t * step] | dst);
+    if (t + r + 1 < len) count += (g[start + (t + r + 1) * step] & src) ? 1u : 0u;
+    if (t >= r) count -= (g[start + (t - r) * step] & src) ? 1u : 0u;
+  }
+}
+
+struct DfsResult {
+  uint64_t points;  //!< sum of the saturated per-cell point counts
+  bool saturated;   //!< some cell's count was saturated: `points` is a lower bound
+  bool ok;          //!< false only if the step bound was hit (a bug)
+};
+
+//! Iterative depth-first flood from `start` over the cells whose F bit equals
+//! `want_fg`, 4- (dir_step 2) or 8-connected (dir_step 1). Marks them with
+//! `mark`; the path back to `start` is kept as parent directions in the cell bits,
+//! so no stack is needed. Each cell is entered once and left once.
+DfsResult flood(uint8_t* g, const uint8_t* counts, uint32_t w, uint32_t h, uint32_t start,
+                bool want_fg, int dir_step, uint8_t mark) {
+  DfsResult res{0, false, true};
+  const uint64_t cells = static_cast<uint64_t>(w) * h;
+  const uint64_t max_steps = 2 * cells + 2;
+  uint32_t cur = start;
+  g[cur] = static_cast<uint8_t>((g[cur] & ~kParentMask) | mark);
+  if (counts != nullptr) {
+    res.points += counts[cur];
+    res.saturated = res.saturated || counts[cur] == 255;
+  }
+  int dir_from = 0;
+  for (uint64_t step = 0; step < max_steps; ++step) {
+    const int64_t ci = static_cast<int64_t>(cur % w);
+    const int64_t cj = static_cast<int64_t>(cur / w);
+    bool moved = false;
+    for (int d = dir_from; d < 8; d += dir_step) {
+      const int64_t ni = ci + kDx8[d];
+      const int64_t nj = cj + kDy8[d];
+      if (ni < 0 || nj < 0 || ni >= static_cast<int64_t>(w) || nj >= static_cast<int64_t>(h)) continue;
+      const uint32_t nb = static_cast<uint32_t>(nj) * w + static_cast<uint32_t>(ni);
+      if (((g[nb] & kFg) != 0) != want_fg || (g[nb] & mark) != 0) continue;
+      const int back = (d + 4) & 7;  // direction from the new cell to its parent
+      g[nb] = static_cast<uint8_t>((g[nb] & ~kParentMask) | mark | (back << kParentShift));
+      if (counts != nullptr) {
+        res.points += counts[nb];
+        res.saturated = res.saturated || counts[nb] == 255;
+      }
+      cur = nb;
+      dir_from = 0;
+      moved = true;
+      break;
+    }
+    if (moved) continue;
+    if (cur == start) return res;
+    const int back = (g[cur] & kParentMask) >> kParentShift;
+    const int64_t pi = ci + kDx8[back];
+    const int64_t pj = cj + kDy8[back];
+    cur = static_cast<uint32_t>(pj) * w + static_cast<uint32_t>(pi);
+    dir_from = ((back + 4) & 7) + dir_step;  // resume after the child just finished
+  }
+  res.ok = false;
+  return res;
+}
+
+}  // namespace
+
+// ------------------------------------------------------------------------------------
+Status convex_hull_2d(const Vec2* points, uint32_t n, Vec2* scratch, Vec2* out,
+                      uint32_t out_capacity, uint32_t& out_n) {
+  out_n = 0;
+  if (n > 0 && (points == nullptr || scratch == nullptr)) return Status::invalid_argument;
+  if (out == nullptr && out_capacity > 0) return Status::invalid_argument;
+
+  uint32_t m = 0;  // finite points copied to scratch
+  for (uint32_t i = 0; i < n; ++i) {
+    if (is_finite(points[i])) scratch[m++] = points[i];
+  }
+  if (m == 0) return Status::ok;
+
+  Vec2 lo = scratch[0];
+  Vec2 hi = scratch[0];
+  for (uint32_t i = 1; i < m; ++i) {
+    if (lex_less(scratch[i], lo)) lo = scratch[i];
+    if (lex_less(hi, scratch[i])) hi = scratch[i];
+  }
+  if (same(lo, hi)) {  // all points identical
+    if (out_capacity < 1) return Status::capacity_exceeded;
+    out[0] = lo;
+    out_n = 1;
+    return Status::ok;
+  }
+
+  // Split by the chord lo -> hi: the lower chain uses lo, hi and the points strictly
+  // right of the chord; the upper chain the points strictly left of it. Points on the
+  // chord (other than lo, hi) are never vertices. Each group is sorted the way
+  // Andrew's passes visit it (lower: ascending; upper: descending).
+  Vec2* const g0_end = std::partition(scratch, scratch + m, [&](const Vec2& p) {
+    return same(p, lo) || same(p, hi) || cross(lo, hi, p) < 0.0;
+  });
+  Vec2* const g1_end = std::partition(g0_end, scratch + m,
+                                      [&](const Vec2& p) { return cross(lo, hi, p) > 0.0; });
+  std::sort(scratch, g0_end, lex_less);
+  std::sort(g0_end, g1_end, [](const Vec2& a, const Vec2& b) { return lex_less(b, a); });
+
+  // Monotone chain, in place: the stack H = scratch[0..k) never overtakes the read index.
+  Vec2* const H = scratch;
+  uint32_t k = 0;
+  const uint32_t n0 = static_cast<uint32_t>(g0_end - scratch);
+  for (uint32_t i = 0; i < n0; ++i) {
+    const Vec2 q = scratch[i];
+    if (k > 0 && same(H[k - 1], q)) continue;
+    while (k >= 2 && cross(H[k - 2], H[k - 1], q) <= 0.0) --k;
+    H[k++] = q;
+  }
+  const uint32_t k_lower = k;  // lo ... hi
+  const uint32_t n1 = static_cast<uint32_t>(g1_end - g0_end);
+  for (uint32_t i = 0; i <= n1; ++i) {
+    const Vec2 q = (i < n1) ? g0_end[i] : lo;  // finally close back at lo
+    if (same(H[k - 1], q)) continue;
+    while (k >= k_lower + 1 && cross(H[k - 2], H[k - 1], q) <= 0.0) --k;
+    if (i < n1) H[k++] = q;
+  }
+
+  if (k > out_capacity) return Status::capacity_exceeded;
+  for (uint32_t i = 0; i < k; ++i) out[i] = H[i];
+  out_n = k;
+  return Status::ok;
+}
+
+// ------------------------------------------------------------------------------------
+Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& params,
+                       ConcaveHullScratch& scratch, Vec2* out, uint32_t out_capacity,
+                       uint32_t& out_n, float& out_cell_m, bool& all_inside) {
+  out_n = 0;
+  out_cell_m = 0.0f;
+  all_inside = false;
+  constexpr uint32_t kDim = kHullGridDim;
+  constexpr uint32_t kMaxClosing = (kDim - 5) / 2;
+  if (n > 0 && points == nullptr) return Status::invalid_argument;
+  if (out == nullptr && out_capacity > 0) return Status::invalid_argument;
+  if (!std::isfinite(params.cell_m) || !(params.cell_m > 0.0f)) return Status::invalid_argument;
+  if (params.closing_cells > kMaxClosing) return Status::invalid_argument;
+
+  // Bounding box of the finite points.
+  uint32_t finite = 0;
+  float xmin = 0.0f, xmax = 0.0f, ymin = 0.0f, ymax = 0.0f;
+  for (uint32_t i = 0; i < n; ++i) {
+    const Vec2& p = points[i];
+    if (!is_finite(p)) continue;
+    if (finite == 0) {
+      xmin = xmax = p.x;
+      ymin = ymax = p.y;
+    } else {
+      xmin = std::min(xmin, p.x);
+      xmax = std::max(xmax, p.x);
+      ymin = std::min(ymin, p.y);
+      ymax = std::max(ymax, p.y);
+    }
+    ++finite;
+  }
+  if (finite == 0) {
+    all_inside = true;
+    return Status::ok;
+  }
+
+  // Cell size: large enough that the occupied span plus a margin of r + 1 empty
+  // cells on every side fits the kDim x kDim raster.
+  const uint32_t r = params.closing_cells;
+  const uint32_t avail = kDim - 2 * r - 4;
+  const double ext_x = static_cast<double>(xmax) - xmin;
+  const double ext_y = static_cast<double>(ymax) - ymin;
+  const double need = std::max(ext_x, ext_y) / static_cast<double>(avail);
+  float cell_f = params.cell_m;
+  if (need > static_cast<double>(cell_f)) {
+    cell_f = static_cast<float>(need);
+    if (static_cast<double>(cell_f) < need) cell_f = std::nextafter(cell_f, std::numeric_limits<float>::infinity());
+  }
+  if (!std::isfinite(cell_f)) return Status::numeric_failure;
+  const double cell = cell_f;
+  // Cells spanned per axis; the slack (between 1/2 and 3/2 cell) is split evenly so
+  // the extreme points sit well inside their cells.
+  const uint32_t mx = static_cast<uint32_t>(std::floor(ext_x / cell + 0.5)) + 1;
+  const uint32_t my = static_cast<uint32_t>(std::floor(ext_y / cell + 0.5)) + 1;
+  const uint32_t margin = r + 1;
+  Raster ras{};
+  ras.cell = cell;
+  ras.w = mx + 2 * margin;
+  ras.h = my + 2 * margin;
+  if (ras.w > kDim || ras.h > kDim) return Status::internal_error;
+  ras.origin_x = xmin - 0.5 * (mx * cell - ext_x) - margin * cell;
+  ras.origin_y = ymin - 0.5 * (my * cell - ext_y) - margin * cell;
+  if (!std::isfinite(ras.vx(0)) || !std::isfinite(ras.vx(ras.w)) || !std::isfinite(ras.vy(0)) ||
+      !std::isfinite(ras.vy(ras.h))) {
+    return Status::numeric_failure;  // the raster's corners are beyond the float range
+  }
+  out_cell_m = cell_f;
+
+  const uint32_t w = ras.w;
+  const uint32_t h = ras.h;
+  const uint32_t cells = w * h;
+  uint8_t* const g = scratch.cells;
+  uint8_t* const counts = scratch.temp;
+  for (uint32_t k = 0; k < cells; ++k) {
+    g[k] = 0;
+    counts[k] = 0;
+  }
+  for (uint32_t i = 0; i < n; ++i) {
+    if (!is_finite(points[i])) continue;
+    const uint32_t k = ras.index_of(points[i]);
+    g[k] = kOcc;
+    if (counts[k] < 255) ++counts[k];
+  }
+
+  // Closing (dilate then erode) with a (2r+1)^2 square, separably; OR the occupied
+  // cells back in (a no-op with the margin, kept so the guarantee never rests on it).
+  for (uint32_t j = 0; j < h; ++j) morph_line(g, j * w, 1, w, r, kOcc, kRowDil, false);
+  for (uint32_t i = 0; i < w; ++i) morph_line(g, i, w, h, r, kRowDil, kDil, false);
+  for (uint32_t j = 0; j < h; ++j) morph_line(g, j * w, 1, w, r, kDil, kRowEro, true);
+  for (uint32_t i = 0; i < w; ++i) morph_line(g, i, w, h, r, kRowEro, kClosed, true);
+  for (uint32_t k = 0; k < cells; ++k) g[k] = (g[k] & (kClosed | kOcc)) ? kFg : 0;
+  // The dilation cannot reach the outer ring of cells; make that an invariant.
+  for (uint32_t i = 0; i < w; ++i) {
+    g[i] = 0;
+    g[(h - 1) * w + i] = 0;
+  }
+  for (uint32_t j = 0; j < h; ++j) {
+    g[j * w] = 0;
+    g[j * w + w - 1] = 0;
+  }
+
+  // Fill holes: flood the background (4-connected, the dual of 8-connected
+  // foreground) from the corner cell; every background cell not reached is a hole.
+  if (!flood(g, nullptr, w, h, 0, false, 2, kVisited).ok) return Status::internal_error;
+  for (uint32_t k = 0; k < cells; ++k) g[k] = ((g[k] & kFg) || !(g[k] & kVisited)) ? kFg : 0;
+
+  // Components (8-connected) in raster order; keep the one with the most points
+  // (ties: the earlier one). Counts come from the saturated per-cell counts and are
+  // recounted exactly when a cell saturated.
+  uint64_t best_points = 0;
+  uint32_t best_start = cells;
+  for (uint32_t k = 0; k < cells; ++k) {
+    if (!(g[k] & kFg) || (g[k] & kVisited)) continue;
+    const DfsResult comp = flood(g, counts, w, h, k, true, 1, kVisited);
+    if (!comp.ok) return Status::internal_error;
+    uint64_t pts = comp.points;
+    if (comp.saturated) {
+      if (!flood(g, nullptr, w, h, k, true, 1, kCurrent).ok) return Status::internal_error;
+      pts = 0;
+      for (uint32_t i = 0; i < n; ++i) {
+        if (is_finite(points[i]) && (g[ras.index_of(points[i])] & kCurrent)) ++pts;
+      }
+      for (uint32_t c = 0; c < cells; ++c) g[c] = static_cast<uint8_t>(g[c] & ~kCurrent);
+    }
+    if (best_start == cells || pts > best_points) {
+      best_points = pts;
+      best_start = k;
+    }
+  }
+  if (best_start == cells) return Status::internal_error;  // a point's cell is always set
+  all_inside = (best_points == finite);
+
+  // Trace the outer boundary along cell edges, foreground on the left (so the loop
+  // is counter-clockwise), starting at the bottom-left corner of the component's
+  // first cell heading east. At a corner, with AL / AR the cells ahead-left /
+  // ahead-right: AR set -> turn right (this also joins diagonal neighbours: the
+  // 8-connected reading), else AL set -> straight, else turn left. Vertices are
+  // written only where the direction changes, so collinear runs are merged.
+  auto fg_at = [&](int64_t i, int64_t j) {
+    if (i < 0 || j < 0 || i >= static_cast<int64_t>(w) || j >= static_cast<int64_t>(h)) return false;
+    return (g[static_cast<uint32_t>(j) * w + static_cast<uint32_t>(i)] & kFg) != 0;
+  };
+  // Directions 0 E, 1 N, 2 W, 3 S; offsets of the AL and AR cells from the corner.
+  static constexpr int kStepX[4] = {1, 0, -1, 0};
+  static constexpr int kStepY[4] = {0, 1, 0, -1};
+  static constexpr int kAlX[4] = {0, -1, -1, 0};
+  static constexpr int kAlY[4] = {0, 0, -1, -1};
+  static constexpr int kArX[4] = {0, 0, -1, -1};
+  static constexpr int kArY[4] = {-1, 0, 0, -1};
+  const int64_t sx = best_start % w;
+  const int64_t sy = best_start / w;
+  uint32_t nv = 0;
+  auto emit = [&](int64_t x, int64_t y) {
+    if (nv >= out_capacity) return false;
+    out[nv++] = Vec2{ras.vx(x), ras.vy(y)};
+    return true;
+  };
+  if (!emit(sx, sy)) return Status::capacity_exceeded;
+  int dir = 0;
+  int64_t x = sx + 1;
+  int64_t y = sy;
+  const uint64_t max_steps = 4 * static_cast<uint64_t>(cells) + 4;
+  bool closed = false;
+  for (uint64_t step = 0; step < max_steps; ++step) {
+    if (x == sx && y == sy) {
+      closed = true;
+      break;
+    }
+    const bool ar = fg_at(x + kArX[dir], y + kArY[dir]);
+    const bool al = fg_at(x + kAlX[dir], y + kAlY[dir]);
+    const int next = ar ? (dir + 3) & 3 : (al ? dir : (dir + 1) & 3);
+    if (next != dir) {
+      if (!emit(x, y)) {
+        out_n = 0;
+        return Status::capacity_exceeded;
+      }
+    }
+    dir = next;
+    x += kStepX[dir];
+    y += kStepY[dir];
+  }
+  if (!closed) return Status::internal_error;
+  out_n = nv;
+  return Status::ok;
+}
+
+// ------------------------------------------------------------------------------------
+float polygon_area(const Vec2* poly, uint32_t n) {
+  if (poly == nullptr || n < 3) return 0.0f;
+  double twice = 0.0;
+  for (uint32_t i = 0; i < n; ++i) {
+    const Vec2& a = poly[i];
+    const Vec2& b = poly[(i + 1 == n) ? 0 : i + 1];
+    twice += static_cast<double>(a.x) * b.y - static_cast<double>(b.x) * a.y;
+  }
+  return static_cast<float>(0.5 * twice);
+}
+
+bool polygon_contains(const Vec2* poly, uint32_t n, Vec2 p, float edge_tol_m) {
+  if (poly == nullptr || n == 0 || !is_finite(p)) return false;
+  const double tol = (std::isfinite(edge_tol_m) && edge_tol_m > 0.0f) ? edge_tol_m : 0.0;
+  const double tol2 = tol * tol;
+  const double px = p.x;
+  const double py = p.y;
+  bool inside = false;
+  for (uint32_t i = 0; i < n; ++i) {
+    const Vec2& a = poly[i];
+    const Vec2& b = poly[(i + 1 == n) ? 0 : i + 1];
+    const double ax = a.x, ay = a.y, bx = b.x, by = b.y;
+    // On the edge (within tol)?
+    const double ex = bx - ax, ey = by - ay;
+    const double len2 = ex * ex + ey * ey;
+    double t = 0.0;
+    if (len2 > 0.0) t = std::min(1.0, std::max(0.0, ((px - ax) * ex + (py - ay) * ey) / len2));
+    const double dx = ax + t * ex - px;
+    const double dy = ay + t * ey - py;
+    if (dx * dx + dy * dy <= tol2) return true;
+    // Even-odd crossing of the ray towards +x (half-open in y).
+    if ((ay > py) != (by > py)) {
+      const double x_cross = ax + (py - ay) * ex / ey;
+      if (px < x_cross) inside = !inside;
+    }
+  }
+  return inside;
+}
+
+bool polygon_span_at_y(const Vec2* poly, uint32_t n, float y_line, float& x_left, float& x_right) {
+  x_left = 0.0f;
+  x_right = 0.0f;
+  if (poly == nullptr || n == 0 || !std::isfinite(y_line)) return false;
+  const double yl = y_line;
+  bool any = false;
+  double lo = 0.0, hi = 0.0;
+  auto take = [&](double x) {
+    if (!std::isfinite(x)) return;
+    if (!any) {
+      lo = hi = x;
+      any = true;
+    } else {
+      lo = std::min(lo, x);
+      hi = std::max(hi, x);
+    }
+  };
+  for (uint32_t i = 0; i < n; ++i) {
+    const Vec2& a = poly[i];
+    const Vec2& b = poly[(i + 1 == n) ? 0 : i + 1];
+    if (!is_finite(a) || !is_finite(b)) continue;  // a broken edge crosses nothing
+    const double ay = a.y, by = b.y;
+    if (ay == yl && by == yl) {  // along a horizontal edge (or a degenerate one)
+      take(a.x);
+      take(b.x);
+      continue;
+    }
+    if ((ay < yl && by < yl) || (ay > yl && by > yl)) continue;  // both on one side
+    if (ay == yl) {  // through a vertex: the vertex itself
+      take(a.x);
+      continue;
+    }
+    if (by == yl) {
+      take(b.x);
+      continue;
+    }
+    const double t = (yl - ay) / (by - ay);
+    double x = a.x + t * (static_cast<double>(b.x) - a.x);
+    x = std::min(std::max(x, std::min<double>(a.x, b.x)), std::max<double>(a.x, b.x));
+    take(x);
+  }
+  if (!any) return false;
+  x_left = static_cast<float>(lo);
+  x_right = static_cast<float>(hi);
+  return true;
+}
+
+}  // namespace fg

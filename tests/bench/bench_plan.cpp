@@ -1,0 +1,230 @@
+// Google Benchmark cases for every stage of the planner and for the whole plan on a
+// two-sensor scene (two 640x480 clouds by default: examples/two-sensor-box).
+//   build/host-release/tests/bench/fg_bench [--scene PATH] [benchmark flags]
+#include <benchmark/benchmark.h>
+
+#include <cstdio>
+#include <cstring>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "fg/core/cluster.hpp"
+#include "fg/core/force_balance.hpp"
+#include "fg/core/hull.hpp"
+#include "fg/core/plane.hpp"
+#include "fg/core/planner.hpp"
+#include "io/pcd.hpp"
+#include "io/ply.hpp"
+#include "io/scene.hpp"
+
+namespace {
+
+struct Loaded {
+  std::vector<fg::host::PointCloud> clouds;
+  std::vector<fg::Pose> poses;
+  std::vector<fg::SensorRole> roles;
+  fg::PlannerConfig cfg;
+  uint32_t raw_points = 0;
+};
+
+std::string g_scene = FG_DEFAULT_BENCH_SCENE;
+Loaded* g_data = nullptr;
+std::unique_ptr<fg::Planner> g_planner;
+
+bool load(const std::string& path, Loaded& out) {
+  fg::host::Scene scene;
+  if (auto r = fg::host::read_scene(path, scene); !r.ok) {
+    std::fprintf(stderr, "%s\n", r.error.c_str());
+    return false;
+  }
+  out.cfg.gripper.max_opening_m = static_cast<float>(scene.gripper.max_opening);
+  out.cfg.gripper.finger_width_m = static_cast<float>(scene.gripper.finger_width);
+  out.cfg.gripper.finger_depth_m = static_cast<float>(scene.gripper.finger_depth);
+  for (const auto& s : scene.sensors) {
+    if (!s.pose) {
+      std::fprintf(stderr, "bench scenes need sensor poses\n");
+      return false;
+    }
+    fg::host::PointCloud c;
+    if (auto r = fg::host::read_cloud(s.cloud_path, c); !r.ok) {
+      std::fprintf(stderr, "%s\n", r.error.c_str());
+      return false;
+    }
+    fg::Pose p;
+    for (int i = 0; i < 3; ++i) {
+      p.t(i) = static_cast<float>(s.pose->position[i]);
+      for (int j = 0; j < 3; ++j) p.R(i, j) = static_cast<float>(s.pose->rotation[i][j]);
+    }
+    out.raw_points += static_cast<uint32_t>(c.size());
+    out.clouds.push_back(std::move(c));
+    out.poses.push_back(p);
+    out.roles.push_back(s.name == "head" ? fg::SensorRole::head : fg::SensorRole::hand);
+  }
+  return true;
+}
+
+void ingest(fg::Planner& p) {
+  p.reset();
+  for (size_t i = 0; i < g_data->clouds.size(); ++i) {
+    const auto& c = g_data->clouds[i];
+    (void)p.add_points(g_data->roles[i], c.xyz.data(), static_cast<uint32_t>(c.size()), 12,
+                       g_data->poses[i]);
+  }
+}
+
+// A finished plan whose intermediate data the stage benchmarks start from.
+fg::Planner& planned() {
+  static bool done = false;
+  if (!done) {
+    ingest(*g_planner);
+    fg::PlanResult r;
+    (void)g_planner->plan(r);
+    done = true;
+  }
+  return *g_planner;
+}
+
+void BM_Ingest(benchmark::State& st) {
+  for (auto _ : st) ingest(*g_planner);
+  st.counters["raw_points"] = g_data->raw_points;
+}
+
+void BM_WholePlan(benchmark::State& st) {
+  fg::PlanResult r;
+  for (auto _ : st) {
+    ingest(*g_planner);
+    benchmark::DoNotOptimize(g_planner->plan(r));
+  }
+  st.counters["object_points"] = r.points.object;
+  st.counters["viewpoints"] = r.viewpoints;
+  for (int s = 0; s < static_cast<int>(fg::Stage::count); ++s)
+    st.counters[std::string("us_") + fg::to_string(static_cast<fg::Stage>(s))] = r.stage_us[s];
+}
+
+void BM_RansacPlane(benchmark::State& st) {
+  fg::Planner& p = planned();
+  std::vector<fg::Vec3> pts(p.voxels().size());
+  for (uint32_t i = 0; i < pts.size(); ++i) pts[i] = p.voxels().centroid(i);
+  fg::PlaneParams pp;
+  for (auto _ : st) {
+    fg::Plane pl;
+    uint32_t inl = 0;
+    benchmark::DoNotOptimize(fg::ransac_plane(pts.data(), static_cast<uint32_t>(pts.size()), pp, pl, inl));
+  }
+  st.counters["points"] = static_cast<double>(pts.size());
+}
+
+void BM_Cluster(benchmark::State& st) {
+  fg::Planner& p = planned();
+  const uint32_t n = p.voxels().size();
+  std::vector<uint8_t> base(n), state(n);
+  for (uint32_t i = 0; i < n; ++i) base[i] = p.voxel_state(i) == fg::kVoxelRemoved ? fg::kVoxelRemoved : fg::kVoxelFree;
+  std::vector<uint32_t> queue(n), target(fg::kMaxObjectPoints);
+  fg::ClusterParams cp;
+  for (auto _ : st) {
+    std::memcpy(state.data(), base.data(), n);
+    benchmark::DoNotOptimize(fg::cluster_and_pick(p.voxels(), state.data(), queue.data(), cp,
+                                                  target.data(), fg::kMaxObjectPoints));
+  }
+}
+
+// The silhouette of the chosen (or first) viewpoint: the per-viewpoint XOY stages.
+struct Silhouette {
+  std::vector<fg::Vec2> pts;
+};
+Silhouette silhouette() {
+  fg::Planner& p = planned();
+  Silhouette s;
+  auto d = std::make_unique<fg::ViewDetail>();
+  const uint32_t v = p.chosen_view() >= 0 ? static_cast<uint32_t>(p.chosen_view()) : 0u;
+  if (p.view_count() > 0 && p.analyze_view(v, *d) == fg::Status::ok)
+    s.pts.assign(d->points, d->points + d->n_points);
+  return s;
+}
+
+void BM_ConcaveHull(benchmark::State& st) {
+  const Silhouette s = silhouette();
+  auto scratch = std::make_unique<fg::ConcaveHullScratch>();
+  std::vector<fg::Vec2> out(fg::kMaxContourVertices);
+  fg::ConcaveHullParams hp;
+  for (auto _ : st) {
+    uint32_t n = 0;
+    float cell = 0;
+    bool inside = false;
+    benchmark::DoNotOptimize(fg::concave_hull_2d(s.pts.data(), static_cast<uint32_t>(s.pts.size()), hp,
+                                                 *scratch, out.data(), fg::kMaxContourVertices, n, cell, inside));
+  }
+  st.counters["points"] = static_cast<double>(s.pts.size());
+}
+
+void BM_ConvexHull(benchmark::State& st) {
+  const Silhouette s = silhouette();
+  std::vector<fg::Vec2> scratch(s.pts.size()), out(s.pts.size() + 1);
+  for (auto _ : st) {
+    uint32_t n = 0;
+    benchmark::DoNotOptimize(fg::convex_hull_2d(s.pts.data(), static_cast<uint32_t>(s.pts.size()), scratch.data(),
+                                                out.data(), static_cast<uint32_t>(out.size()), n));
+  }
+}
+
+void BM_ScanLinesAndWindows(benchmark::State& st) {
+  fg::Planner& p = planned();
+  auto d = std::make_unique<fg::ViewDetail>();
+  const uint32_t v = p.chosen_view() >= 0 ? static_cast<uint32_t>(p.chosen_view()) : 0u;
+  if (p.view_count() == 0 || p.analyze_view(v, *d) != fg::Status::ok) {
+    st.SkipWithError("no viewpoint");
+    return;
+  }
+  float ymin = d->contour[0].y, ymax = ymin;
+  for (uint32_t i = 0; i < d->n_contour; ++i) {
+    ymin = std::min(ymin, d->contour[i].y);
+    ymax = std::max(ymax, d->contour[i].y);
+  }
+  std::vector<fg::ScanLine> lines(fg::kMaxScanLines);
+  fg::SideFit best[3];
+  for (auto _ : st) {
+    float delta = 0;
+    const uint32_t n = fg::build_scan_lines(d->contour, d->n_contour, ymin, ymax, 0.002f, lines.data(),
+                                            fg::kMaxScanLines, delta);
+    fg::mark_graspable(lines.data(), n, 0.f, 0.081f);
+    benchmark::DoNotOptimize(fg::best_windows(lines.data(), n, 0.004f, 11, 0.f, 0.5f, best, 3));
+  }
+}
+
+void BM_AnalyzeViewpoint(benchmark::State& st) {
+  fg::Planner& p = planned();
+  auto d = std::make_unique<fg::ViewDetail>();
+  for (auto _ : st) benchmark::DoNotOptimize(p.analyze_view(0, *d));
+}
+
+}  // namespace
+
+BENCHMARK(BM_Ingest)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_RansacPlane)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_Cluster)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_ConcaveHull)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_ConvexHull)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_ScanLinesAndWindows)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_AnalyzeViewpoint)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_WholePlan)->Unit(benchmark::kMicrosecond);
+
+int main(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--scene") == 0 && i + 1 < argc) {
+      g_scene = argv[i + 1];
+      for (int j = i; j + 2 <= argc; ++j) argv[j] = argv[j + 2];
+      argc -= 2;
+      break;
+    }
+  }
+  static Loaded data;
+  if (!load(g_scene, data)) return 2;
+  g_data = &data;
+  g_planner = std::make_unique<fg::Planner>();
+  if (g_planner->configure(data.cfg) != fg::Status::ok) return 2;
+  benchmark::Initialize(&argc, argv);
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

@@ -1,0 +1,159 @@
+// Quality on simulated two-sensor scenes, judged on the TRUE geometry (hal/sim):
+// for each seeded scene, render both 640x480 depth images with Xtion-like noise, plan
+// in-process through Planner::add_depth_image, and judge the grasp (both pads on the
+// target, contact normals inside the mu = 0.5 cone, width within 1 cm, no collision at
+// the open pose) or the no_grasp answer (right iff the target fits in no direction).
+//   fg_quality [--count N] [--seed S] [--kinds a,b] [--min-rate R] [--verbose]
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <map>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "fg/core/planner.hpp"
+#include "sim/grasp_judge.hpp"
+#include "sim/scene_gen.hpp"
+
+namespace {
+
+struct Tally {
+  int trials = 0, right = 0, grasps = 0;
+  std::vector<double> plan_us;
+  std::map<std::string, int> wrong;
+};
+
+fg::PinholeIntrinsics intrinsics(const fg::sim::Intrinsics& k) {
+  fg::PinholeIntrinsics p;
+  p.fx = static_cast<float>(k.fx);
+  p.fy = static_cast<float>(k.fy);
+  p.cx = static_cast<float>(k.cx);
+  p.cy = static_cast<float>(k.cy);
+  return p;
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int count = 110;
+  uint64_t seed = 1000;
+  double min_rate = -1;
+  bool verbose = false;
+  std::vector<fg::sim::ObjectKind> kinds = fg::sim::all_kinds();
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto next = [&]() -> std::string {
+      if (i + 1 >= argc) {
+        std::fprintf(stderr, "%s needs a value\n", a.c_str());
+        std::exit(2);
+      }
+      return argv[++i];
+    };
+    if (a == "--count") count = std::atoi(next().c_str());
+    else if (a == "--seed") seed = std::strtoull(next().c_str(), nullptr, 10);
+    else if (a == "--min-rate") min_rate = std::atof(next().c_str());
+    else if (a == "--verbose") verbose = true;
+    else if (a == "--kinds") {
+      kinds.clear();
+      std::stringstream ss(next());
+      std::string k;
+      while (std::getline(ss, k, ',')) {
+        fg::sim::ObjectKind kind;
+        if (!fg::sim::kind_from_name(k, kind)) {
+          std::fprintf(stderr, "unknown kind %s\n", k.c_str());
+          return 2;
+        }
+        kinds.push_back(kind);
+      }
+    } else {
+      std::fprintf(stderr, "usage: fg_quality [--count N] [--seed S] [--kinds a,b] [--min-rate R] [--verbose]\n");
+      return 2;
+    }
+  }
+  auto planner = std::make_unique<fg::Planner>();
+  fg::PlannerConfig cfg;
+  if (planner->configure(cfg) != fg::Status::ok) return 2;
+
+  std::map<std::string, Tally> by_kind;
+  Tally all;
+  for (int t = 0; t < count; ++t) {
+    const fg::sim::ObjectKind kind = kinds[static_cast<size_t>(t) % kinds.size()];
+    const uint64_t s = seed + static_cast<uint64_t>(t);
+    const fg::sim::GeneratedScene scene = fg::sim::make_scene(kind, s);
+    const fg::sim::SceneImages img = fg::sim::render_scene(scene);
+    planner->reset();
+    fg::Status st = planner->add_depth_image(
+        fg::SensorRole::head, img.head.mm.data(), static_cast<uint16_t>(img.head.width),
+        static_cast<uint16_t>(img.head.height), intrinsics(scene.head.K), scene.head.world_T_sensor.to_pose());
+    if (st == fg::Status::ok)
+      st = planner->add_depth_image(
+          fg::SensorRole::hand, img.hand.mm.data(), static_cast<uint16_t>(img.hand.width),
+          static_cast<uint16_t>(img.hand.height), intrinsics(scene.hand.K), scene.hand.world_T_sensor.to_pose());
+    fg::PlanResult res;
+    if (st == fg::Status::ok) st = planner->plan(res);
+    bool right = false;
+    std::string why;
+    if (st == fg::Status::ok) {
+      fg::sim::Grasp g;
+      g.position = res.grasp.position;
+      g.approach = res.grasp.approach;
+      g.closing = res.grasp.closing;
+      g.width = res.grasp.width;
+      const fg::sim::JudgeResult j = fg::sim::judge_grasp(scene.world, scene.target, g, scene.gripper, 0.5);
+      right = j.success;
+      why = j.reason;
+      if (verbose) {
+        const auto& gp = res.grasp;
+        std::printf("  grasp pos (%.3f %.3f %.3f) app (%.2f %.2f %.2f) clo (%.2f %.2f %.2f) w %.3f beta %.3f dz %.4f view %.2f\n",
+                    gp.position.x(), gp.position.y(), gp.position.z(), gp.approach.x(), gp.approach.y(),
+                    gp.approach.z(), gp.closing.x(), gp.closing.y(), gp.closing.z(), gp.width, gp.beta, gp.dz,
+                    gp.viewpoint);
+        std::printf("  truth centre (%.3f %.3f %.3f) min_width %.3f fits %d; true_width %.3f angles %.2f %.2f\n",
+                    scene.truth.target_centre.x(), scene.truth.target_centre.y(), scene.truth.target_centre.z(),
+                    scene.truth.target_min_width, scene.truth.target_fits ? 1 : 0, j.true_width, j.angle_left,
+                    j.angle_right);
+      }
+    } else if (st == fg::Status::no_grasp) {
+      right = !scene.truth.target_fits;
+      why = std::string("no_grasp:") + fg::to_string(res.reason);
+    } else {
+      why = std::string("status:") + fg::to_string(st);
+    }
+    const std::string name = fg::sim::kind_name(kind);
+    for (Tally* tl : {&by_kind[name], &all}) {
+      tl->trials++;
+      tl->right += right ? 1 : 0;
+      tl->grasps += st == fg::Status::ok ? 1 : 0;
+      tl->plan_us.push_back(res.stage_us[static_cast<int>(fg::Stage::total)]);
+      if (!right) tl->wrong[why]++;
+    }
+    if (verbose || !right)
+      std::printf("%-15s seed %-6llu %-5s %s (objpts %u, views %u, fam %d, width %.3f)\n", name.c_str(),
+                  static_cast<unsigned long long>(s), right ? "right" : "WRONG", why.c_str(),
+                  res.points.object, res.viewpoints, static_cast<int>(res.grasp.family), res.grasp.width);
+  }
+  std::printf("\n%-15s %7s %7s %8s %12s  %s\n", "kind", "trials", "right", "rate", "median_us", "wrong answers");
+  auto row = [](const std::string& n, const Tally& t) {
+    std::string w;
+    for (const auto& kv : t.wrong) w += kv.first + " x" + std::to_string(kv.second) + "  ";
+    std::printf("%-15s %7d %7d %7.1f%% %12.0f  %s\n", n.c_str(), t.trials, t.right,
+                100.0 * t.right / std::max(1, t.trials), median(t.plan_us), w.c_str());
+  };
+  for (const auto& kv : by_kind) row(kv.first, kv.second);
+  row("ALL", all);
+  const double rate = static_cast<double>(all.right) / std::max(1, all.trials);
+  if (min_rate >= 0 && rate < min_rate) {
+    std::printf("FAILED: %.1f%% right is below the required %.1f%%\n", 100 * rate, 100 * min_rate);
+    return 1;
+  }
+  return 0;
+}
