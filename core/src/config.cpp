@@ -59,6 +59,7 @@ Status validate(const PlannerConfig& c, const char** field) {
   else if (!in(c.table_clearance_m, -0.05f, 0.1f)) bad = "table_clearance";
   else if (!in(c.collision_tolerance_m, 0.0f, 0.02f)) bad = "collision_tolerance";
   else if (!in(c.pregrasp_clearance_m, 0.0f, 0.5f)) bad = "pregrasp_clearance";
+  else if (!in(c.palm_clearance_m, 0.0f, 0.1f)) bad = "palm_clearance";
   if (field != nullptr) *field = bad;
   return bad == nullptr ? Status::ok : Status::invalid_config;
 }

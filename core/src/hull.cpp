@@ -192,7 +192,7 @@ Status convex_hull_2d(const Vec2* points, uint32_t n, Vec2* scratch, Vec2* out,
   });
   Vec2* const g1_end = std::partition(g0_end, scratch + m,
                                       [&](const Vec2& p) { return cross(lo, hi, p) > 0.0; });
-  std::sort(scratch, g0_end, lex_less);
+  std::sort(scratch, g0_end, [](const Vec2& a, const Vec2& b) { return lex_less(a, b); });
   std::sort(g0_end, g1_end, [](const Vec2& a, const Vec2& b) { return lex_less(b, a); });
 
   // Monotone chain, in place: the stack H = scratch[0..k) never overtakes the read index.
@@ -257,16 +257,24 @@ Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& 
   }
 
   // Cell size: large enough that the occupied span plus a margin of r + 1 empty
-  // cells on every side fits the kDim x kDim raster.
+  // cells on every side fits the kDim x kDim raster, and at least two float ulps of
+  // the coordinates (so the float cell corners are strictly increasing even for
+  // points far from the origin).
   const uint32_t r = params.closing_cells;
   const uint32_t avail = kDim - 2 * r - 4;
   const double ext_x = static_cast<double>(xmax) - xmin;
   const double ext_y = static_cast<double>(ymax) - ymin;
-  const double need = std::max(ext_x, ext_y) / static_cast<double>(avail);
+  const double max_abs =
+      std::max(std::max(std::fabs(static_cast<double>(xmin)), std::fabs(static_cast<double>(xmax))),
+               std::max(std::fabs(static_cast<double>(ymin)), std::fabs(static_cast<double>(ymax))));
+  const double ulp = max_abs > 0.0 ? std::ldexp(1.0, std::ilogb(2.0 * max_abs) - 23) : 0.0;
+  const double need = std::max(std::max(ext_x, ext_y) / static_cast<double>(avail), 2.0 * ulp);
   float cell_f = params.cell_m;
   if (need > static_cast<double>(cell_f)) {
     cell_f = static_cast<float>(need);
-    if (static_cast<double>(cell_f) < need) cell_f = std::nextafter(cell_f, std::numeric_limits<float>::infinity());
+    if (static_cast<double>(cell_f) < need) {
+      cell_f = std::nextafter(cell_f, std::numeric_limits<float>::infinity());  // round up
+    }
   }
   if (!std::isfinite(cell_f)) return Status::numeric_failure;
   const double cell = cell_f;

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "fg/core/eigen_sym3.hpp"
+#include "fg/core/gjk.hpp"
 #include "fg/core/planner.hpp"
 #include "fg/platform/platform.hpp"
 
@@ -31,6 +32,8 @@ constexpr float kPi = 3.14159265358979f;
 constexpr float kMaxApproachUp = 0.5f;
 // Normals within 30 deg of the approach belong to surfaces facing the gripper.
 constexpr float kFrontFacingCos = 0.866f;
+// Object points this far around the open fingers form the local hull they must avoid.
+constexpr float kHullNeighbourhood = 0.01f;
 
 class StageTimer {
  public:
@@ -417,7 +420,7 @@ bool Planner::xoz(const ViewFrame& f, const SideFit& w, Candidate& c) {
   }
   if (nl == 0 || nr == 0) return false;
   float pos_z = static_cast<float>(0.5 * (zl / nl + zr / nr));
-  if (!cfg_.paper_depth) pos_z = std::min(pos_z, z_first_palm + half_fd);
+  if (!cfg_.paper_depth) pos_z = std::min(pos_z, z_first_palm + half_fd - cfg_.palm_clearance_m);
 
   // The support plane bounds the depth: every corner of the open fingers and the palm
   // must stay table_clearance above it. Height is linear in pos_z.
@@ -544,12 +547,46 @@ bool Planner::executable(const Candidate& c, PlanResult& out) {
       }
     }
   }
+  // The fingers at the open pose stay out of the target's local convex hull: surface
+  // points alone miss a finger that would sit inside the solid (a cap grasp on a big
+  // sphere), and the hull of the points around the hand fills in the unseen interior.
+  if (!fingers_clear_of_hull(c.position, ViewFrame{v.X, v.Y, v.Z})) {
+    ++out.rejected.collision;
+    return false;
+  }
   // Each fitted side's normal within the cone in XOY (beta alone only compares the two
   // sides), and the contact normals in 3D.
   if (cfg_.friction_mu > 0.f &&
       (!c.sides_in_cone || !friction_ok(c.position, ViewFrame{v.X, v.Y, v.Z}, c.width))) {
     ++out.rejected.friction;
     return false;
+  }
+  return true;
+}
+
+bool Planner::fingers_clear_of_hull(const Vec3& pos, const ViewFrame& f) {
+  const GripperGeometry& g = cfg_.gripper;
+  const float half_open = 0.5f * g.max_opening_m, t = g.finger_thickness_m;
+  const float hy = 0.5f * g.finger_width_m, hz = 0.5f * g.finger_depth_m;
+  const float m = kHullNeighbourhood;
+  uint32_t n_local = 0;
+  const uint32_t n = object_.size();
+  for (uint32_t i = 0; i < n; ++i) {
+    const Vec3 d = object_[i] - pos;
+    const Vec3 q(f.X.dot(d), f.Y.dot(d), f.Z.dot(d));
+    if (std::fabs(q.y()) <= hy + m && std::fabs(q.z()) <= hz + m &&
+        std::fabs(q.x()) <= half_open + t + m)
+      local_[n_local++] = q;
+  }
+  if (n_local == 0) return true;
+  const float tol = cfg_.collision_tolerance_m;
+  const PointSetShape hull{local_, n_local};
+  const ConvexSupport hs{point_set_support, &hull, Vec3::Zero()};
+  for (int side = 0; side < 2; ++side) {
+    const float x0 = side == 0 ? -half_open - t : half_open;
+    const AabbShape box{Vec3(x0 + tol, -hy + tol, -hz + tol), Vec3(x0 + t - tol, hy - tol, hz - tol)};
+    const ConvexSupport bs{aabb_support, &box, 0.5f * (box.lo + box.hi)};
+    if (gjk_intersect(bs, hs)) return false;
   }
   return true;
 }

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "fg/core/planner.hpp"
+#include "io/config_options.hpp"
 #include "sim/grasp_judge.hpp"
 #include "sim/scene_gen.hpp"
 
@@ -48,6 +49,7 @@ int main(int argc, char** argv) {
   uint64_t seed = 1000;
   double min_rate = -1;
   bool verbose = false;
+  std::vector<std::string> sets;
   std::vector<fg::sim::ObjectKind> kinds = fg::sim::all_kinds();
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -62,6 +64,7 @@ int main(int argc, char** argv) {
     else if (a == "--seed") seed = std::strtoull(next().c_str(), nullptr, 10);
     else if (a == "--min-rate") min_rate = std::atof(next().c_str());
     else if (a == "--verbose") verbose = true;
+    else if (a == "--set") sets.push_back(next());
     else if (a == "--kinds") {
       kinds.clear();
       std::stringstream ss(next());
@@ -75,12 +78,20 @@ int main(int argc, char** argv) {
         kinds.push_back(kind);
       }
     } else {
-      std::fprintf(stderr, "usage: fg_quality [--count N] [--seed S] [--kinds a,b] [--min-rate R] [--verbose]\n");
+      std::fprintf(stderr, "usage: fg_quality [--count N] [--seed S] [--kinds a,b] [--min-rate R] [--verbose] [--set name=value]\n");
       return 2;
     }
   }
   auto planner = std::make_unique<fg::Planner>();
   fg::PlannerConfig cfg;
+  for (const std::string& kv : sets) {
+    std::string err;
+    const size_t eq = kv.find('=');
+    if (eq == std::string::npos || !fg::host::set_config_option(cfg, kv.substr(0, eq), kv.substr(eq + 1), err)) {
+      std::fprintf(stderr, "--set %s: %s\n", kv.c_str(), err.c_str());
+      return 2;
+    }
+  }
   if (planner->configure(cfg) != fg::Status::ok) return 2;
 
   std::map<std::string, Tally> by_kind;

@@ -4,7 +4,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "config_options.hpp"
+#include "io/config_options.hpp"
 #include "plan_command.hpp"
 
 int main(int argc, char** argv) {

@@ -4,7 +4,7 @@
 #include <memory>
 #include <sstream>
 
-#include "config_options.hpp"
+#include "io/config_options.hpp"
 #include "fg/platform/platform.hpp"
 #include "fg/robot/ur5.hpp"
 #include "io/pcd.hpp"

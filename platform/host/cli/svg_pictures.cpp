@@ -25,6 +25,8 @@ namespace {
 
 using V3 = Eigen::Vector3d;
 constexpr double kPi = 3.14159265358979323846;
+// The side view looks along the closing direction when it is within 20 deg of horizontal.
+constexpr double kNearHorizontal = 0.342;
 
 // ---------------------------------------------------------------------------------
 // Text and numbers
@@ -57,6 +59,16 @@ std::string esc(const std::string& s) {
     }
   }
   return o;
+}
+
+//! An angle in rad with enough digits for the paper's range (1e-5 .. 0.4 rad).
+std::string rad_text(double v) {
+  if (v != 0 && std::fabs(v) < 1e-3) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.2e", v);
+    return buf;
+  }
+  return fmt(v, 4);
 }
 
 std::string vec_text(const V3& v, int decimals = 3) {
@@ -264,10 +276,26 @@ void draw_axes(Svg& svg, const Plot& p, const std::string& xlabel, const std::st
            "text-anchor=\"middle\" font-size=\"14\" transform=\"rotate(-90 " + px(yl.x) + " " + px(yl.y) + ")\"");
 }
 
+//! Title and up to three lines of subtitle (long lines are wrapped at spaces).
 void draw_title(Svg& svg, const std::string& title, const std::vector<std::string>& sub) {
   svg.text({20, 30}, title, "font-size=\"19\" font-weight=\"bold\"");
-  for (size_t i = 0; i < sub.size(); ++i)
-    svg.text({20, 52 + 17 * static_cast<double>(i)}, sub[i], "font-size=\"12.5\" fill=\"#444444\"");
+  constexpr size_t kChars = 150;
+  std::vector<std::string> lines;
+  for (std::string rest : sub) {
+    while (rest.size() > kChars) {
+      size_t cut = rest.rfind(' ', kChars);
+      if (cut == std::string::npos || cut < kChars / 2) cut = kChars;
+      lines.push_back(rest.substr(0, cut));
+      rest = rest.substr(cut + (cut < rest.size() && rest[cut] == ' ' ? 1 : 0));
+    }
+    lines.push_back(rest);
+  }
+  if (lines.size() > 3) {
+    lines.resize(3);
+    lines[2] += " ...";
+  }
+  for (size_t i = 0; i < lines.size(); ++i)
+    svg.text({20, 52 + 16 * static_cast<double>(i)}, lines[i], "font-size=\"12.5\" fill=\"#444444\"");
 }
 
 //! A legend panel: swatches drawn by callbacks, one entry per row.
@@ -316,6 +344,21 @@ double draw_scale_bar(Svg& svg, double x, double y, double px_per_unit, double m
   svg.line({x + l, by - 7}, {x + l, by + 7}, st);
   svg.text({x + l / 2, by + 22}, fmt(len, step_decimals(len)) + " " + unit, "text-anchor=\"middle\" font-size=\"12.5\"");
   return by + 30;
+}
+
+//! A text box next to `at` (right of it when it fits in the plot, else left), on a
+//! white backing; the first line in bold. Draw it outside the plot's clip group.
+void draw_label(Svg& svg, const Plot& p, P2 at, const std::vector<std::string>& lines, const std::string& colour) {
+  size_t chars = 0;
+  for (const std::string& l : lines) chars = std::max(chars, l.size());
+  const double w = 7.6 * static_cast<double>(chars) + 10, h = 17.0 * static_cast<double>(lines.size()) + 6;
+  double x = at.x + 8;
+  if (x + w > p.left + p.w - 2) x = std::max(p.left + 2, at.x - 8 - w);
+  const double y = std::min(std::max(at.y - h / 2, p.top + 2), p.top + p.h - h - 2);
+  svg.rect(x, y, w, h, "stroke=\"" + colour + "\" stroke-width=\"0.8\" fill=\"#ffffff\" fill-opacity=\"0.88\"");
+  for (size_t i = 0; i < lines.size(); ++i)
+    svg.text({x + 5, y + 16 + 17.0 * static_cast<double>(i)}, lines[i],
+             "font-size=\"12.5\" fill=\"" + colour + "\"" + (i == 0 ? " font-weight=\"bold\"" : ""));
 }
 
 //! A message in the middle of an empty plot.
@@ -436,7 +479,7 @@ std::string world_picture(const Planner& planner, const PlanResult& result, bool
     seen = "seen from above (looking down world -z)";
   } else {
     V3 d = V3::UnitY();
-    if (ok && std::fabs(f.x.z()) < 0.5) {
+    if (ok && std::fabs(f.x.z()) < kNearHorizontal) {
       V3 h(f.x.x(), f.x.y(), 0.0);
       if (h.norm() > 1e-6) d = h.normalized();
     }
@@ -462,9 +505,15 @@ std::string world_picture(const Planner& planner, const PlanResult& result, bool
   const double arrow_len = std::max(0.03, 0.75 * g.max_opening_m);
   const V3 ap_from = f.o - f.z * (back + 0.01 + arrow_len), ap_to = f.o - f.z * (back + 0.01);
 
-  // Extent: the object, the gripper (open) and the approach arrow.
+  // Extent: the object, the gripper (open), the approach arrow and (side view) the
+  // support plane below the reference point.
   Bounds b;
   for (uint32_t i = 0; i < obj.size(); ++i) b.add(view(obj[i].cast<double>()));
+  const V3 plane_ref = ok ? f.o : planner.object_centroid().cast<double>();
+  if (!top && planner.plane_found() && obj.size() > 0 && std::fabs(planner.plane().n.z()) > 0.5) {
+    const P2 q = view(plane_ref);
+    b.add(q.x, q.y - 1000.0 * planner.plane().height(plane_ref.cast<float>()) / planner.plane().n.z());
+  }
   if (ok) {
     for (const P2& q : box_outline(f, palm, view)) b.add(q);
     for (const Box3& fb : fingers_open)
@@ -476,8 +525,9 @@ std::string world_picture(const Planner& planner, const PlanResult& result, bool
   const Plot p = make_plot(95, 100, 640, 600, b, 0.06, 20.0, true);
 
   std::vector<std::string> sub;
-  sub.push_back(status_line(result) + "; " + std::to_string(obj.size()) + " object points (voxel centroids, " +
+  sub.push_back(std::to_string(obj.size()) + " object points (voxel centroids, " +
                 fmt(cfg.voxel_leaf_m * 1000, 1) + " mm leaf), " + seen);
+  if (!ok) sub.push_back(status_line(result));
   if (ok)
     sub.push_back("grasp at " + vec_text(f.o * 1000, 1) + " mm, approach " + vec_text(f.z, 2) + ", closing " +
                   vec_text(f.x, 2) + ", width " + fmt(gr.width * 1000, 1) + " mm");
@@ -491,8 +541,7 @@ std::string world_picture(const Planner& planner, const PlanResult& result, bool
   if (show_plane) {
     const Plane& pl = planner.plane();
     const V3 n = pl.n.cast<double>();
-    const V3 ref = ok ? f.o : planner.object_centroid().cast<double>();
-    const double depth = view.into.dot(ref);
+    const double depth = view.into.dot(plane_ref);
     auto h_at = [&](double s_mm) {  // picture height (mm) of the plane at picture x s_mm
       const double s = s_mm / 1000.0;
       return 1000.0 * -(pl.d + depth * n.dot(view.into) + s * n.dot(view.u)) / n.z();
@@ -561,9 +610,9 @@ std::string world_picture(const Planner& planner, const PlanResult& result, bool
     const P2 c = p.map(view(f.o));
     // Approach: an arrow behind the palm, or a symbol when it points into / out of the picture.
     const P2 a0 = p.map(view(ap_from)), a1 = p.map(view(ap_to));
-    if (std::hypot(a1.x - a0.x, a1.y - a0.y) > 15) {
-      svg.arrow(a0, a1, kApproach, 3, 13);
-    } else {
+    const bool long_arrow = std::hypot(a1.x - a0.x, a1.y - a0.y) > 15;
+    if (long_arrow) svg.arrow(a0, a1, kApproach, 3, 13);
+    if (!long_arrow || std::fabs(f.z.dot(view.into)) > 0.7) {
       const bool into = f.z.dot(view.into) > 0;
       svg.circle(c, 13, attrs(kApproach, 2.5, "none"));
       if (into) {
@@ -689,11 +738,18 @@ std::string silhouette_picture(Planner& planner, const PlanResult& result) {
                   ", origin at the object centroid");
     sub.push_back(std::to_string(d.n_points) + " projected points, " + std::to_string(d.n_contour) +
                   "-vertex concave hull, " + std::to_string(d.n_lines) + " scan lines (" + std::to_string(hit) +
-                  " crossing, " + std::to_string(kept) + " graspable); " + status_line(result));
+                  " crossing, " + std::to_string(kept) + " graspable)");
   }
+  sub.push_back(status_line(result));
   draw_title(svg, "Silhouette, scan lines and force balance (XOY)", sub);
   draw_axes(svg, p, "x: closing direction X (mm)", "y: principal axis Y (mm)", "clip_sil");
 
+  struct Label {
+    P2 at;
+    std::vector<std::string> lines;
+    std::string colour;
+  };
+  std::vector<Label> labels;
   svg.open("g clip-path=\"url(#clip_sil)\"");
   if (have) {
     double cx0 = 0, cx1 = 0;
@@ -747,12 +803,10 @@ std::string silhouette_picture(Planner& planner, const PlanResult& result) {
         svg.line(side(a, bb, y0), side(a, bb, y1), attrs(kPad, 3.2, "none", "stroke-linecap=\"round\""));
       }
       const P2 lab = side(w.a_right, w.b_right, y1 + ext);
-      const std::string btxt = "beta = " + fmt(w.beta, 4) + " rad (" + fmt(w.beta * 180.0 / kPi, 2) + " deg)";
-      svg.rect(lab.x + 4, lab.y - 21, 8.2 * static_cast<double>(btxt.size()) + 8, 36,
-               "stroke=\"none\" fill=\"#ffffff\" fill-opacity=\"0.8\"");
-      svg.text({lab.x + 8, lab.y - 6}, btxt, std::string("font-size=\"13\" font-weight=\"bold\" fill=\"") + kPad + "\"");
-      svg.text({lab.x + 8, lab.y + 10}, "width " + fmt(w.width * 1000, 1) + " mm",
-               std::string("font-size=\"12\" fill=\"") + kPad + "\"");
+      labels.push_back({lab,
+                        {"beta = " + rad_text(w.beta) + " rad (" + fmt(w.beta * 180.0 / kPi, 2) + " deg)",
+                         "best window: width " + fmt(w.width * 1000, 1) + " mm"},
+                        kPad});
     }
     // The planned grasp in this frame (its window may be another of the viewpoint's candidates).
     if (chosen && result.status == Status::ok) {
@@ -767,9 +821,14 @@ std::string silhouette_picture(Planner& planner, const PlanResult& result) {
       svg.circle(c, 4.5, attrs("#000000", 1.5, "#ffffff"));
       svg.line({c.x - 7, c.y}, {c.x + 7, c.y}, attrs("#000000", 1.2, "none"));
       svg.line({c.x, c.y - 7}, {c.x, c.y + 7}, attrs("#000000", 1.2, "none"));
+      labels.push_back({p.map(gx + wc, gy - hw),
+                        {"planned grasp", "beta " + rad_text(result.grasp.beta) + " rad, width " +
+                                              fmt(result.grasp.width * 1000, 1) + " mm"},
+                        "#a04000"});
     }
   }
   svg.close("g");
+  for (const Label& l : labels) draw_label(svg, p, l.at, l.lines, l.colour);
   if (!have)
     draw_note(svg, p, vi < 0 ? "no viewpoint was analysed (" + status_line(result) + ")"
                              : std::string("analyze_view failed: ") + to_string(st));
@@ -888,11 +947,11 @@ std::string balance_picture(const Planner& planner, const PlanResult& result) {
   pd.y1 = dmax * 1.1;
 
   std::vector<std::string> sub;
-  sub.push_back(std::to_string(planner.view_count()) + " viewpoints analysed: " + std::to_string(rows.size()) +
-                " plotted, " + std::to_string(no_cand) + " without a candidate, " + std::to_string(no_contact) +
-                " without contacts within reach (dz = -1), not plotted");
+  sub.push_back(std::to_string(planner.view_count()) + " viewpoints analysed, " + std::to_string(rows.size()) +
+                " plotted; left out: " + std::to_string(no_cand) + " without a candidate, " +
+                std::to_string(no_contact) + " with no contact within the pads' reach (dz = -1)");
   sub.push_back("each viewpoint's best candidate (smallest rank); " + status_line(result) +
-                (have_chosen ? "; chosen grasp: beta " + fmt(result.grasp.beta, 4) + " rad, dz " +
+                (have_chosen ? "; chosen grasp: beta " + rad_text(result.grasp.beta) + " rad, dz " +
                                    fmt(result.grasp.dz * 1000, 2) + " mm"
                              : ""));
   draw_title(svg, "Force balance over the virtual viewpoints", sub);
@@ -950,7 +1009,7 @@ std::string balance_picture(const Planner& planner, const PlanResult& result) {
 
 std::string index_html(const PlanResult& result) {
   std::ostringstream o;
-  o << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
+  o << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\"/>\n"
     << "<title>forcegrasp pictures</title>\n"
     << "<style>body{font-family:sans-serif;margin:20px;max-width:1100px}"
        "img{max-width:100%;border:1px solid #ccc;margin:6px 0 24px 0}</style>\n"
@@ -959,7 +1018,7 @@ std::string index_html(const PlanResult& result) {
     const Grasp& g = result.grasp;
     o << ": position " << esc(vec_text(g.position.cast<double>(), 4)) << " m, approach "
       << esc(vec_text(g.approach.cast<double>(), 3)) << ", closing " << esc(vec_text(g.closing.cast<double>(), 3))
-      << ", width " << fmt(g.width * 1000, 1) << " mm, beta " << fmt(g.beta, 4) << " rad, dz "
+      << ", width " << fmt(g.width * 1000, 1) << " mm, beta " << rad_text(g.beta) << " rad, dz "
       << fmt(g.dz * 1000, 2) << " mm (" << family_name(g.family) << ", viewpoint " << fmt(g.viewpoint, 3)
       << " rad)";
   }
@@ -971,7 +1030,7 @@ std::string index_html(const PlanResult& result) {
                             {"balance.svg", "Force balance (beta, dz) over the viewpoints"}};
   for (const auto& pic : pics)
     o << "<h2>" << pic[1] << "</h2>\n<p><a href=\"" << pic[0] << "\"><img src=\"" << pic[0] << "\" alt=\""
-      << pic[1] << "\"></a></p>\n";
+      << pic[1] << "\"/></a></p>\n";
   o << "</body>\n</html>\n";
   return o.str();
 }

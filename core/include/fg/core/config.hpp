@@ -37,7 +37,7 @@ struct PlannerConfig {
   float vertical_snap_rad = 0.2617994f;      //!< principal axis within 15 deg of z -> z
   float axis_ratio_min = 1.3f;       //!< largest/middle eigenvalue below this -> axis = z
   bool extend_search = true;         //!< rest of the circle + other PCA axes when the arc fails
-  float approach_view_max_rad = 1.3962634f;  //!< approach within 80 deg of a sensor's sight line
+  float approach_view_max_rad = 1.0471976f;  //!< approach within 60 deg of a sensor's sight line
 
   // D. XOY force balance
   float scan_delta_m = 0.002f;       //!< scan line spacing
@@ -57,6 +57,7 @@ struct PlannerConfig {
   float table_clearance_m = 0.003f;  //!< gripper boxes stay this far above the plane
   float collision_tolerance_m = 0.001f;
   float pregrasp_clearance_m = 0.02f;
+  float palm_clearance_m = 0.005f;   //!< the palm stops this far before the first surface
   bool paper_depth = false;          //!< true: position at the contacts' mean z (the paper)
   bool executability_checks = true;  //!< table, collision and friction checks
 };

@@ -39,8 +39,9 @@ struct ConcaveHullParams {
 //! first vertex; the first vertex is the lower-left corner of the component's lowest,
 //! then leftmost cell).
 //! Steps: bounding box of the finite points; cell = max(cell_m, extent /
-//! (kHullGridDim - 2 * closing_cells - 4)), so the occupied span plus a margin of
-//! closing_cells + 1 empty cells fits the raster; closing (dilate then erode, square
+//! (kHullGridDim - 2 * closing_cells - 4), two float ulps of the largest |coordinate|),
+//! so the occupied span plus a margin of closing_cells + 1 empty cells fits the
+//! raster and the float cell corners stay distinct; closing (dilate then erode, square
 //! of radius closing_cells); holes filled (background not 4-connected to the border);
 //! the component holding the most points (exact count; ties: the component whose
 //! first cell comes first in row-major order from the smallest y) is traced.

@@ -157,6 +157,7 @@ class Planner {
   bool xoz(const ViewFrame& f, const SideFit& w, Candidate& c);
   bool executable(const Candidate& c, PlanResult& out);
   bool friction_ok(const Vec3& pos, const ViewFrame& f, float width);
+  bool fingers_clear_of_hull(const Vec3& pos, const ViewFrame& f);
   bool normal_at(uint32_t object_index, Vec3& n);
   uint32_t rank_and_check(uint32_t first_candidate, PlanResult& out);
   void fill_grasp(const Candidate& c, PlanResult& out);
@@ -203,6 +204,7 @@ class Planner {
   // Normals of object points, computed on demand for the friction test.
   Vec3 normals_[kMaxObjectPoints];
   uint8_t normal_state_[kMaxObjectPoints];  // 0 unknown, 1 valid, 2 undefined
+  Vec3 local_[kMaxObjectPoints];            // object points near the hand, grasp frame
 };
 
 }  // namespace fg

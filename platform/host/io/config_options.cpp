@@ -58,6 +58,7 @@ std::vector<ConfigOption> config_options(PlannerConfig& c) {
       {"table_clearance", "gripper clearance above the support plane (m)", K::real, &c.table_clearance_m},
       {"collision_tolerance", "points this close to a gripper box face are tolerated (m)", K::real, &c.collision_tolerance_m},
       {"pregrasp_clearance", "pre-grasp back-off beyond the finger depth (m)", K::real, &c.pregrasp_clearance_m},
+      {"palm_clearance", "the palm stops this far before the first surface (m)", K::real, &c.palm_clearance_m},
       {"paper_depth", "position at the contacts' mean depth, as the paper", K::flag, &c.paper_depth},
       {"executability_checks", "table, collision and friction checks", K::flag, &c.executability_checks},
   };

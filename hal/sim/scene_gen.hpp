@@ -1,0 +1,84 @@
+// Host-only simulation: seeded, deterministic generation of test scenes (a table, a target
+// object of a given kind, maybe a second object, and the head and hand cameras).
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "fg/core/gripper.hpp"
+#include "sim/depth_render.hpp"
+#include "sim/sim_world.hpp"
+
+namespace fg::sim {
+
+enum class ObjectKind {
+  box,             //!< upright box, narrower than the opening in exactly one horizontal direction
+  can,             //!< upright cylinder
+  bottle,          //!< body cylinder + ellipsoid shoulder + neck + cap
+  spray_bottle,    //!< box body + neck + trigger head + nozzle
+  sphere,          //!< fits the gripper
+  big_sphere,      //!< too wide
+  ellipsoid,       //!< resting on its lowest point, one horizontal width < 0.08 m
+  lying_cylinder,  //!< axis horizontal, random yaw
+  bat_standing,    //!< table-tennis bat on the edge of its disc, in a small stand
+  bat_lying,       //!< table-tennis bat lying flat
+  wide_box,        //!< too wide in every horizontal direction
+};
+
+const std::vector<ObjectKind>& all_kinds();
+const char* kind_name(ObjectKind k);
+bool kind_from_name(const std::string& name, ObjectKind& out);
+
+struct SceneOptions {
+  double second_object_rate = 0.3;    //!< probability of a second, smaller object
+  fg::GripperGeometry gripper;        //!< the 2F-85 defaults
+  Intrinsics intrinsics;              //!< both cameras
+  NoiseModel noise;
+  Table table;
+  double fit_margin = 0.005;          //!< "fits" means min width <= max_opening - margin
+  V3 workspace_centre = V3(0.5, 0.0, 0.0);  //!< a second object is kept farther from it
+};
+
+//! Facts about the target that a judge needs.
+struct GroundTruth {
+  bool target_fits = false;
+  double target_min_width = 0.0;      //!< smallest horizontal width of a graspable part
+  double fit_margin = 0.005;          //!< fits = target_min_width <= max_opening - fit_margin
+  V3 target_centre = V3::Zero();      //!< centre of its bounding box (the cameras look here)
+  Aabb target_box;
+};
+
+struct GeneratedScene {
+  std::string kind;
+  uint64_t seed = 0;
+  World world;
+  int target = 0;
+  Camera head;
+  Camera hand;
+  NoiseModel noise;
+  uint64_t head_noise_seed = 0;
+  uint64_t hand_noise_seed = 0;
+  fg::GripperGeometry gripper;
+  GroundTruth truth;
+};
+
+//! Same kind, seed and options -> identical scene (and identical rendered images).
+GeneratedScene make_scene(ObjectKind kind, uint64_t seed, const SceneOptions& options = {});
+
+//! Builds an object of the kind in its own frame (bottom on z = 0, centred on the origin in
+//! x and y), with sizes drawn from `rng_seed`. The name is "target".
+Object make_object(ObjectKind kind, uint64_t rng_seed);
+
+//! Recomputes the ground-truth facts of scene.world.objects[scene.target].
+GroundTruth compute_truth(const World& world, int target, const fg::GripperGeometry& gripper,
+                          double fit_margin);
+
+struct SceneImages {
+  DepthImage head;
+  DepthImage hand;
+};
+
+//! Renders both cameras with the scene's noise model and seeds.
+SceneImages render_scene(const GeneratedScene& scene);
+
+}  // namespace fg::sim

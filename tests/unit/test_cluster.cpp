@@ -1,0 +1,449 @@
+// cluster_and_pick on voxel cells built here: well-separated blobs (nearest to the
+// centre, largest), min_points, removed voxels, the target buffer's capacity, and
+// the component labelling against a brute-force union-find over all pairs of cells
+// (|difference| <= 1 on every axis for cells = 1; squared distance <= 4 for cells = 2)
+// on random sparse cell sets, peeled one component at a time.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <numeric>
+#include <random>
+#include <set>
+#include <tuple>
+#include <vector>
+
+#include "fg/core/cluster.hpp"
+#include "fg/core/voxel_grid.hpp"
+
+namespace {
+
+using fg::ClusterParams;
+using fg::ClusterResult;
+using fg::Status;
+using fg::Vec3;
+using fg::VoxelGrid;
+
+constexpr float kLeaf = 0.01f;
+
+struct Cell {
+  int x, y, z;
+  bool operator<(const Cell& o) const { return std::tie(x, y, z) < std::tie(o.x, o.y, o.z); }
+  bool operator==(const Cell& o) const { return x == o.x && y == o.y && z == o.z; }
+};
+
+// A grid holding one point at the centre of each cell, voxel i = cells[i].
+struct Fixture {
+  std::unique_ptr<VoxelGrid> grid = std::make_unique<VoxelGrid>();
+  std::vector<Cell> cells;
+  std::vector<uint8_t> state;
+  std::vector<uint32_t> queue;
+  std::vector<uint32_t> target;
+
+  explicit Fixture(const std::vector<Cell>& cs) : cells(cs) {
+    grid->reset(Vec3::Zero(), kLeaf);
+    for (const Cell& c : cs) {
+      const Vec3 p((static_cast<float>(c.x) + 0.5f) * kLeaf, (static_cast<float>(c.y) + 0.5f) * kLeaf,
+                   (static_cast<float>(c.z) + 0.5f) * kLeaf);
+      EXPECT_EQ(grid->insert(p), Status::ok);
+    }
+    EXPECT_EQ(grid->size(), cs.size());
+    state.assign(cs.size(), fg::kVoxelFree);
+    queue.assign(cs.size() + 1, 0);
+    target.assign(cs.size() + 1, 0xDEADBEEFu);
+  }
+  ClusterResult run(const ClusterParams& p) {
+    return fg::cluster_and_pick(*grid, state.data(), queue.data(), p, target.data(),
+                                static_cast<uint32_t>(target.size()));
+  }
+  std::set<uint32_t> targets(const ClusterResult& r) const {
+    return std::set<uint32_t>(target.begin(), target.begin() + r.target_size);
+  }
+  std::set<uint32_t> in_state(uint8_t s) const {
+    std::set<uint32_t> out;
+    for (uint32_t i = 0; i < state.size(); ++i)
+      if (state[i] == s) out.insert(i);
+    return out;
+  }
+};
+
+// A solid blob of cells: a box of nx*ny*nz cells starting at (x0, y0, z0).
+std::vector<Cell> box_cells(int x0, int y0, int z0, int nx, int ny, int nz) {
+  std::vector<Cell> out;
+  for (int z = 0; z < nz; ++z)
+    for (int y = 0; y < ny; ++y)
+      for (int x = 0; x < nx; ++x) out.push_back(Cell{x0 + x, y0 + y, z0 + z});
+  return out;
+}
+
+std::set<uint32_t> range_set(uint32_t from, uint32_t to) {
+  std::set<uint32_t> s;
+  for (uint32_t i = from; i < to; ++i) s.insert(i);
+  return s;
+}
+
+// Cell coordinates of a world x / y (for centres).
+int cell_at(float m) { return static_cast<int>(std::floor(m / kLeaf)); }
+
+TEST(Cluster, TwoBlobsNearestAndLargest) {
+  // Blob A: 4x4x4 = 64 cells near the centre (0.5, 0); blob B: 6x6x6 = 216 cells far away.
+  const int cx = cell_at(0.5f), cy = cell_at(0.f) + 200;  // y cells offset so indices stay >= 2
+  std::vector<Cell> cells = box_cells(cx - 2, cy - 2, 10, 4, 4, 4);
+  const std::vector<Cell> b = box_cells(cx + 30, cy + 20, 10, 6, 6, 6);
+  cells.insert(cells.end(), b.begin(), b.end());
+  ClusterParams p;
+  p.min_points = 10;
+  p.centre_x = 0.5f;
+  p.centre_y = static_cast<float>(cy) * kLeaf;
+  {
+    Fixture f(cells);
+    const ClusterResult r = f.run(p);
+    EXPECT_EQ(r.clusters, 2u);
+    EXPECT_EQ(r.target_size, 64u);
+    EXPECT_EQ(r.other_points, 216u);
+    EXPECT_EQ(f.targets(r), range_set(0, 64));
+    EXPECT_EQ(f.in_state(fg::kVoxelTarget), range_set(0, 64));
+    EXPECT_EQ(f.in_state(fg::kVoxelVisited), range_set(64, 280));
+  }
+  {
+    Fixture f(cells);
+    p.rule = fg::TargetRule::largest;
+    const ClusterResult r = f.run(p);
+    EXPECT_EQ(r.clusters, 2u);
+    EXPECT_EQ(r.target_size, 216u);
+    EXPECT_EQ(r.other_points, 64u);
+    EXPECT_EQ(f.targets(r), range_set(64, 280));
+    EXPECT_EQ(f.in_state(fg::kVoxelTarget), range_set(64, 280));
+  }
+  {
+    // Moving the centre next to blob B makes B the nearest.
+    Fixture f(cells);
+    p.rule = fg::TargetRule::nearest_to_centre;
+    p.centre_x = static_cast<float>(cx + 33) * kLeaf;
+    p.centre_y = static_cast<float>(cy + 23) * kLeaf;
+    const ClusterResult r = f.run(p);
+    EXPECT_EQ(f.targets(r), range_set(64, 280));
+  }
+}
+
+TEST(Cluster, ThreeBlobs) {
+  const int cx = cell_at(0.5f), cy = 300;
+  std::vector<Cell> cells;
+  const std::vector<Cell> a = box_cells(cx + 10, cy - 2, 5, 3, 3, 8);    // 72, 10 cells from centre
+  const std::vector<Cell> b = box_cells(cx - 2, cy + 4, 5, 5, 5, 5);     // 125, ~5 cells from centre
+  const std::vector<Cell> c = box_cells(cx - 40, cy - 40, 5, 7, 7, 7);   // 343, far
+  cells.insert(cells.end(), a.begin(), a.end());
+  cells.insert(cells.end(), b.begin(), b.end());
+  cells.insert(cells.end(), c.begin(), c.end());
+  ClusterParams p;
+  p.min_points = 30;
+  p.centre_x = (static_cast<float>(cx) + 0.5f) * kLeaf;
+  p.centre_y = (static_cast<float>(cy) + 0.5f) * kLeaf;
+  {
+    Fixture f(cells);
+    const ClusterResult r = f.run(p);
+    EXPECT_EQ(r.clusters, 3u);
+    EXPECT_EQ(f.targets(r), range_set(72, 197));
+    EXPECT_EQ(r.other_points, 72u + 343u);
+  }
+  {
+    Fixture f(cells);
+    p.rule = fg::TargetRule::largest;
+    const ClusterResult r = f.run(p);
+    EXPECT_EQ(f.targets(r), range_set(197, 540));
+  }
+  {
+    // min_points above the middle blob's size: only the largest counts.
+    Fixture f(cells);
+    p.rule = fg::TargetRule::nearest_to_centre;
+    p.min_points = 200;
+    const ClusterResult r = f.run(p);
+    EXPECT_EQ(r.clusters, 1u);
+    EXPECT_EQ(f.targets(r), range_set(197, 540));
+    EXPECT_EQ(r.other_points, 72u + 125u);
+  }
+}
+
+TEST(Cluster, MinPointsFiltersNoiseSpecks) {
+  const int cx = cell_at(0.5f), cy = 300;
+  std::vector<Cell> cells;
+  // Specks right at the centre: singles and pairs.
+  cells.push_back(Cell{cx, cy, 10});
+  cells.push_back(Cell{cx + 3, cy, 10});
+  cells.push_back(Cell{cx + 4, cy + 1, 11});  // touches the previous one diagonally
+  cells.push_back(Cell{cx, cy + 3, 12});
+  const std::vector<Cell> obj = box_cells(cx + 15, cy + 15, 10, 4, 4, 4);  // 64
+  cells.insert(cells.end(), obj.begin(), obj.end());
+  ClusterParams p;
+  p.min_points = 30;
+  p.centre_x = (static_cast<float>(cx) + 0.5f) * kLeaf;
+  p.centre_y = (static_cast<float>(cy) + 0.5f) * kLeaf;
+  Fixture f(cells);
+  const ClusterResult r = f.run(p);
+  EXPECT_EQ(r.clusters, 1u);
+  EXPECT_EQ(r.target_size, 64u);
+  EXPECT_EQ(f.targets(r), range_set(4, 68));
+  EXPECT_EQ(r.other_points, 4u);
+  EXPECT_EQ(f.in_state(fg::kVoxelVisited), range_set(0, 4));
+
+  // Only specks: no target.
+  Fixture g(std::vector<Cell>(cells.begin(), cells.begin() + 4));
+  const ClusterResult r2 = g.run(p);
+  EXPECT_EQ(r2.clusters, 0u);
+  EXPECT_EQ(r2.target_size, 0u);
+  EXPECT_EQ(r2.other_points, 4u);
+
+  // min_points = 2 turns the pair into a cluster; min_points = 1 every speck.
+  p.min_points = 2;
+  Fixture h(cells);
+  EXPECT_EQ(h.run(p).clusters, 2u);
+  p.min_points = 1;
+  Fixture k(cells);
+  const ClusterResult r3 = k.run(p);
+  EXPECT_EQ(r3.clusters, 4u);
+  EXPECT_EQ(r3.target_size, 1u);  // the single cell at the centre
+  EXPECT_EQ(k.targets(r3), range_set(0, 1));
+}
+
+TEST(Cluster, RemovedVoxelsAreIgnoredAndBlockConnections) {
+  const int cx = cell_at(0.5f), cy = 300;
+  // Two blobs joined by a one-cell bridge along x.
+  std::vector<Cell> cells = box_cells(cx - 5, cy, 10, 3, 3, 3);  // 27, indices 0..26
+  const std::vector<Cell> b = box_cells(cx + 3, cy, 10, 3, 3, 3);  // 27, indices 27..53
+  cells.insert(cells.end(), b.begin(), b.end());
+  for (int x = cx - 2; x <= cx + 2; ++x) cells.push_back(Cell{x, cy + 1, 11});  // 54..58
+  ClusterParams p;
+  p.min_points = 5;
+  p.centre_x = (static_cast<float>(cx) + 0.5f) * kLeaf;
+  p.centre_y = (static_cast<float>(cy) + 1.5f) * kLeaf;
+  {
+    Fixture f(cells);
+    const ClusterResult r = f.run(p);
+    EXPECT_EQ(r.clusters, 1u);
+    EXPECT_EQ(r.target_size, 59u);
+  }
+  {
+    // The bridge's middle cell removed (e.g. below the table height): two clusters.
+    Fixture f(cells);
+    f.state[56] = fg::kVoxelRemoved;
+    p.rule = fg::TargetRule::largest;
+    const ClusterResult r = f.run(p);
+    EXPECT_EQ(r.clusters, 2u);
+    EXPECT_EQ(r.target_size, 29u);  // ties at 29: the component found first (index 0)
+    std::set<uint32_t> expect = range_set(0, 27);
+    expect.insert(54);
+    expect.insert(55);
+    EXPECT_EQ(f.targets(r), expect);
+    EXPECT_EQ(f.state[56], fg::kVoxelRemoved);
+    EXPECT_EQ(r.other_points, 29u);
+  }
+  {
+    // Every voxel removed: nothing to pick.
+    Fixture f(cells);
+    std::fill(f.state.begin(), f.state.end(), static_cast<uint8_t>(fg::kVoxelRemoved));
+    const ClusterResult r = f.run(p);
+    EXPECT_EQ(r.clusters, 0u);
+    EXPECT_EQ(r.target_size, 0u);
+    EXPECT_EQ(r.other_points, 0u);
+    EXPECT_EQ(f.in_state(fg::kVoxelRemoved).size(), cells.size());
+  }
+}
+
+TEST(Cluster, EmptyGrid) {
+  Fixture f(std::vector<Cell>{});
+  ClusterParams p;
+  const ClusterResult r = fg::cluster_and_pick(*f.grid, nullptr, nullptr, p, nullptr, 0);
+  EXPECT_EQ(r.clusters, 0u);
+  EXPECT_EQ(r.target_size, 0u);
+  EXPECT_EQ(r.other_points, 0u);
+}
+
+TEST(Cluster, TargetCapacitySmallerThanTheTarget) {
+  const std::vector<Cell> cells = box_cells(100, 100, 10, 5, 5, 4);  // 100 cells
+  Fixture f(cells);
+  ClusterParams p;
+  p.min_points = 3;
+  p.centre_x = 1.0f;
+  p.centre_y = 1.0f;
+  std::vector<uint32_t> small(12, 0xDEADBEEFu);
+  const ClusterResult r = fg::cluster_and_pick(*f.grid, f.state.data(), f.queue.data(), p, small.data(), 10);
+  EXPECT_EQ(r.target_size, 100u);  // the caller compares it with its capacity
+  for (int i = 0; i < 10; ++i) EXPECT_LT(small[i], 100u);
+  EXPECT_EQ(small[10], 0xDEADBEEFu);
+  EXPECT_EQ(small[11], 0xDEADBEEFu);
+  // The written indices are distinct target voxels.
+  EXPECT_EQ(std::set<uint32_t>(small.begin(), small.begin() + 10).size(), 10u);
+}
+
+// ---------------------------------------------------------------------------------
+// Brute-force labelling.
+
+struct UnionFind {
+  std::vector<int> parent;
+  explicit UnionFind(size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
+  int find(int a) {
+    while (parent[a] != a) a = parent[a] = parent[parent[a]];
+    return a;
+  }
+  void unite(int a, int b) { parent[find(a)] = find(b); }
+};
+
+bool neighbours(const Cell& a, const Cell& b, uint32_t cells) {
+  const int dx = a.x - b.x, dy = a.y - b.y, dz = a.z - b.z;
+  if (cells <= 1) return std::abs(dx) <= 1 && std::abs(dy) <= 1 && std::abs(dz) <= 1;
+  return dx * dx + dy * dy + dz * dz <= 4;
+}
+
+// Components of the voxels with alive[i], each as a sorted list of indices; the list
+// of components is ordered by smallest member.
+std::vector<std::vector<uint32_t>> components(const std::vector<Cell>& cells, const std::vector<bool>& alive,
+                                              uint32_t radius) {
+  UnionFind uf(cells.size());
+  for (size_t i = 0; i < cells.size(); ++i) {
+    if (!alive[i]) continue;
+    for (size_t j = i + 1; j < cells.size(); ++j)
+      if (alive[j] && neighbours(cells[i], cells[j], radius)) uf.unite(static_cast<int>(i), static_cast<int>(j));
+  }
+  std::map<int, std::vector<uint32_t>> by_root;
+  for (size_t i = 0; i < cells.size(); ++i)
+    if (alive[i]) by_root[uf.find(static_cast<int>(i))].push_back(static_cast<uint32_t>(i));
+  std::vector<std::vector<uint32_t>> out;
+  for (auto& kv : by_root) out.push_back(kv.second);
+  std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.front() < b.front(); });
+  return out;
+}
+
+std::vector<Cell> random_cells(std::mt19937& rng, int extent, double density) {
+  std::vector<Cell> cells;
+  std::bernoulli_distribution keep(density);
+  for (int z = 0; z < extent; ++z)
+    for (int y = 0; y < extent; ++y)
+      for (int x = 0; x < extent; ++x)
+        if (keep(rng)) cells.push_back(Cell{x + 50, y + 60, z + 5});
+  std::shuffle(cells.begin(), cells.end(), rng);  // voxel order independent of position
+  return cells;
+}
+
+// Peels the components largest-first (TargetRule::largest, min_points 1): each target
+// must be the oracle's largest remaining component (ties: the one with the smallest
+// voxel index, i.e. found first), and the cluster count must match.
+void peel_and_compare(const std::vector<Cell>& cells, const std::vector<bool>& pre_removed, uint32_t radius) {
+  Fixture f(cells);
+  std::vector<bool> alive(cells.size());
+  for (size_t i = 0; i < cells.size(); ++i) alive[i] = !pre_removed[i];
+  std::vector<std::vector<uint32_t>> comps = components(cells, alive, radius);
+  ClusterParams p;
+  p.cells = radius;
+  p.min_points = 1;
+  p.rule = fg::TargetRule::largest;
+  size_t rounds = 0;
+  uint32_t remaining = static_cast<uint32_t>(std::count(alive.begin(), alive.end(), true));
+  while (!comps.empty()) {
+    for (size_t i = 0; i < cells.size(); ++i) f.state[i] = alive[i] ? fg::kVoxelFree : fg::kVoxelRemoved;
+    const ClusterResult r = f.run(p);
+    ASSERT_EQ(r.clusters, comps.size()) << "round " << rounds;
+    size_t best = 0;
+    for (size_t c = 1; c < comps.size(); ++c)
+      if (comps[c].size() > comps[best].size()) best = c;
+    ASSERT_EQ(r.target_size, comps[best].size()) << "round " << rounds;
+    std::vector<uint32_t> got(f.target.begin(), f.target.begin() + r.target_size);
+    std::sort(got.begin(), got.end());
+    ASSERT_EQ(got, comps[best]) << "round " << rounds;
+    EXPECT_EQ(r.other_points, remaining - r.target_size);
+    // States: target = the component, visited = the other alive voxels.
+    for (size_t i = 0; i < cells.size(); ++i) {
+      const bool in_t = std::binary_search(comps[best].begin(), comps[best].end(), static_cast<uint32_t>(i));
+      const uint8_t want = !alive[i] ? fg::kVoxelRemoved : in_t ? fg::kVoxelTarget : fg::kVoxelVisited;
+      ASSERT_EQ(f.state[i], want) << "voxel " << i << " round " << rounds;
+    }
+    for (uint32_t i : comps[best]) alive[i] = false;
+    remaining -= r.target_size;
+    comps.erase(comps.begin() + static_cast<long>(best));
+    ++rounds;
+    if (rounds > 40) break;  // enough rounds: the rest are tiny specks
+  }
+}
+
+TEST(Cluster, LabellingMatchesUnionFind26Connected) {
+  std::mt19937 rng(17);
+  for (double density : {0.02, 0.05, 0.08, 0.12}) {
+    SCOPED_TRACE("density " + std::to_string(density));
+    const std::vector<Cell> cells = random_cells(rng, 16, density);
+    peel_and_compare(cells, std::vector<bool>(cells.size(), false), 1);
+  }
+}
+
+TEST(Cluster, LabellingMatchesUnionFindRadiusTwo) {
+  std::mt19937 rng(18);
+  for (double density : {0.01, 0.03, 0.05}) {
+    SCOPED_TRACE("density " + std::to_string(density));
+    const std::vector<Cell> cells = random_cells(rng, 16, density);
+    peel_and_compare(cells, std::vector<bool>(cells.size(), false), 2);
+  }
+}
+
+TEST(Cluster, LabellingWithRemovedVoxelsMatchesUnionFind) {
+  std::mt19937 rng(19);
+  std::bernoulli_distribution rm(0.3);
+  for (double density : {0.06, 0.12}) {
+    const std::vector<Cell> cells = random_cells(rng, 16, density);
+    std::vector<bool> removed(cells.size());
+    for (size_t i = 0; i < cells.size(); ++i) removed[i] = rm(rng);
+    peel_and_compare(cells, removed, 1);
+  }
+}
+
+TEST(Cluster, CellsAboveTwoAreClampedToTwo) {
+  std::mt19937 rng(20);
+  const std::vector<Cell> cells = random_cells(rng, 14, 0.03);
+  ClusterParams p;
+  p.min_points = 1;
+  p.rule = fg::TargetRule::largest;
+  p.cells = 2;
+  Fixture a(cells);
+  const ClusterResult ra = a.run(p);
+  p.cells = 7;
+  Fixture b(cells);
+  const ClusterResult rb = b.run(p);
+  EXPECT_EQ(ra.clusters, rb.clusters);
+  EXPECT_EQ(ra.target_size, rb.target_size);
+  EXPECT_EQ(a.state, b.state);
+}
+
+TEST(Cluster, NearestRuleMatchesBruteForceCentroids) {
+  std::mt19937 rng(23);
+  for (int trial = 0; trial < 6; ++trial) {
+    const std::vector<Cell> cells = random_cells(rng, 18, 0.06);
+    const std::vector<std::vector<uint32_t>> comps = components(cells, std::vector<bool>(cells.size(), true), 1);
+    ClusterParams p;
+    p.min_points = 3;
+    p.centre_x = (50.f + 9.f * static_cast<float>(trial % 3)) * kLeaf;
+    p.centre_y = (60.f + 4.f * static_cast<float>(trial)) * kLeaf;
+    // Oracle: the eligible component whose mean cell centre is nearest in x-y.
+    std::vector<std::pair<double, size_t>> d;
+    for (size_t c = 0; c < comps.size(); ++c) {
+      if (comps[c].size() < p.min_points) continue;
+      double sx = 0, sy = 0;
+      for (uint32_t i : comps[c]) {
+        sx += (cells[i].x + 0.5) * kLeaf;
+        sy += (cells[i].y + 0.5) * kLeaf;
+      }
+      const double mx = sx / comps[c].size() - p.centre_x, my = sy / comps[c].size() - p.centre_y;
+      d.push_back({mx * mx + my * my, c});
+    }
+    std::sort(d.begin(), d.end());
+    ASSERT_GE(d.size(), 2u);
+    if (d[1].first - d[0].first < 1e-6) continue;  // an exact tie: order-dependent, skip
+    Fixture f(cells);
+    const ClusterResult r = f.run(p);
+    EXPECT_EQ(r.clusters, d.size());
+    std::vector<uint32_t> got(f.target.begin(), f.target.begin() + r.target_size);
+    std::sort(got.begin(), got.end());
+    EXPECT_EQ(got, comps[d[0].second]) << "trial " << trial;
+  }
+}
+
+}  // namespace

@@ -1,0 +1,786 @@
+// Planner input handling and whole-pipeline sanity on scenes generated here:
+// argument and pose checks with their statuses and messages, degenerate clouds
+// (all NaN, one point, identical points, only a table, 1e30 coordinates), the voxel
+// capacity, a box on a table (grasp across its narrow side), a sphere wider than the
+// opening (no grasp), depth-image ingest counted against an analytic render, and
+// bit-identical repeated plans.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <memory>
+#include <random>
+#include <set>
+#include <tuple>
+#include <vector>
+
+#include "fg/core/planner.hpp"
+
+namespace {
+
+using fg::NoGraspReason;
+using fg::PlannerConfig;
+using fg::PlanResult;
+using fg::Pose;
+using fg::SensorRole;
+using fg::Status;
+using fg::Vec3;
+
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+constexpr double kPi = 3.14159265358979323846;
+
+std::unique_ptr<fg::Planner> make_planner(const PlannerConfig& cfg = PlannerConfig{}) {
+  auto p = std::make_unique<fg::Planner>();
+  const char* field = nullptr;
+  EXPECT_EQ(p->configure(cfg, &field), Status::ok) << (field ? field : "");
+  return p;
+}
+
+// Flattens points into an xyz float array (stride 12).
+std::vector<float> flat(const std::vector<Vec3>& pts) {
+  std::vector<float> out;
+  out.reserve(pts.size() * 3);
+  for (const Vec3& p : pts) {
+    out.push_back(p.x());
+    out.push_back(p.y());
+    out.push_back(p.z());
+  }
+  return out;
+}
+
+Status add(fg::Planner& pl, const std::vector<Vec3>& pts, const Pose& pose = Pose{},
+           SensorRole role = SensorRole::head) {
+  const std::vector<float> xyz = flat(pts);
+  return pl.add_points(role, xyz.data(), static_cast<uint32_t>(pts.size()), 12, pose);
+}
+
+bool nonempty(const char* s) { return s != nullptr && s[0] != '\0'; }
+
+// ---------------------------------------------------------------------------------
+// Scenes (world frame). The table top is at z = 0: with an identity sensor pose the
+// sensor-frame depth is world z, so the tests that use an identity pose set
+// range_min_m = 0 (the default 0.3 m range filter would drop the table).
+
+PlannerConfig world_frame_config() {
+  PlannerConfig c;
+  c.range_min_m = 0.0f;
+  return c;
+}
+
+// A 0.8 x 0.8 table top centred at (0.5, 0) at z = 0, sampled every `step` with a
+// small jitter, leaving out the footprint [x0, x1] x [y0, y1] (hidden under an object).
+void add_table(std::vector<Vec3>& pts, std::mt19937& rng, float step, float x0 = 1, float x1 = 0, float y0 = 1,
+               float y1 = 0) {
+  std::uniform_real_distribution<float> j(-0.3f * step, 0.3f * step);
+  for (float x = 0.1f + 0.5f * step; x < 0.9f; x += step)
+    for (float y = -0.4f + 0.5f * step; y < 0.4f; y += step) {
+      const float px = x + j(rng), py = y + j(rng);
+      if (px >= x0 && px <= x1 && py >= y0 && py <= y1) continue;
+      pts.push_back(Vec3(px, py, 0.f));
+    }
+}
+
+// The five visible faces of an axis-aligned box standing on z = 0 (sizes sx, sy, sz),
+// centred at (cx, cy), sampled every `step`.
+void add_box(std::vector<Vec3>& pts, std::mt19937& rng, float cx, float cy, float sx, float sy, float sz, float step) {
+  std::uniform_real_distribution<float> u(0.f, 1.f);
+  auto face = [&](const Vec3& o, const Vec3& a, const Vec3& b) {
+    const int na = static_cast<int>(std::ceil(a.norm() / step)), nb = static_cast<int>(std::ceil(b.norm() / step));
+    for (int i = 0; i < na; ++i)
+      for (int k = 0; k < nb; ++k)
+        pts.push_back(o + a * ((static_cast<float>(i) + u(rng)) / static_cast<float>(na)) +
+                      b * ((static_cast<float>(k) + u(rng)) / static_cast<float>(nb)));
+  };
+  const Vec3 lo(cx - 0.5f * sx, cy - 0.5f * sy, 0.f);
+  const Vec3 X(sx, 0, 0), Y(0, sy, 0), Z(0, 0, sz);
+  face(lo + Z, X, Y);      // top
+  face(lo, X, Z);          // y = min
+  face(lo + Y, X, Z);      // y = max
+  face(lo, Y, Z);          // x = min
+  face(lo + X, Y, Z);      // x = max
+}
+
+// A sx x sy x 0.12 m box standing at (0.5, 0) on the table (world frame).
+std::vector<Vec3> box_scene(uint32_t seed, float sx, float sy) {
+  std::mt19937 rng(seed);
+  std::vector<Vec3> pts;
+  add_table(pts, rng, 0.003f, 0.5f - 0.5f * sx, 0.5f + 0.5f * sx, -0.5f * sy, 0.5f * sy);
+  add_box(pts, rng, 0.5f, 0.f, sx, sy, 0.12f, 0.0015f);
+  return pts;
+}
+
+// The pose of a sensor at `eye` looking at `target` (optical frame: z forward, x right,
+// y down), world_T_sensor.
+Pose look_at(const Vec3& eye, const Vec3& target) {
+  const Vec3 z = (target - eye).normalized();
+  Vec3 x = z.cross(Vec3::UnitZ());  // right, horizontal
+  if (x.norm() < 1e-6f) x = Vec3::UnitX();
+  x.normalize();
+  const Vec3 y = z.cross(x);
+  Pose p;
+  p.R.col(0) = x;
+  p.R.col(1) = y;
+  p.R.col(2) = z;
+  p.t = eye;
+  return p;
+}
+
+std::vector<Vec3> to_sensor(const std::vector<Vec3>& world, const Pose& world_T_sensor) {
+  std::vector<Vec3> out;
+  out.reserve(world.size());
+  for (const Vec3& w : world) out.push_back(world_T_sensor.R.transpose() * (w - world_T_sensor.t));
+  return out;
+}
+
+// ---------------------------------------------------------------------------------
+// Argument and pose checks.
+
+TEST(PlannerInput, ConfigureWithDefaults) {
+  auto pl = std::make_unique<fg::Planner>();
+  const char* field = "x";
+  EXPECT_EQ(pl->configure(PlannerConfig{}, &field), Status::ok);
+  EXPECT_EQ(field, nullptr);
+}
+
+TEST(PlannerInput, PlanWithoutInput) {
+  auto pl = make_planner();
+  PlanResult r;
+  EXPECT_EQ(pl->plan(r), Status::no_input);
+  EXPECT_EQ(r.status, Status::no_input);
+  EXPECT_TRUE(nonempty(pl->last_message()));
+  EXPECT_TRUE(nonempty(r.message));
+  // After data and a reset, there is again no input.
+  ASSERT_EQ(add(*pl, {Vec3(0.5f, 0.f, 1.f)}), Status::ok);
+  pl->reset();
+  EXPECT_EQ(pl->plan(r), Status::no_input);
+}
+
+TEST(PlannerInput, NullPointerAndBadStride) {
+  auto pl = make_planner();
+  const float xyz[6] = {0.5f, 0.f, 1.f, 0.5f, 0.1f, 1.f};
+  EXPECT_EQ(pl->add_points(SensorRole::head, nullptr, 10, 12, Pose{}), Status::invalid_argument);
+  EXPECT_TRUE(nonempty(pl->last_message()));
+  for (uint32_t stride : {0u, 4u, 8u, 11u}) {
+    pl->reset();
+    EXPECT_EQ(pl->add_points(SensorRole::head, xyz, 2, stride, Pose{}), Status::invalid_argument) << stride;
+    EXPECT_TRUE(nonempty(pl->last_message())) << stride;
+  }
+  // None of the failures used up the role.
+  EXPECT_EQ(pl->add_points(SensorRole::head, xyz, 2, 12, Pose{}), Status::ok);
+}
+
+TEST(PlannerInput, StridesLargerThanAPointAndUnaligned) {
+  // Points 20 bytes apart starting at an odd address: the same result as packed.
+  std::vector<Vec3> pts;
+  std::mt19937 rng(4);
+  add_table(pts, rng, 0.01f);
+  std::vector<uint8_t> raw(pts.size() * 20 + 1, 0xAB);
+  for (size_t i = 0; i < pts.size(); ++i) std::memcpy(raw.data() + 1 + i * 20, pts[i].data(), 12);
+  const PlannerConfig cfg = world_frame_config();
+  auto a = make_planner(cfg);
+  auto b = make_planner(cfg);
+  ASSERT_EQ(a->add_points(SensorRole::head, reinterpret_cast<const float*>(raw.data() + 1),
+                          static_cast<uint32_t>(pts.size()), 20, Pose{}),
+            Status::ok);
+  ASSERT_EQ(add(*b, pts), Status::ok);
+  PlanResult ra, rb;
+  a->plan(ra);
+  b->plan(rb);
+  EXPECT_EQ(ra.points.after_filter, pts.size());
+  EXPECT_EQ(ra.points.after_filter, rb.points.after_filter);
+  EXPECT_EQ(ra.points.voxels, rb.points.voxels);
+}
+
+TEST(PlannerInput, BadPoses) {
+  const float xyz[3] = {0.5f, 0.f, 1.f};
+  struct Case {
+    const char* what;
+    Pose pose;
+    Status expect;
+  };
+  std::vector<Case> cases;
+  {
+    Pose p;
+    p.R(1, 2) = kNaN;
+    cases.push_back({"NaN rotation", p, Status::non_finite});
+  }
+  {
+    Pose p;
+    p.t.y() = kNaN;
+    cases.push_back({"NaN translation", p, Status::non_finite});
+  }
+  {
+    Pose p;
+    p.t.x() = std::numeric_limits<float>::infinity();
+    cases.push_back({"Inf translation", p, Status::non_finite});
+  }
+  {
+    Pose p;
+    p.R *= 1.01f;
+    cases.push_back({"scaled rotation", p, Status::invalid_pose});
+  }
+  {
+    Pose p;
+    p.R(0, 1) = 0.1f;  // shear
+    cases.push_back({"sheared rotation", p, Status::invalid_pose});
+  }
+  {
+    Pose p;
+    p.R = Eigen::Vector3f(1.f, 1.f, -1.f).asDiagonal();
+    cases.push_back({"reflection", p, Status::invalid_pose});
+  }
+  {
+    Pose p;
+    p.R = -fg::Mat3::Identity();  // orthonormal, determinant -1
+    cases.push_back({"point reflection", p, Status::invalid_pose});
+  }
+  {
+    Pose p;
+    p.R.setZero();
+    cases.push_back({"zero rotation", p, Status::invalid_pose});
+  }
+  {
+    Pose p;
+    p.t = Vec3(1e6f, 0.f, 0.f);
+    cases.push_back({"translation 1e6", p, Status::invalid_pose});
+  }
+  {
+    Pose p;
+    p.t = Vec3(0.f, 0.f, -1e6f);
+    cases.push_back({"translation -1e6 z", p, Status::invalid_pose});
+  }
+  for (const Case& c : cases) {
+    auto pl = make_planner();
+    EXPECT_EQ(pl->add_points(SensorRole::head, xyz, 1, 12, c.pose), c.expect) << c.what;
+    EXPECT_TRUE(nonempty(pl->last_message())) << c.what;
+    const uint16_t depth[4] = {800, 800, 800, 800};
+    EXPECT_EQ(pl->add_depth_image(SensorRole::hand, depth, 2, 2, fg::PinholeIntrinsics{}, c.pose), c.expect)
+        << c.what;
+    // A rejected pose does not use up the role.
+    EXPECT_EQ(pl->add_points(SensorRole::head, xyz, 1, 12, Pose{}), Status::ok) << c.what;
+  }
+  // A proper rotation is accepted.
+  auto pl = make_planner();
+  Pose ok;
+  ok.R = Eigen::AngleAxisf(0.7f, Vec3(1, 2, 3).normalized()).toRotationMatrix();
+  ok.t = Vec3(0.3f, -0.2f, 1.1f);
+  EXPECT_EQ(pl->add_points(SensorRole::head, xyz, 1, 12, ok), Status::ok);
+}
+
+TEST(PlannerInput, SameRoleTwiceAndUnknownRole) {
+  auto pl = make_planner();
+  const float xyz[3] = {0.5f, 0.f, 1.f};
+  ASSERT_EQ(pl->add_points(SensorRole::head, xyz, 1, 12, Pose{}), Status::ok);
+  EXPECT_EQ(pl->add_points(SensorRole::head, xyz, 1, 12, Pose{}), Status::invalid_sensor);
+  EXPECT_TRUE(nonempty(pl->last_message()));
+  const uint16_t depth[4] = {800, 800, 800, 800};
+  EXPECT_EQ(pl->add_depth_image(SensorRole::head, depth, 2, 2, fg::PinholeIntrinsics{}, Pose{}),
+            Status::invalid_sensor);
+  EXPECT_EQ(pl->add_points(SensorRole::hand, xyz, 1, 12, Pose{}), Status::ok);
+  EXPECT_EQ(pl->add_depth_image(SensorRole::hand, depth, 2, 2, fg::PinholeIntrinsics{}, Pose{}),
+            Status::invalid_sensor);
+  EXPECT_EQ(pl->add_points(static_cast<SensorRole>(7), xyz, 1, 12, Pose{}), Status::invalid_sensor);
+  EXPECT_TRUE(nonempty(pl->last_message()));
+  // reset() makes both roles available again.
+  pl->reset();
+  EXPECT_EQ(pl->add_points(SensorRole::head, xyz, 1, 12, Pose{}), Status::ok);
+}
+
+TEST(PlannerInput, BadDepthImageArguments) {
+  auto pl = make_planner();
+  const uint16_t depth[4] = {800, 800, 800, 800};
+  fg::PinholeIntrinsics k;
+  EXPECT_EQ(pl->add_depth_image(SensorRole::head, nullptr, 2, 2, k, Pose{}), Status::invalid_argument);
+  EXPECT_TRUE(nonempty(pl->last_message()));
+  EXPECT_EQ(pl->add_depth_image(SensorRole::head, depth, 0, 2, k, Pose{}), Status::invalid_argument);
+  EXPECT_EQ(pl->add_depth_image(SensorRole::head, depth, 2, 0, k, Pose{}), Status::invalid_argument);
+  fg::PinholeIntrinsics bad = k;
+  bad.fx = kNaN;
+  EXPECT_EQ(pl->add_depth_image(SensorRole::head, depth, 2, 2, bad, Pose{}), Status::non_finite);
+  bad = k;
+  bad.cy = std::numeric_limits<float>::infinity();
+  EXPECT_EQ(pl->add_depth_image(SensorRole::head, depth, 2, 2, bad, Pose{}), Status::non_finite);
+  bad = k;
+  bad.fy = 0.f;
+  EXPECT_EQ(pl->add_depth_image(SensorRole::head, depth, 2, 2, bad, Pose{}), Status::invalid_argument);
+  bad = k;
+  bad.fx = -525.f;
+  EXPECT_EQ(pl->add_depth_image(SensorRole::head, depth, 2, 2, bad, Pose{}), Status::invalid_argument);
+  EXPECT_TRUE(nonempty(pl->last_message()));
+  EXPECT_EQ(pl->add_depth_image(SensorRole::head, depth, 2, 2, k, Pose{}), Status::ok);
+}
+
+// ---------------------------------------------------------------------------------
+// Degenerate clouds.
+
+TEST(PlannerInput, AllNaNPoints) {
+  auto pl = make_planner();
+  std::vector<float> xyz(3000, kNaN);
+  for (size_t i = 0; i < xyz.size(); i += 7) xyz[i] = 0.5f;  // partly NaN points are NaN points too
+  ASSERT_EQ(pl->add_points(SensorRole::head, xyz.data(), 1000, 12, Pose{}), Status::ok);
+  PlanResult r;
+  EXPECT_EQ(pl->plan(r), Status::no_grasp);
+  EXPECT_EQ(r.reason, NoGraspReason::no_points);
+  EXPECT_EQ(r.points.input, 1000u);
+  EXPECT_EQ(r.points.finite, 0u);
+  EXPECT_EQ(r.points.after_filter, 0u);
+  EXPECT_TRUE(nonempty(r.message));
+  EXPECT_TRUE(nonempty(pl->last_message()));
+}
+
+TEST(PlannerInput, ZeroPoints) {
+  auto pl = make_planner();
+  EXPECT_EQ(pl->add_points(SensorRole::head, nullptr, 0, 12, Pose{}), Status::ok);
+  PlanResult r;
+  EXPECT_EQ(pl->plan(r), Status::no_grasp);
+  EXPECT_EQ(r.reason, NoGraspReason::no_points);
+}
+
+void expect_no_grasp_with_reason(fg::Planner& pl) {
+  PlanResult r;
+  EXPECT_EQ(pl.plan(r), Status::no_grasp);
+  EXPECT_EQ(r.status, Status::no_grasp);
+  EXPECT_NE(r.reason, NoGraspReason::none);
+  EXPECT_TRUE(nonempty(r.message));
+  EXPECT_TRUE(nonempty(pl.last_message()));
+}
+
+TEST(PlannerInput, OnePoint) {
+  auto pl = make_planner();
+  ASSERT_EQ(add(*pl, {Vec3(0.5f, 0.f, 1.f)}), Status::ok);
+  PlanResult r;
+  EXPECT_EQ(pl->plan(r), Status::no_grasp);
+  EXPECT_NE(r.reason, NoGraspReason::none);
+  EXPECT_EQ(r.points.after_filter, 1u);
+  EXPECT_EQ(r.points.voxels, 1u);
+}
+
+TEST(PlannerInput, AllPointsIdentical) {
+  auto pl = make_planner();
+  ASSERT_EQ(add(*pl, std::vector<Vec3>(5000, Vec3(0.5f, 0.01f, 0.9f))), Status::ok);
+  PlanResult r;
+  EXPECT_EQ(pl->plan(r), Status::no_grasp);
+  EXPECT_NE(r.reason, NoGraspReason::none);
+  EXPECT_EQ(r.points.after_filter, 5000u);
+  EXPECT_EQ(r.points.voxels, 1u);
+}
+
+TEST(PlannerInput, OnlyATable) {
+  std::mt19937 rng(2);
+  std::vector<Vec3> pts;
+  add_table(pts, rng, 0.003f);
+  auto pl = make_planner(world_frame_config());
+  ASSERT_EQ(add(*pl, pts), Status::ok);
+  PlanResult r;
+  EXPECT_EQ(pl->plan(r), Status::no_grasp);
+  EXPECT_EQ(r.reason, NoGraspReason::no_object);
+  EXPECT_TRUE(nonempty(r.message));
+  EXPECT_TRUE(pl->plane_found());
+  EXPECT_NEAR(pl->plane().n.z(), 1.0, 1e-4);
+  EXPECT_NEAR(pl->plane().d, 0.0, 1e-3);
+  EXPECT_EQ(r.points.plane, r.points.voxels);
+}
+
+TEST(PlannerInput, OnlyAVerticalWall) {
+  // Coplanar points that are not a support plane: no plane, no object standing on one.
+  std::vector<Vec3> pts;
+  for (float y = -0.3f; y < 0.3f; y += 0.003f)
+    for (float z = 0.1f; z < 0.7f; z += 0.003f) pts.push_back(Vec3(0.8f, y, z));
+  auto pl = make_planner(world_frame_config());
+  ASSERT_EQ(add(*pl, pts), Status::ok);
+  expect_no_grasp_with_reason(*pl);
+}
+
+TEST(PlannerInput, HugeCoordinatesAreDroppedByTheCropBox) {
+  // Depth (sensor z) within the range filter, x or y far outside the workspace.
+  std::vector<Vec3> pts;
+  for (int i = 0; i < 500; ++i) {
+    const float s = (i % 2) ? 1e30f : -1e30f;
+    pts.push_back(i % 3 == 0 ? Vec3(s, 0.f, 1.f) : i % 3 == 1 ? Vec3(0.5f, s, 1.f) : Vec3(s, s, 1.f));
+  }
+  pts.push_back(Vec3(3e38f, 3e38f, 1.f));  // overflows to Inf in a rotated transform
+  auto pl = make_planner();
+  ASSERT_EQ(add(*pl, pts), Status::ok);
+  PlanResult r;
+  EXPECT_EQ(pl->plan(r), Status::no_grasp);
+  EXPECT_EQ(r.reason, NoGraspReason::no_points);
+  EXPECT_EQ(r.points.finite, pts.size());
+  EXPECT_EQ(r.points.after_filter, 0u);
+  // The same through a rotated pose (large values mix across axes).
+  auto pl2 = make_planner();
+  Pose rot;
+  rot.R = Eigen::AngleAxisf(static_cast<float>(kPi / 4), Vec3::UnitZ()).toRotationMatrix();
+  rot.t = Vec3(0.5f, 0.f, 0.f);
+  ASSERT_EQ(add(*pl2, pts, rot), Status::ok);
+  EXPECT_EQ(pl2->plan(r), Status::no_grasp);
+  EXPECT_EQ(r.points.after_filter, 0u);
+  // 1e30 in depth: the range filter.
+  auto pl3 = make_planner();
+  ASSERT_EQ(add(*pl3, std::vector<Vec3>(10, Vec3(0.5f, 0.f, 1e30f))), Status::ok);
+  EXPECT_EQ(pl3->plan(r), Status::no_grasp);
+  EXPECT_EQ(r.points.after_filter, 0u);
+}
+
+TEST(PlannerInput, RangeFilterAndCropBoxCounts) {
+  // Identity pose, defaults: depth range [0.3, 1.5] on z, crop x in [-0.1, 1.1],
+  // y in [-0.6, 0.6], z in [-0.5, 1.5]. Points well inside / outside each bound.
+  std::vector<Vec3> pts = {
+      Vec3(0.5f, 0.f, 1.f),   // kept
+      Vec3(0.0f, 0.5f, 0.4f),  // kept
+      Vec3(0.5f, 0.f, 0.2f),  // too near
+      Vec3(0.5f, 0.f, 1.6f),  // too far
+      Vec3(-0.2f, 0.f, 1.f),  // crop x low
+      Vec3(1.2f, 0.f, 1.f),   // crop x high
+      Vec3(0.5f, 0.7f, 1.f),  // crop y high
+      Vec3(0.5f, -0.7f, 1.f),  // crop y low
+      Vec3(kNaN, 0.f, 1.f),   // non-finite
+  };
+  auto pl = make_planner();
+  ASSERT_EQ(add(*pl, pts), Status::ok);
+  PlanResult r;
+  pl->plan(r);
+  EXPECT_EQ(r.points.input, 9u);
+  EXPECT_EQ(r.points.finite, 8u);
+  EXPECT_EQ(r.points.after_filter, 2u);
+  EXPECT_EQ(r.points.voxels, 2u);
+}
+
+TEST(PlannerInput, TooManyVoxelsIsCapacityExceeded) {
+  // Random points through the whole crop box: far more distinct cells than kMaxVoxels.
+  std::mt19937 rng(6);
+  std::uniform_real_distribution<float> ux(-0.05f, 1.05f), uy(-0.55f, 0.55f), uz(0.35f, 1.45f);
+  std::vector<Vec3> pts(2 * fg::kMaxVoxels);
+  for (Vec3& p : pts) p = Vec3(ux(rng), uy(rng), uz(rng));
+  auto pl = make_planner();
+  EXPECT_EQ(add(*pl, pts), Status::capacity_exceeded);
+  EXPECT_TRUE(nonempty(pl->last_message()));
+  PlanResult r;
+  EXPECT_EQ(pl->plan(r), Status::capacity_exceeded);
+  EXPECT_TRUE(nonempty(r.message));
+  // A reset recovers.
+  pl->reset();
+  EXPECT_EQ(add(*pl, {Vec3(0.5f, 0.f, 1.f)}), Status::ok);
+  EXPECT_EQ(pl->plan(r), Status::no_grasp);
+}
+
+// ---------------------------------------------------------------------------------
+// Whole scenes.
+
+double deg(double rad) { return rad * 180.0 / kPi; }
+
+// A grasp on the box standing at (0.5, 0) with footprint sx x sy: closing within
+// 20 deg of world `axis` (horizontal), width within 1 cm of the box's extent along it,
+// position inside the footprint and above the table.
+void expect_box_grasp(const PlanResult& r, float sx, float sy, const Vec3& axis) {
+  ASSERT_EQ(r.status, Status::ok) << r.message << " reason " << fg::to_string(r.reason);
+  const fg::Grasp& g = r.grasp;
+  EXPECT_TRUE(g.position.allFinite() && g.approach.allFinite() && g.closing.allFinite());
+  EXPECT_NEAR(g.approach.norm(), 1.0, 1e-4);
+  EXPECT_NEAR(g.closing.norm(), 1.0, 1e-4);
+  EXPECT_NEAR(g.approach.dot(g.closing), 0.0, 1e-3);
+  const double ang = deg(std::acos(std::min(1.0, std::fabs(static_cast<double>(g.closing.dot(axis))))));
+  EXPECT_LT(ang, 20.0) << "closing " << g.closing.transpose() << " width " << g.width;
+  const double extent = std::fabs(axis.x()) > 0.5f ? sx : sy;
+  EXPECT_NEAR(g.width, extent, 0.01);
+  EXPECT_GE(g.position.x(), 0.5f - 0.5f * sx);
+  EXPECT_LE(g.position.x(), 0.5f + 0.5f * sx);
+  EXPECT_GE(g.position.y(), -0.5f * sy);
+  EXPECT_LE(g.position.y(), 0.5f * sy);
+  EXPECT_GT(g.position.z(), 0.f);
+  EXPECT_LT(g.position.z(), 0.12f + 0.02f);
+  EXPECT_TRUE(g.pregrasp.allFinite());
+}
+
+TEST(PlannerScene, BoxOnTableWorldFrameIdentityPose) {
+  // The sensor (identity pose) sits at the world origin and looks along +x at the box,
+  // whose 0.05 m side is along y: the grasp closes across that side.
+  const std::vector<Vec3> pts = box_scene(11, 0.07f, 0.05f);
+  auto pl = make_planner(world_frame_config());
+  ASSERT_EQ(add(*pl, pts), Status::ok);
+  PlanResult r;
+  pl->plan(r);
+  expect_box_grasp(r, 0.07f, 0.05f, Vec3::UnitY());
+  EXPECT_TRUE(pl->plane_found());
+  EXPECT_GT(r.points.object, 100u);
+}
+
+TEST(PlannerScene, BoxWithItsNarrowSideAlongXIdentityPose) {
+  // The 0.05 x 0.07 footprint with 0.05 along x, seen from the origin: the 0.05 side
+  // is at 90 deg to the sensor's line of sight, outside the approach cone about it
+  // (approach_view_max_rad), so the planner closes across the 0.07 side, which also
+  // fits the opening. Either way: ok, horizontal closing along a box axis, the width
+  // of that axis.
+  const std::vector<Vec3> pts = box_scene(15, 0.05f, 0.07f);
+  auto pl = make_planner(world_frame_config());
+  ASSERT_EQ(add(*pl, pts), Status::ok);
+  PlanResult r;
+  pl->plan(r);
+  ASSERT_EQ(r.status, Status::ok) << r.message;
+  const Vec3 axis = std::fabs(r.grasp.closing.x()) > std::fabs(r.grasp.closing.y()) ? Vec3::UnitX() : Vec3::UnitY();
+  expect_box_grasp(r, 0.05f, 0.07f, axis);
+}
+
+TEST(PlannerScene, BoxSeenFromTheSideOfItsNarrowAxis) {
+  // 0.05 along x, a sensor at (0.5, -0.6, 0.35) looking at the box along +y (and down):
+  // the grasp closes along x.
+  const std::vector<Vec3> world = box_scene(16, 0.05f, 0.07f);
+  const Pose pose = look_at(Vec3(0.5f, -0.6f, 0.35f), Vec3(0.5f, 0.f, 0.06f));
+  auto pl = make_planner();
+  ASSERT_EQ(add(*pl, to_sensor(world, pose), pose), Status::ok);
+  PlanResult r;
+  pl->plan(r);
+  expect_box_grasp(r, 0.05f, 0.07f, Vec3::UnitX());
+}
+
+TEST(PlannerScene, BoxOnTableSeenFromASensorAboveAndInFront) {
+  // The scene given in the optical frame of a sensor 0.6 m behind and 0.5 m above the
+  // box (default configuration, real range filter): the ingest transform is exercised.
+  const std::vector<Vec3> world = box_scene(12, 0.07f, 0.05f);
+  const Pose pose = look_at(Vec3(-0.1f, 0.f, 0.5f), Vec3(0.5f, 0.f, 0.05f));
+  auto pl = make_planner();
+  ASSERT_EQ(add(*pl, to_sensor(world, pose), pose), Status::ok);
+  PlanResult r;
+  pl->plan(r);
+  EXPECT_EQ(r.points.after_filter, r.points.finite);
+  expect_box_grasp(r, 0.07f, 0.05f, Vec3::UnitY());
+}
+
+TEST(PlannerScene, SphereWiderThanTheOpening) {
+  std::mt19937 rng(13);
+  std::vector<Vec3> pts;
+  const float R = 0.06f;
+  add_table(pts, rng, 0.003f, 0.5f - R, 0.5f + R, -R, R);
+  // Fibonacci sphere: even coverage.
+  const int n = 12000;
+  const double golden = kPi * (3.0 - std::sqrt(5.0));
+  for (int i = 0; i < n; ++i) {
+    const double z = 1.0 - 2.0 * (i + 0.5) / n, rxy = std::sqrt(1.0 - z * z), phi = golden * i;
+    const Vec3 p(static_cast<float>(0.5 + R * rxy * std::cos(phi)), static_cast<float>(R * rxy * std::sin(phi)),
+                 static_cast<float>(R + R * z));
+    pts.push_back(p);
+  }
+  auto pl = make_planner(world_frame_config());
+  ASSERT_EQ(add(*pl, pts), Status::ok);
+  PlanResult r;
+  EXPECT_EQ(pl->plan(r), Status::no_grasp)
+      << "width " << r.grasp.width << " at " << r.grasp.position.transpose() << " closing "
+      << r.grasp.closing.transpose();
+  EXPECT_NE(r.reason, NoGraspReason::none);
+  EXPECT_TRUE(nonempty(r.message));
+  EXPECT_GT(r.points.object, 100u);
+}
+
+TEST(PlannerScene, RepeatedPlansAreBitIdentical) {
+  const std::vector<Vec3> pts = box_scene(14, 0.07f, 0.05f);
+  const PlannerConfig cfg = world_frame_config();
+  auto a = make_planner(cfg);
+  auto b = make_planner(cfg);
+  PlanResult r1, r2, r3;
+  ASSERT_EQ(add(*a, pts), Status::ok);
+  a->plan(r1);
+  a->plan(r2);  // the same input again, without a reset
+  ASSERT_EQ(add(*b, pts), Status::ok);
+  b->plan(r3);  // another planner
+  ASSERT_EQ(r1.status, Status::ok) << r1.message;
+  for (const PlanResult* r : {&r2, &r3}) {
+    EXPECT_EQ(r->status, r1.status);
+    EXPECT_EQ(r->reason, r1.reason);
+    const fg::Grasp &g1 = r1.grasp, &g = r->grasp;
+    EXPECT_EQ(std::memcmp(g1.position.data(), g.position.data(), 12), 0);
+    EXPECT_EQ(std::memcmp(g1.approach.data(), g.approach.data(), 12), 0);
+    EXPECT_EQ(std::memcmp(g1.closing.data(), g.closing.data(), 12), 0);
+    EXPECT_EQ(std::memcmp(g1.pregrasp.data(), g.pregrasp.data(), 12), 0);
+    EXPECT_EQ(std::memcmp(&g1.width, &g.width, 4), 0);
+    EXPECT_EQ(std::memcmp(&g1.beta, &g.beta, 4), 0);
+    EXPECT_EQ(std::memcmp(&g1.dz, &g.dz, 4), 0);
+    EXPECT_EQ(std::memcmp(&g1.viewpoint, &g.viewpoint, 4), 0);
+    EXPECT_EQ(g1.family, g.family);
+    EXPECT_EQ(r->points.voxels, r1.points.voxels);
+    EXPECT_EQ(r->points.object, r1.points.object);
+    EXPECT_EQ(r->viewpoints, r1.viewpoints);
+    EXPECT_EQ(r->candidates, r1.candidates);
+  }
+  // Reset + the same input once more.
+  a->reset();
+  ASSERT_EQ(add(*a, pts), Status::ok);
+  PlanResult r4;
+  a->plan(r4);
+  EXPECT_EQ(std::memcmp(r1.grasp.position.data(), r4.grasp.position.data(), 12), 0);
+  EXPECT_EQ(std::memcmp(r1.grasp.closing.data(), r4.grasp.closing.data(), 12), 0);
+  EXPECT_EQ(std::memcmp(&r1.grasp.width, &r4.grasp.width, 4), 0);
+}
+
+// ---------------------------------------------------------------------------------
+// Depth images, rendered analytically here.
+
+struct Render {
+  std::vector<uint16_t> depth;
+  uint32_t w = 64, h = 48;
+  fg::PinholeIntrinsics k;
+};
+
+// A fronto-parallel plane at `z_m` (millimetres, rounded) with optional holes.
+Render plane_image(float z_m) {
+  Render r;
+  r.k.fx = r.k.fy = 50.f;
+  r.k.cx = 31.5f;
+  r.k.cy = 23.5f;
+  r.depth.assign(r.w * r.h, static_cast<uint16_t>(std::lround(z_m * 1000.f)));
+  return r;
+}
+
+// A camera 1.0 m above (0.5, 0) looking straight down (optical x = world x, y = -world y).
+Pose camera_down() {
+  Pose p;
+  p.R = Eigen::Vector3f(1.f, -1.f, -1.f).asDiagonal();
+  p.t = Vec3(0.5f, 0.f, 1.0f);
+  return p;
+}
+
+TEST(PlannerDepth, PlaneAtEightyCentimetres) {
+  Render img = plane_image(0.8f);
+  auto pl = make_planner();
+  ASSERT_EQ(pl->add_depth_image(SensorRole::head, img.depth.data(), 64, 48, img.k, camera_down()), Status::ok);
+  PlanResult r;
+  EXPECT_EQ(pl->plan(r), Status::no_grasp);
+  // Every pixel is at 0.8 m (in range); the image spans x, y within +-0.52 m of
+  // (0.5, 0) at world z = 0.2: inside the crop box.
+  EXPECT_EQ(r.points.input, 64u * 48u);
+  EXPECT_EQ(r.points.finite, 64u * 48u);
+  EXPECT_EQ(r.points.after_filter, 64u * 48u);
+  EXPECT_EQ(r.reason, NoGraspReason::no_object);
+  EXPECT_TRUE(pl->plane_found());
+  EXPECT_NEAR(pl->plane().n.z(), 1.0, 1e-4);
+  EXPECT_NEAR(-pl->plane().d, 0.2, 1e-3);  // world height of the plane
+  // Voxels: the back-projected points, counted here in double.
+  std::set<std::tuple<long, long, long>> cells;
+  const PlannerConfig c;
+  const double ox = 0.5 - c.crop_half_x_m - 2.5 * c.voxel_leaf_m, oy = -c.crop_half_y_m - 2.5 * c.voxel_leaf_m,
+               oz = c.crop_min_z_m - 2.5 * c.voxel_leaf_m;
+  bool ambiguous = false;
+  for (uint32_t v = 0; v < img.h; ++v)
+    for (uint32_t u = 0; u < img.w; ++u) {
+      const double z = 0.8, x = (u - 31.5) / 50.0 * z, y = (v - 23.5) / 50.0 * z;
+      const double w[3] = {0.5 + x, -y, 1.0 - z};
+      const double f[3] = {(w[0] - ox) / c.voxel_leaf_m, (w[1] - oy) / c.voxel_leaf_m, (w[2] - oz) / c.voxel_leaf_m};
+      for (double q : f) ambiguous = ambiguous || std::fabs(q - std::round(q)) < 1e-3;
+      cells.insert({static_cast<long>(std::floor(f[0])), static_cast<long>(std::floor(f[1])),
+                    static_cast<long>(std::floor(f[2]))});
+    }
+  if (!ambiguous) {
+    EXPECT_EQ(r.points.voxels, cells.size());
+  }
+  EXPECT_FALSE(ambiguous);
+}
+
+TEST(PlannerDepth, HolesAndOutOfRangePixels) {
+  Render img = plane_image(0.8f);
+  uint32_t holes = 0, near = 0, far = 0, outside = 0;
+  for (uint32_t v = 0; v < img.h; ++v)
+    for (uint32_t u = 0; u < img.w; ++u) {
+      uint16_t& d = img.depth[v * img.w + u];
+      if ((u + v) % 11 == 0) {
+        d = 0;  // no reading
+        ++holes;
+      } else if (u < 4) {
+        d = 200;  // 0.2 m: nearer than range_min
+        ++near;
+      } else if (u >= 60) {
+        d = 1600;  // 1.6 m: beyond range_max
+        ++far;
+      } else if (v < 3) {
+        d = 1490;  // in range; world z = -0.49 (in the crop box) but |world y| > 0.6 mostly
+        ++outside;
+      }
+    }
+  // Rows v < 3 at 1.49 m: world y = (23.5 - v) / 50 * 1.49 in [0.55, 0.61]; the crop box
+  // ends at |y| = 0.6, so count the in-box ones exactly (in double) rather than guess.
+  uint32_t outside_kept = 0;
+  for (uint32_t v = 0; v < 3; ++v)
+    for (uint32_t u = 4; u < 60; ++u) {
+      if ((u + v) % 11 == 0) continue;
+      const double z = 1.49, x = (u - 31.5) / 50.0 * z, y = (v - 23.5) / 50.0 * z;
+      const double wx = 0.5 + x, wy = -y, wz = 1.0 - z;
+      if (wx >= -0.1 && wx <= 1.1 && std::fabs(wy) <= 0.6 && wz >= -0.5 && wz <= 1.5) ++outside_kept;
+    }
+  const uint32_t total = img.w * img.h;
+  auto pl = make_planner();
+  ASSERT_EQ(pl->add_depth_image(SensorRole::hand, img.depth.data(), 64, 48, img.k, camera_down()), Status::ok);
+  PlanResult r;
+  pl->plan(r);
+  EXPECT_EQ(r.points.input, total);
+  EXPECT_EQ(r.points.finite, total - holes);
+  EXPECT_EQ(r.points.after_filter, total - holes - near - far - outside + outside_kept);
+}
+
+TEST(PlannerDepth, BothSensorsAddUp) {
+  Render img = plane_image(0.8f);
+  auto pl = make_planner();
+  ASSERT_EQ(pl->add_depth_image(SensorRole::head, img.depth.data(), 64, 48, img.k, camera_down()), Status::ok);
+  std::vector<Vec3> pts = {Vec3(0.5f, 0.f, 1.f), Vec3(0.5f, 0.1f, 1.f), Vec3(kNaN, 0.f, 1.f)};
+  ASSERT_EQ(add(*pl, pts, Pose{}, SensorRole::hand), Status::ok);
+  PlanResult r;
+  pl->plan(r);
+  EXPECT_EQ(r.points.input, 64u * 48u + 3u);
+  EXPECT_EQ(r.points.finite, 64u * 48u + 2u);
+  EXPECT_EQ(r.points.after_filter, 64u * 48u + 2u);
+}
+
+TEST(PlannerDepth, BoxOnTableRenderedFromAbove) {
+  // A 640 x 480 render of the box scene from a camera above and in front, by ray
+  // casting against the table plane and the box here.
+  const uint32_t W = 640, H = 480;
+  fg::PinholeIntrinsics k;  // 525 px, centre (319.5, 239.5)
+  const Pose pose = look_at(Vec3(0.1f, -0.25f, 0.55f), Vec3(0.5f, 0.f, 0.05f));
+  std::vector<uint16_t> depth(W * H, 0);
+  const Eigen::Vector3d lo(0.475, -0.035, 0.0), hi(0.525, 0.035, 0.12);
+  const Eigen::Matrix3d R = pose.R.cast<double>();
+  const Eigen::Vector3d o = pose.t.cast<double>();
+  for (uint32_t v = 0; v < H; ++v)
+    for (uint32_t u = 0; u < W; ++u) {
+      const Eigen::Vector3d ray_s((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0);  // z = 1 in the sensor
+      const Eigen::Vector3d d = R * ray_s;
+      double best = 1e9;
+      // Slab test against the box.
+      double t0 = 0, t1 = 1e9;
+      bool hit = true;
+      for (int a = 0; a < 3 && hit; ++a) {
+        if (std::fabs(d[a]) < 1e-12) {
+          if (o[a] < lo[a] || o[a] > hi[a]) hit = false;
+          continue;
+        }
+        double ta = (lo[a] - o[a]) / d[a], tb = (hi[a] - o[a]) / d[a];
+        if (ta > tb) std::swap(ta, tb);
+        t0 = std::max(t0, ta);
+        t1 = std::min(t1, tb);
+        if (t0 > t1) hit = false;
+      }
+      if (hit) best = t0;
+      if (d.z() < 0) {
+        const double tp = -o.z() / d.z();
+        const Eigen::Vector3d p = o + d * tp;
+        if (tp < best && p.x() > 0.1 && p.x() < 0.9 && std::fabs(p.y()) < 0.4) best = tp;
+      }
+      if (best < 1e8) depth[v * W + u] = static_cast<uint16_t>(std::lround(best * 1000.0));  // t = sensor z
+    }
+  auto pl = make_planner();
+  ASSERT_EQ(pl->add_depth_image(SensorRole::head, depth.data(), W, H, k, pose), Status::ok);
+  PlanResult r;
+  pl->plan(r);
+  ASSERT_EQ(r.status, Status::ok) << r.message;
+  const fg::Grasp& g = r.grasp;
+  EXPECT_GE(g.position.x(), 0.47f);
+  EXPECT_LE(g.position.x(), 0.53f);
+  EXPECT_GE(g.position.y(), -0.04f);
+  EXPECT_LE(g.position.y(), 0.04f);
+  EXPECT_GT(g.position.z(), 0.f);
+  // Either horizontal side fits the 0.085 m opening: the width matches the side closed on.
+  const double cx = std::fabs(g.closing.x()), cy = std::fabs(g.closing.y());
+  const double expect_w = cx > cy ? 0.05 : 0.07;
+  EXPECT_NEAR(g.width, expect_w, 0.01) << "closing " << g.closing.transpose();
+}
+
+}  // namespace
