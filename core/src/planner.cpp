@@ -34,6 +34,10 @@ constexpr float kMaxApproachUp = 0.5f;
 constexpr float kFrontFacingCos = 0.866f;
 // Object points this far around the open fingers form the local hull they must avoid.
 constexpr float kHullNeighbourhood = 0.01f;
+// Visibility: returns within this distance of a point neither free nor hide it; a
+// finger may have this share of its samples hidden (edges of silhouettes blur).
+constexpr float kSightMargin = 0.01f;
+constexpr float kMaxHiddenShare = 0.2f;
 
 class StageTimer {
  public:
@@ -554,6 +558,11 @@ bool Planner::executable(const Candidate& c, PlanResult& out) {
     ++out.rejected.collision;
     return false;
   }
+  // The open fingers must not sit in space the sensors saw only from behind a surface.
+  if (!fingers_in_seen_space(c.position, ViewFrame{v.X, v.Y, v.Z})) {
+    ++out.rejected.occluded;
+    return false;
+  }
   // Each fitted side's normal within the cone in XOY (beta alone only compares the two
   // sides), and the contact normals in 3D.
   if (cfg_.friction_mu > 0.f &&
@@ -589,6 +598,47 @@ bool Planner::fingers_clear_of_hull(const Vec3& pos, const ViewFrame& f) {
     if (gjk_intersect(bs, hs)) return false;
   }
   return true;
+}
+
+// +1: some sensor saw a return behind q (q is free space); -1: some sensor saw a
+// surface in front of q and none saw through it (q is hidden); 0: no sensor knows.
+int Planner::visibility(const Vec3& q) const {
+  int result = 0;
+  const float half = 0.5f * static_cast<float>(kSightBins);
+  for (uint32_t r = 0; r < kMaxSensors; ++r) {
+    if (!role_added_[r]) continue;
+    const Vec3 p = sensor_pose_[r].R.transpose() * (q - sensor_pose_[r].t);
+    if (!(p.z() > 0.05f)) continue;
+    const float bu = (p.x() / p.z() + 1.f) * half, bv = (p.y() / p.z() + 1.f) * half;
+    if (!(bu >= 0.f && bv >= 0.f && bu < 2.f * half && bv < 2.f * half)) continue;
+    const uint16_t d = sight_mm_[r][static_cast<uint32_t>(bv) * kSightBins + static_cast<uint32_t>(bu)];
+    if (d == 0xFFFFu) continue;
+    const float seen_m = static_cast<float>(d) * 0.001f;
+    if (seen_m > p.z() + kSightMargin) return 1;
+    if (seen_m < p.z() - kSightMargin) result = -1;
+  }
+  return result;
+}
+
+// Samples of each open finger box: too many hidden ones (behind the object as every
+// sensor saw it, and free to none) mean the finger would sit inside unseen matter.
+bool Planner::fingers_in_seen_space(const Vec3& pos, const ViewFrame& f) {
+  const GripperGeometry& g = cfg_.gripper;
+  const float half_open = 0.5f * g.max_opening_m, t = g.finger_thickness_m;
+  uint32_t hidden = 0, total = 0;
+  for (int side = 0; side < 2; ++side) {
+    const float x0 = side == 0 ? -half_open - t : half_open;
+    for (int ix = 0; ix < 2; ++ix)
+      for (int iy = 0; iy < 3; ++iy)
+        for (int iz = 0; iz < 5; ++iz) {
+          const float x = x0 + t * (0.25f + 0.5f * static_cast<float>(ix));
+          const float y = g.finger_width_m * (static_cast<float>(iy) - 1.f) * 0.5f;
+          const float z = g.finger_depth_m * (static_cast<float>(iz) * 0.25f - 0.5f);
+          ++total;
+          hidden += visibility(pos + f.X * x + f.Y * y + f.Z * z) < 0 ? 1u : 0u;
+        }
+  }
+  return static_cast<float>(hidden) <= kMaxHiddenShare * static_cast<float>(total);
 }
 
 bool Planner::normal_at(uint32_t oi, Vec3& nrm) {

@@ -77,6 +77,8 @@ Status Planner::ingest_begin(SensorRole role, const Pose& world_T_sensor) {
   if (s != Status::ok) return s;
   role_added_[r] = true;
   sensor_origin_[r] = world_T_sensor.t;
+  sensor_pose_[r] = world_T_sensor;
+  for (uint32_t i = 0; i < kSightBins * kSightBins; ++i) sight_mm_[r][i] = 0xFFFFu;
   return Status::ok;
 }
 
@@ -86,12 +88,24 @@ struct Ingest {
   float r[9], t[3];
   float zmin, zmax;
   Vec3 lo, hi;
+  uint16_t* sight;  // kSightBins^2 nearest returns of this sensor
+  uint32_t bins;
   uint32_t finite = 0, kept = 0;
 
   // Returns false when the grid is full.
   bool add(VoxelGrid& grid, float x, float y, float z, Status& st) {
     if (!(std::isfinite(x) && std::isfinite(y) && std::isfinite(z))) return true;
     ++finite;
+    if (z > 0.f) {
+      const float inv = 1.f / z, half = 0.5f * static_cast<float>(bins);
+      const float bu = (x * inv + 1.f) * half, bv = (y * inv + 1.f) * half;
+      if (bu >= 0.f && bv >= 0.f && bu < 2.f * half && bv < 2.f * half) {
+        const float mm = z * 1000.f;
+        const uint16_t d = mm < 65534.f ? static_cast<uint16_t>(mm) : uint16_t{65534};
+        uint16_t& cell = sight[static_cast<uint32_t>(bv) * bins + static_cast<uint32_t>(bu)];
+        if (d < cell) cell = d;
+      }
+    }
     if (!(z >= zmin && z <= zmax)) return true;
     const float wx = r[0] * x + r[1] * y + r[2] * z + t[0];
     const float wy = r[3] * x + r[4] * y + r[5] * z + t[1];
@@ -109,8 +123,11 @@ struct Ingest {
   }
 };
 
-Ingest make_ingest(const Pose& p, const PlannerConfig& cfg, const Vec3& lo, const Vec3& hi) {
+Ingest make_ingest(const Pose& p, const PlannerConfig& cfg, const Vec3& lo, const Vec3& hi,
+                   uint16_t* sight, uint32_t bins) {
   Ingest in;
+  in.sight = sight;
+  in.bins = bins;
   for (int i = 0; i < 3; ++i) {
     for (int j = 0; j < 3; ++j) in.r[i * 3 + j] = p.R(i, j);
     in.t[i] = p.t(i);
@@ -136,7 +153,8 @@ Status Planner::add_points(SensorRole role, const float* xyz, uint32_t count,
   const Status s = ingest_begin(role, world_T_sensor);
   if (s != Status::ok) return s;
   const uint64_t t0 = platform::monotonic_us();
-  Ingest in = make_ingest(world_T_sensor, cfg_, crop_min_, crop_max_);
+  Ingest in = make_ingest(world_T_sensor, cfg_, crop_min_, crop_max_,
+                          sight_mm_[static_cast<uint32_t>(role)], kSightBins);
   Status st = Status::ok;
   const uint8_t* base = reinterpret_cast<const uint8_t*>(xyz);
   for (uint32_t i = 0; i < count; ++i) {
@@ -174,7 +192,8 @@ Status Planner::add_depth_image(SensorRole role, const uint16_t* depth_mm, uint1
   const Status s = ingest_begin(role, world_T_sensor);
   if (s != Status::ok) return s;
   const uint64_t t0 = platform::monotonic_us();
-  Ingest in = make_ingest(world_T_sensor, cfg_, crop_min_, crop_max_);
+  Ingest in = make_ingest(world_T_sensor, cfg_, crop_min_, crop_max_,
+                          sight_mm_[static_cast<uint32_t>(role)], kSightBins);
   Status st = Status::ok;
   const float ifx = 1.f / k.fx, ify = 1.f / k.fy;
   bool full = false;

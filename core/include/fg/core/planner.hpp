@@ -55,7 +55,7 @@ struct PointCounts {
 
 //! Why candidates were turned down during the checks (counts).
 struct RejectCounts {
-  uint32_t table = 0, collision = 0, friction = 0, contact = 0;
+  uint32_t table = 0, collision = 0, friction = 0, contact = 0, occluded = 0;
 };
 
 struct PlanResult {
@@ -158,6 +158,8 @@ class Planner {
   bool executable(const Candidate& c, PlanResult& out);
   bool friction_ok(const Vec3& pos, const ViewFrame& f, float width);
   bool fingers_clear_of_hull(const Vec3& pos, const ViewFrame& f);
+  bool fingers_in_seen_space(const Vec3& pos, const ViewFrame& f);
+  int visibility(const Vec3& q) const;
   bool normal_at(uint32_t object_index, Vec3& n);
   uint32_t rank_and_check(uint32_t first_candidate, PlanResult& out);
   void fill_grasp(const Candidate& c, PlanResult& out);
@@ -169,6 +171,12 @@ class Planner {
   // Sensors
   bool role_added_[kMaxSensors] = {};
   Vec3 sensor_origin_[kMaxSensors];
+  Pose sensor_pose_[kMaxSensors];
+  // What each sensor saw: the nearest return (mm) per direction bin over
+  // x/z, y/z in [-1, 1) (a 90 deg cone), 0xFFFF where nothing returned. It tells space
+  // seen to be free (a return behind it) from space hidden behind a surface.
+  static constexpr uint32_t kSightBins = 256;
+  uint16_t sight_mm_[kMaxSensors][kSightBins * kSightBins];
   PointCounts counts_;
   Vec3 crop_min_ = Vec3::Zero(), crop_max_ = Vec3::Zero();
   uint32_t ingest_us_ = 0;
