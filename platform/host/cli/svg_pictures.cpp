@@ -487,7 +487,11 @@ std::string world_picture(const Planner& planner, const PlanResult& result, bool
     view.u = d.cross(V3::UnitZ()).normalized();
     view.v = V3::UnitZ();
     const bool along_y = (d - V3::UnitY()).norm() < 1e-9;
-    xlabel = along_y ? "world x (mm)" : "horizontal s = p . " + vec_text(view.u, 2) + " (mm)";
+    xlabel = view.u.x() > 0.9999   ? "world x (mm)"
+             : view.u.x() < -0.9999 ? "world -x (mm)"
+             : view.u.y() > 0.9999  ? "world y (mm)"
+             : view.u.y() < -0.9999 ? "world -y (mm)"
+                                    : "horizontal s = p . " + vec_text(view.u, 2) + " (mm)";
     ylabel = "world z (mm)";
     seen = along_y ? "seen from the side, looking along world +y"
                    : "seen from the side, looking along the closing direction " + vec_text(d, 2) +
@@ -522,7 +526,7 @@ std::string world_picture(const Planner& planner, const PlanResult& result, bool
     b.add(view(f.o));
   }
   Svg svg(1040, 780);
-  const Plot p = make_plot(95, 100, 640, 600, b, 0.06, 20.0, true);
+  const Plot p = make_plot(95, 110, 640, 590, b, 0.06, 20.0, true);
 
   std::vector<std::string> sub;
   sub.push_back(std::to_string(obj.size()) + " object points (voxel centroids, " +
@@ -638,7 +642,7 @@ std::string world_picture(const Planner& planner, const PlanResult& result, bool
   if (obj.size() == 0) draw_note(svg, p, "no object points (" + status_line(result) + ")");
 
   // Legend, colour bar and scale bar.
-  Legend lg(760, 100, 265);
+  Legend lg(760, 110, 265);
   if (top) {
     lg.add([&](Svg& s, P2 q) {
       for (int k = 0; k < 4; ++k) s.circle({q.x - 9 + 6.0 * k, q.y}, 2.5, "stroke=\"none\" fill=\"" + ramp(k / 3.0) + "\"");
@@ -670,7 +674,7 @@ std::string world_picture(const Planner& planner, const PlanResult& result, bool
            "fingers, closed (width)");
     lg.add([](Svg& s, P2 q) { s.line({q.x - 14, q.y}, {q.x + 14, q.y}, attrs(kPad, 3, "none")); },
            "finger pads (dashed: open)");
-    lg.add([](Svg& s, P2 q) { s.arrow({q.x - 15, q.y}, {q.x + 15, q.y}, kApproach, 3, 10); }, "approach (x: into picture)");
+    lg.add([](Svg& s, P2 q) { s.arrow({q.x - 15, q.y}, {q.x + 15, q.y}, kApproach, 3, 10); }, "approach (\u2297: into the picture)");
     lg.add([](Svg& s, P2 q) { s.arrow({q.x - 15, q.y}, {q.x + 15, q.y}, kClosing, 2.5, 10); }, "closing direction");
   }
   double y = lg.draw(svg) + 28;
@@ -721,7 +725,7 @@ std::string silhouette_picture(Planner& planner, const PlanResult& result) {
     for (uint32_t i = 0; i < d.n_contour; ++i) b.add(1000.0 * d.contour[i].x, 1000.0 * d.contour[i].y);
   }
   Svg svg(1040, 780);
-  const Plot p = make_plot(95, 100, 640, 600, b, 0.06, 20.0, true);
+  const Plot p = make_plot(95, 110, 640, 590, b, 0.06, 20.0, true);
 
   std::vector<std::string> sub;
   uint32_t kept = 0, hit = 0;
@@ -833,7 +837,7 @@ std::string silhouette_picture(Planner& planner, const PlanResult& result) {
     draw_note(svg, p, vi < 0 ? "no viewpoint was analysed (" + status_line(result) + ")"
                              : std::string("analyze_view failed: ") + to_string(st));
 
-  Legend lg(760, 100, 265);
+  Legend lg(760, 110, 265);
   lg.add([](Svg& s, P2 q) {
     for (int k = 0; k < 4; ++k) s.circle({q.x - 9 + 6.0 * k, q.y}, 2, "stroke=\"none\" fill=\"#7a8ca8\"");
   }, "projected object point");
@@ -935,7 +939,7 @@ std::string balance_picture(const Planner& planner, const PlanResult& result) {
   Svg svg(1040, 800);
   Plot pb;
   pb.left = 95;
-  pb.top = 100;
+  pb.top = 110;
   pb.w = 640;
   pb.h = 270;
   pb.x0 = tx0;
@@ -943,7 +947,7 @@ std::string balance_picture(const Planner& planner, const PlanResult& result) {
   pb.y0 = 0;
   pb.y1 = bmax * 1.1;
   Plot pd = pb;
-  pd.top = 450;
+  pd.top = 455;
   pd.y1 = dmax * 1.1;
 
   std::vector<std::string> sub;
@@ -983,7 +987,7 @@ std::string balance_picture(const Planner& planner, const PlanResult& result) {
     svg.close("g");
   }
 
-  Legend lg(760, 100, 265);
+  Legend lg(760, 110, 265);
   for (int k = 0; k < 4; ++k) {
     const ViewFamily f = static_cast<ViewFamily>(k);
     if (!fam_used[k] && k != 0) continue;
