@@ -83,59 +83,71 @@ Status Planner::ingest_begin(SensorRole role, const Pose& world_T_sensor) {
 }
 
 namespace {
-// The filter-transform-insert step shared by both kinds of input (hot loop).
+// The filter-transform-insert step shared by both kinds of input (hot loop). The
+// rigid transform and the voxel scaling are folded into one affine map from the
+// sensor frame to grid cell units, and the crop box is a box in cell units.
 struct Ingest {
-  float r[9], t[3];
+  float m[9], c[3];    // cell = m * p + c
   float zmin, zmax;
-  Vec3 lo, hi;
-  uint16_t* sight;  // kSightBins^2 nearest returns of this sensor
+  float lo[3], hi[3];  // crop box in cell units
+  uint16_t* sight;     // kSightBins^2 nearest returns of this sensor
   uint32_t bins;
   uint32_t finite = 0, kept = 0;
+  uint32_t run_bin = 0xFFFFFFFFu, run_min = 0xFFFFu;
+
+  void flush_sight() {
+    if (run_bin != 0xFFFFFFFFu && run_min < sight[run_bin]) sight[run_bin] = static_cast<uint16_t>(run_min);
+  }
 
   // Returns false when the grid is full.
-  bool add(VoxelGrid& grid, float x, float y, float z, Status& st) {
-    if (!(std::isfinite(x) && std::isfinite(y) && std::isfinite(z))) return true;
+  bool add(VoxelGrid& grid, float x, float y, float z) {
+    // x * 0 is 0 for finite x and NaN for NaN or Inf: one compare tests all three.
+    if (!(x * 0.f + y * 0.f + z * 0.f == 0.f)) return true;
     ++finite;
     if (z > 0.f) {
+      // Nearest return per direction bin; consecutive points mostly share a bin, so
+      // the minimum is kept in a register and stored when the bin changes.
       const float inv = 1.f / z, half = 0.5f * static_cast<float>(bins);
       const float bu = (x * inv + 1.f) * half, bv = (y * inv + 1.f) * half;
       if (bu >= 0.f && bv >= 0.f && bu < 2.f * half && bv < 2.f * half) {
         const float mm = z * 1000.f;
-        const uint16_t d = mm < 65534.f ? static_cast<uint16_t>(mm) : uint16_t{65534};
-        uint16_t& cell = sight[static_cast<uint32_t>(bv) * bins + static_cast<uint32_t>(bu)];
-        if (d < cell) cell = d;
+        const uint32_t d = mm < 65534.f ? static_cast<uint32_t>(mm) : 65534u;
+        const uint32_t bin = static_cast<uint32_t>(bv) * bins + static_cast<uint32_t>(bu);
+        if (bin != run_bin) {
+          flush_sight();
+          run_bin = bin;
+          run_min = d;
+        } else if (d < run_min) {
+          run_min = d;
+        }
       }
     }
     if (!(z >= zmin && z <= zmax)) return true;
-    const float wx = r[0] * x + r[1] * y + r[2] * z + t[0];
-    const float wy = r[3] * x + r[4] * y + r[5] * z + t[1];
-    const float wz = r[6] * x + r[7] * y + r[8] * z + t[2];
-    if (!(wx >= lo.x() && wx <= hi.x() && wy >= lo.y() && wy <= hi.y() && wz >= lo.z() &&
-          wz <= hi.z()))
+    const float fx = m[0] * x + m[1] * y + m[2] * z + c[0];
+    const float fy = m[3] * x + m[4] * y + m[5] * z + c[1];
+    const float fz = m[6] * x + m[7] * y + m[8] * z + c[2];
+    if (!(fx >= lo[0] && fx <= hi[0] && fy >= lo[1] && fy <= hi[1] && fz >= lo[2] && fz <= hi[2]))
       return true;
-    const Status s = grid.insert(Vec3(wx, wy, wz));
-    if (s == Status::capacity_exceeded) {
-      st = s;
-      return false;
-    }
-    kept += s == Status::ok ? 1u : 0u;
+    if (!grid.insert_cell(fx, fy, fz)) return false;
+    ++kept;
     return true;
   }
 };
 
-Ingest make_ingest(const Pose& p, const PlannerConfig& cfg, const Vec3& lo, const Vec3& hi,
-                   uint16_t* sight, uint32_t bins) {
+Ingest make_ingest(const Pose& p, const PlannerConfig& cfg, const VoxelGrid& grid,
+                   const Vec3& crop_lo, const Vec3& crop_hi, uint16_t* sight, uint32_t bins) {
   Ingest in;
-  in.sight = sight;
-  in.bins = bins;
+  const float inv = 1.f / grid.leaf();
   for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) in.r[i * 3 + j] = p.R(i, j);
-    in.t[i] = p.t(i);
+    for (int j = 0; j < 3; ++j) in.m[i * 3 + j] = p.R(i, j) * inv;
+    in.c[i] = (p.t(i) - grid.origin()(i)) * inv;
+    in.lo[i] = (crop_lo(i) - grid.origin()(i)) * inv;
+    in.hi[i] = (crop_hi(i) - grid.origin()(i)) * inv;
   }
   in.zmin = cfg.range_min_m;
   in.zmax = cfg.range_max_m;
-  in.lo = lo;
-  in.hi = hi;
+  in.sight = sight;
+  in.bins = bins;
   return in;
 }
 }  // namespace
@@ -153,14 +165,17 @@ Status Planner::add_points(SensorRole role, const float* xyz, uint32_t count,
   const Status s = ingest_begin(role, world_T_sensor);
   if (s != Status::ok) return s;
   const uint64_t t0 = platform::monotonic_us();
-  Ingest in = make_ingest(world_T_sensor, cfg_, crop_min_, crop_max_,
+  Ingest in = make_ingest(world_T_sensor, cfg_, grid_, crop_min_, crop_max_,
                           sight_mm_[static_cast<uint32_t>(role)], kSightBins);
   Status st = Status::ok;
   const uint8_t* base = reinterpret_cast<const uint8_t*>(xyz);
   for (uint32_t i = 0; i < count; ++i) {
     float p[3];
     std::memcpy(p, base + static_cast<size_t>(i) * stride_bytes, sizeof p);  // any alignment
-    if (!in.add(grid_, p[0], p[1], p[2], st)) break;
+    if (!in.add(grid_, p[0], p[1], p[2])) {
+      st = Status::capacity_exceeded;
+      break;
+    }
   }
   counts_.input += count;
   counts_.finite += in.finite;
@@ -192,7 +207,7 @@ Status Planner::add_depth_image(SensorRole role, const uint16_t* depth_mm, uint1
   const Status s = ingest_begin(role, world_T_sensor);
   if (s != Status::ok) return s;
   const uint64_t t0 = platform::monotonic_us();
-  Ingest in = make_ingest(world_T_sensor, cfg_, crop_min_, crop_max_,
+  Ingest in = make_ingest(world_T_sensor, cfg_, grid_, crop_min_, crop_max_,
                           sight_mm_[static_cast<uint32_t>(role)], kSightBins);
   Status st = Status::ok;
   const float ifx = 1.f / k.fx, ify = 1.f / k.fy;
@@ -204,7 +219,8 @@ Status Planner::add_depth_image(SensorRole role, const uint16_t* depth_mm, uint1
       if (row[u] == 0) continue;
       const float z = static_cast<float>(row[u]) * 0.001f;
       const float x = (static_cast<float>(u) - k.cx) * ifx * z;
-      if (!in.add(grid_, x, yf * z, z, st)) {
+      if (!in.add(grid_, x, yf * z, z)) {
+        st = Status::capacity_exceeded;
         full = true;
         break;
       }

@@ -7,15 +7,15 @@ void VoxelGrid::reset(const Vec3& origin, float leaf_m) {
   leaf_ = leaf_m;
   inv_leaf_ = 1.0f / leaf_m;
   if (!initialised_) {
-    for (uint32_t s = 0; s < kVoxelHashSlots; ++s) slots_[s] = 0;
+    for (uint32_t s = 0; s < kVoxelHashSlots; ++s) slots_[s] = Slot{0u, 0u};
   } else {
     // Clear only the slots in use, so a reset costs O(voxels), not O(slots). Each
     // voxel's slot holds its index + 1; probe from its home slot until found.
     for (uint32_t i = 0; i < size_; ++i) {
       uint32_t s = slot_of(voxels_[i].key);
       for (uint32_t probe = 0; probe < kVoxelHashSlots; ++probe) {
-        if (slots_[s] == i + 1) {
-          slots_[s] = 0;
+        if (slots_[s].index1 == i + 1) {
+          slots_[s].index1 = 0;
           break;
         }
         s = (s + 1) & (kVoxelHashSlots - 1);
@@ -33,9 +33,9 @@ void VoxelGrid::reset(const Vec3& origin, float leaf_m) {
 uint32_t VoxelGrid::find(uint32_t key) const {
   uint32_t s = slot_of(key);
   for (uint32_t probe = 0; probe < kVoxelHashSlots; ++probe) {
-    const uint32_t v = slots_[s];
-    if (v == 0) return kNone;
-    if (voxels_[v - 1].key == key) return v - 1;
+    const Slot& sl = slots_[s];
+    if (sl.index1 == 0) return kNone;
+    if (sl.key == key) return sl.index1 - 1;
     s = (s + 1) & (kVoxelHashSlots - 1);
   }
   return kNone;
@@ -45,14 +45,15 @@ uint32_t VoxelGrid::find_or_add(uint32_t key) {
   uint32_t s = slot_of(key);
   // The table is never more than half full (limits.hpp), so an empty slot is near.
   for (uint32_t probe = 0; probe < kVoxelHashSlots; ++probe) {
-    const uint32_t v = slots_[s];
-    if (v == 0) {
+    Slot& sl = slots_[s];
+    if (sl.index1 == 0) {
       if (size_ >= kMaxVoxels) return kNone;
       voxels_[size_] = Voxel{key, 0u, 0.f, 0.f, 0.f};
-      slots_[s] = ++size_;
+      sl.key = key;
+      sl.index1 = ++size_;
       return size_ - 1;
     }
-    if (voxels_[v - 1].key == key) return v - 1;
+    if (sl.key == key) return sl.index1 - 1;
     s = (s + 1) & (kVoxelHashSlots - 1);
   }
   return kNone;

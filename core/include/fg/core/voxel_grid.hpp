@@ -35,6 +35,12 @@ class VoxelGrid {
     const float fz = (p.z() - origin_.z()) * inv_leaf_;
     if (!(fx >= 2.f && fy >= 2.f && fz >= 2.f && fx < kMaxX - 2 && fy < kMaxY - 2 && fz < kMaxZ - 2))
       return Status::invalid_argument;
+    return insert_cell(fx, fy, fz) ? Status::ok : Status::capacity_exceeded;
+  }
+
+  //! The hot path of insert(): (fx, fy, fz) are coordinates in cell units from the
+  //! origin, already checked to lie in [2, kMax - 2). False when the grid is full.
+  bool insert_cell(float fx, float fy, float fz) {
     const uint32_t ix = static_cast<uint32_t>(fx), iy = static_cast<uint32_t>(fy),
                    iz = static_cast<uint32_t>(fz);
     const uint32_t key = ix | (iy << 11) | (iz << 22);
@@ -44,7 +50,7 @@ class VoxelGrid {
     uint32_t idx = cache_index_[h];
     if (cache_key_[h] != key) {
       idx = find_or_add(key);
-      if (idx == kNone) return Status::capacity_exceeded;
+      if (idx == kNone) return false;
       cache_key_[h] = key;
       cache_index_[h] = idx;
     }
@@ -53,7 +59,7 @@ class VoxelGrid {
     v.sx += (fx - static_cast<float>(ix)) * leaf_;
     v.sy += (fy - static_cast<float>(iy)) * leaf_;
     v.sz += (fz - static_cast<float>(iz)) * leaf_;
-    return Status::ok;
+    return true;
   }
 
   uint32_t size() const { return size_; }
@@ -80,12 +86,16 @@ class VoxelGrid {
   float leaf_ = 0.005f;
   float inv_leaf_ = 200.f;
   uint32_t size_ = 0;
-  static constexpr uint32_t kCacheBits = 10;
+  static constexpr uint32_t kCacheBits = 12;
   // Empty entries hold 0xFFFFFFFF: no real key has all bits set (z < kMaxZ - 2).
   uint32_t cache_key_[1u << kCacheBits];
   uint32_t cache_index_[1u << kCacheBits];
   bool initialised_ = false;
-  uint32_t slots_[kVoxelHashSlots];  // voxel index + 1; 0 = empty
+  struct Slot {
+    uint32_t key;
+    uint32_t index1;  // voxel index + 1; 0 = empty
+  };
+  Slot slots_[kVoxelHashSlots];  // keys kept in the slots: a probe touches one cache line
   Voxel voxels_[kMaxVoxels];
 };
 
