@@ -204,16 +204,19 @@ Status Planner::plan(PlanResult& out) {
     for (uint32_t v = 0; v < n_views_; ++v) any_kept = any_kept || views_[v].has_candidate;
     if (n_candidates_ == 0) {
       // Nothing survived the width filter and the window search.
-      return finish(Status::no_grasp, any_kept ? NoGraspReason::no_candidate : NoGraspReason::too_wide,
+      if (any_kept)
+        return finish(Status::no_grasp, NoGraspReason::no_candidate,
+                      "graspable windows exist, but none has contacts on both sides within the pads' reach");
+      return finish(Status::no_grasp, NoGraspReason::too_wide,
                     "the object is wider than the gripper opening from every viewpoint searched");
     }
     const RejectCounts& rj = out.rejected;
-    if (rj.friction >= rj.collision + rj.table && rj.friction >= rj.contact)
+    if (rj.friction >= rj.collision + rj.table && rj.friction >= rj.occluded)
       return finish(Status::no_grasp, NoGraspReason::friction,
                     "every candidate's contact normals lie outside the friction cone");
-    if (rj.contact > rj.collision + rj.table)
-      return finish(Status::no_grasp, NoGraspReason::no_candidate,
-                    "no candidate has contacts within reach of both pads");
+    if (rj.occluded > rj.collision + rj.table)
+      return finish(Status::no_grasp, NoGraspReason::collision,
+                    "every candidate puts a finger in space the sensors saw only behind the object");
     return finish(Status::no_grasp, NoGraspReason::collision,
                   "every candidate hits the support plane or another object");
   }
@@ -461,7 +464,7 @@ bool Planner::xoz(const ViewFrame& f, const SideFit& w, Candidate& c) {
   if (width < g.min_opening_m || width > g.max_opening_m - cfg_.width_margin_m) return false;
   // The silhouette's width must be within the pads' reach: when the points in reach
   // span much less, the object's widest part lies beyond the fingertips (or only a
-  // sliver is seen there) and closing would not meet the sides that were balanced.
+  // sliver of it is seen there), and the width the pads would meet is unknown.
   if (width < cfg_.reach_width_ratio * w.width) return false;
   zl = zr = 0;
   nl = nr = 0;

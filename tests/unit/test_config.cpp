@@ -91,6 +91,7 @@ std::vector<FloatField> float_fields() {
       {"single_sensor_arc", FF(single_sensor_arc_rad), {kNaN, kInf, -1.f, 3.2f, kHuge}, {0.f, 3.f}},
       {"vertical_snap", FF(vertical_snap_rad), {kNaN, kInf, -0.26f, 1.6f, kHuge}, {0.f, 1.f}},
       {"axis_ratio_min", FF(axis_ratio_min), {kNaN, kInf, -1.3f, 0.f, 0.5f, 200.f, kHuge}, {1.f, 10.f}},
+      {"approach_view_max", FF(approach_view_max_rad), {kNaN, kInf, -0.1f, 3.2f, kHuge}, {0.f, 1.f, 3.14f}},
       {"scan_delta", FF(scan_delta_m), {kNaN, kInf, -0.002f, 0.f, 0.0001f, 0.1f, kHuge}, {0.001f, 0.01f}},
       {"dx_threshold", FF(dx_threshold_m), {kNaN, kInf, -0.004f, 0.f, 0.2f, kHuge}, {0.001f, 0.05f}},
       {"width_margin", FF(width_margin_m), {kNaN, kInf, -0.004f, 0.05f, kHuge}, {0.f, 0.01f}},
@@ -98,10 +99,12 @@ std::vector<FloatField> float_fields() {
       {"centre_weight", FF(centre_weight), {kNaN, kInf, -0.5f, 200.f, kHuge}, {0.f, 1e-6f, 10.f}},
       {"beta_max", FF(beta_max_rad), {kNaN, kInf, -0.2f, 1.6f, kHuge}, {0.f, 1.f}},
       {"contact_band", FF(contact_band_m), {kNaN, kInf, -0.004f, 0.f, 0.1f, kHuge}, {0.001f, 0.01f}},
+      {"reach_width_ratio", FF(reach_width_ratio), {kNaN, kInf, -0.6f, 1.5f, kHuge}, {0.f, 1.f}},
       {"friction_mu", FF(friction_mu), {kNaN, kInf, -0.5f, 20.f, kHuge}, {0.f, 1.f}},
       {"table_clearance", FF(table_clearance_m), {kNaN, kInf, -1.f, -0.06f, 0.2f, kHuge}, {-0.01f, 0.f, 0.05f}},
       {"collision_tolerance", FF(collision_tolerance_m), {kNaN, kInf, -0.001f, 0.03f, kHuge}, {0.f, 0.01f}},
       {"pregrasp_clearance", FF(pregrasp_clearance_m), {kNaN, kInf, -0.02f, 0.6f, kHuge}, {0.f, 0.1f}},
+      {"palm_clearance", FF(palm_clearance_m), {kNaN, kInf, -0.005f, 0.2f, kHuge}, {0.f, 0.05f}},
   };
 }
 

@@ -466,6 +466,25 @@ TEST(PlannerInput, TooManyVoxelsIsCapacityExceeded) {
   EXPECT_EQ(pl->plan(r), Status::no_grasp);
 }
 
+TEST(PlannerInput, ObjectLargerThanTheObjectCapacity) {
+  // A 0.4 x 0.4 x 0.3 m box: about 25,000 surface voxels at 5 mm, more than
+  // kMaxObjectPoints (16384 in the host build) in one cluster.
+  std::mt19937 rng(8);
+  std::vector<Vec3> pts;
+  add_table(pts, rng, 0.004f, 0.3f, 0.7f, -0.2f, 0.2f);
+  add_box(pts, rng, 0.5f, 0.f, 0.4f, 0.4f, 0.3f, 0.0025f);
+  auto pl = make_planner(world_frame_config());
+  ASSERT_EQ(add(*pl, pts), Status::ok);
+  PlanResult r;
+  const Status s = pl->plan(r);
+  if (fg::kMaxObjectPoints < 20000) {
+    EXPECT_EQ(s, Status::capacity_exceeded) << r.message;
+    EXPECT_TRUE(nonempty(r.message));
+  } else {
+    EXPECT_NE(s, Status::internal_error);
+  }
+}
+
 // ---------------------------------------------------------------------------------
 // Whole scenes.
 
@@ -655,17 +674,19 @@ TEST(PlannerDepth, PlaneAtEightyCentimetres) {
   EXPECT_TRUE(pl->plane_found());
   EXPECT_NEAR(pl->plane().n.z(), 1.0, 1e-4);
   EXPECT_NEAR(-pl->plane().d, 0.2, 1e-3);  // world height of the plane
-  // Voxels: the back-projected points, counted here in double.
+  // Voxels: the back-projected points binned here in double, on the grid's own origin
+  // and leaf (as reported by the planner).
   std::set<std::tuple<long, long, long>> cells;
-  const PlannerConfig c;
-  const double ox = 0.5 - c.crop_half_x_m - 2.5 * c.voxel_leaf_m, oy = -c.crop_half_y_m - 2.5 * c.voxel_leaf_m,
-               oz = c.crop_min_z_m - 2.5 * c.voxel_leaf_m;
+  const Vec3 origin = pl->voxels().origin();
+  const double leaf = pl->voxels().leaf();
+  EXPECT_FLOAT_EQ(pl->voxels().leaf(), PlannerConfig{}.voxel_leaf_m);
+  const double ox = origin.x(), oy = origin.y(), oz = origin.z();
   bool ambiguous = false;
   for (uint32_t v = 0; v < img.h; ++v)
     for (uint32_t u = 0; u < img.w; ++u) {
       const double z = 0.8, x = (u - 31.5) / 50.0 * z, y = (v - 23.5) / 50.0 * z;
       const double w[3] = {0.5 + x, -y, 1.0 - z};
-      const double f[3] = {(w[0] - ox) / c.voxel_leaf_m, (w[1] - oy) / c.voxel_leaf_m, (w[2] - oz) / c.voxel_leaf_m};
+      const double f[3] = {(w[0] - ox) / leaf, (w[1] - oy) / leaf, (w[2] - oz) / leaf};
       for (double q : f) ambiguous = ambiguous || std::fabs(q - std::round(q)) < 1e-3;
       cells.insert({static_cast<long>(std::floor(f[0])), static_cast<long>(std::floor(f[1])),
                     static_cast<long>(std::floor(f[2]))});

@@ -142,7 +142,8 @@ PlanOutcome run_plan(const PlanOptions& opts) {
                        {"candidates", res.candidates},
                        {"rejected", {{"table", res.rejected.table},
                                      {"collision", res.rejected.collision},
-                                     {"friction", res.rejected.friction}}}};
+                                     {"friction", res.rejected.friction},
+                                     {"occluded", res.rejected.occluded}}}};
     if (planner.plane_found())
       j["support_plane"] = json{{"normal", vec(planner.plane().n)}, {"d", planner.plane().d}};
     if (!opts.pictures_dir.empty()) {

@@ -30,6 +30,13 @@ static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__,
 namespace fg::host {
 
 namespace {
+// An integer label field of 1, 2 or 4 bytes (little endian), as unsigned.
+uint32_t read_label(const uint8_t* p, uint32_t size) {
+  uint32_t v = 0;
+  std::memcpy(&v, p, size <= 4 ? size : 4);
+  return v;
+}
+
 
 ReadResult fail(const std::string& name, const std::string& msg) {
   return ReadResult::failure(name + ": " + msg);
@@ -251,6 +258,7 @@ ReadResult parse_pcd_impl(const uint8_t* data, size_t size, const std::string& n
   uint64_t point_size = 0;   // bytes per point
   uint64_t total_count = 0;  // values per point (ascii)
   int ix = -1, iy = -1, iz = -1;
+  int il = -1;  // optional integer `label` field (ground truth of labelled captures)
   for (size_t f = 0; f < nf; ++f) {
     Field& fd = fields[f];
     fd.name = std::string(fields_tok[f]);
@@ -287,6 +295,8 @@ ReadResult parse_pcd_impl(const uint8_t* data, size_t size, const std::string& n
         if (fields[g].name == fd.name) return fail(name, "duplicate " + fq + " in FIELDS");
       }
     }
+    if (fd.name == "label" && fd.count == 1 && (fd.type == 'U' || fd.type == 'I') && fd.size <= 4)
+      il = static_cast<int>(f);
     if (fd.name == "x") ix = static_cast<int>(f);
     if (fd.name == "y") iy = static_cast<int>(f);
     if (fd.name == "z") iz = static_cast<int>(f);
@@ -355,6 +365,12 @@ ReadResult parse_pcd_impl(const uint8_t* data, size_t size, const std::string& n
       o[1] = read_coord(base + fy.offset, fy.size);
       o[2] = read_coord(base + fz.offset, fz.size);
     }
+    if (il >= 0) {
+      const Field& fl = fields[static_cast<size_t>(il)];
+      cloud.labels.resize(points);
+      for (uint64_t i = 0; i < points; ++i)
+        cloud.labels[i] = read_label(data + data_offset + i * point_size + fl.offset, fl.size);
+    }
   } else if (kind == DataKind::binary_compressed) {
     if (remaining < 8) {
       return fail(name, "DATA binary_compressed holds " + std::to_string(remaining) +
@@ -392,6 +408,12 @@ ReadResult parse_pcd_impl(const uint8_t* data, size_t size, const std::string& n
       o[0] = read_coord(bx + i * fx.size, fx.size);
       o[1] = read_coord(by + i * fy.size, fy.size);
       o[2] = read_coord(bz + i * fz.size, fz.size);
+    }
+    if (il >= 0) {
+      const Field& fl = fields[static_cast<size_t>(il)];
+      const uint8_t* bl = buf.get() + points * fl.offset;
+      cloud.labels.resize(points);
+      for (uint64_t i = 0; i < points; ++i) cloud.labels[i] = read_label(bl + i * fl.size, fl.size);
     }
   } else {
     // ascii: every value takes at least one byte, so V values per point bound the points

@@ -13,6 +13,9 @@ struct PointCloud {
   uint32_t height = 1;            //!< organized: image height; unorganized: 1
   bool organized() const { return height > 1; }
   size_t size() const { return xyz.size() / 3; }
+  //! Per-point integer labels when the file has a `label` field (e.g. mOSD ground
+  //! truth), else empty. Readers fill it; the planner ignores it.
+  std::vector<uint32_t> labels;
   //! PCD VIEWPOINT tx ty tz qw qx qy qz (identity when the file has none)
   std::array<double, 7> viewpoint{{0, 0, 0, 1, 0, 0, 0}};
 };

@@ -55,7 +55,7 @@ struct PointCounts {
 
 //! Why candidates were turned down during the checks (counts).
 struct RejectCounts {
-  uint32_t table = 0, collision = 0, friction = 0, contact = 0, occluded = 0;
+  uint32_t table = 0, collision = 0, friction = 0, occluded = 0;
 };
 
 struct PlanResult {

@@ -1,0 +1,213 @@
+// End to end on real depth captures (shared/data/clouds/mosd, labelled by their
+// authors): the shipped example manifests, and scenes built here the same way for
+// other objects (table plane -> z = 0, camera looking along +x, object N's centroid at
+// the workspace centre). Every assertion is checked against the capture's labels:
+// the grasp lies on the labelled target, its width is within the opening, and the
+// fingers stay above the labelled table (plane fitted here with Eigen).
+#include <gtest/gtest.h>
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <memory>
+#include <string>
+
+#include "fg/core/planner.hpp"
+#include "io/pcd.hpp"
+#include "io/scene.hpp"
+
+namespace {
+const std::string kShared = FG_SHARED_DIR;
+
+struct Capture {
+  fg::host::PointCloud cloud;  // optical frame, with labels
+};
+
+const Capture& capture(const std::string& name) {
+  static std::map<std::string, std::unique_ptr<Capture>> cache;
+  auto& c = cache[name];
+  if (!c) {
+    c = std::make_unique<Capture>();
+    const auto r = fg::host::read_pcd(kShared + "/data/clouds/mosd/" + name + ".pcd", c->cloud);
+    EXPECT_TRUE(r.ok) << r.error;
+    EXPECT_EQ(c->cloud.labels.size(), c->cloud.size());
+  }
+  return *c;
+}
+
+bool is_table(uint32_t label) { return label >= 1 && label <= 9; }
+bool is_object(uint32_t label, int n) { return static_cast<int>(label / 10) == n; }
+
+// world_T_sensor as the shipped manifests define it (shared/data/README.md).
+fg::Pose scene_pose(const Capture& cap, int object) {
+  // Least-squares table plane from the label-1..9 points (Eigen, independent of core).
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero(), obj = Eigen::Vector3d::Zero();
+  size_t n = 0, m = 0;
+  const auto& xyz = cap.cloud.xyz;
+  for (size_t i = 0; i < cap.cloud.size(); ++i) {
+    const Eigen::Vector3d p(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]);
+    if (!p.allFinite()) continue;
+    if (is_table(cap.cloud.labels[i])) mean += p, ++n;
+    if (is_object(cap.cloud.labels[i], object)) obj += p, ++m;
+  }
+  mean /= static_cast<double>(n);
+  obj /= static_cast<double>(m);
+  Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
+  for (size_t i = 0; i < cap.cloud.size(); ++i) {
+    const Eigen::Vector3d p(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]);
+    if (!p.allFinite() || !is_table(cap.cloud.labels[i])) continue;
+    C += (p - mean) * (p - mean).transpose();
+  }
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(C);
+  Eigen::Vector3d up = es.eigenvectors().col(0);
+  if (up.dot(-mean) < 0) up = -up;  // towards the camera
+  // World axes in the sensor frame: z = up, x = the view direction along the table.
+  Eigen::Vector3d x = Eigen::Vector3d::UnitZ() - up * up.z();
+  x.normalize();
+  const Eigen::Vector3d y = up.cross(x);
+  Eigen::Matrix3d R_ws;  // rows: world axes expressed in the sensor frame
+  R_ws.row(0) = x;
+  R_ws.row(1) = y;
+  R_ws.row(2) = up;
+  // Table at z = 0 and the object's centroid at (0.5, 0).
+  const Eigen::Vector3d o = R_ws * obj;
+  const double h0 = up.dot(mean);
+  const Eigen::Vector3d t(0.5 - o.x(), -o.y(), -h0);
+  fg::Pose pose;
+  pose.R = R_ws.cast<float>();
+  pose.t = t.cast<float>();
+  return pose;
+}
+
+struct Outcome {
+  fg::Status status;
+  fg::PlanResult result;
+  int target_points_between_pads = 0;
+  int other_points_between_pads = 0;
+  double min_finger_height = 1e9;  // above the labelled table plane
+};
+
+Outcome plan_on(const Capture& cap, const fg::Pose& pose, int object, float opening) {
+  static auto planner = std::make_unique<fg::Planner>();
+  fg::PlannerConfig cfg;
+  cfg.gripper.max_opening_m = opening;
+  EXPECT_EQ(planner->configure(cfg), fg::Status::ok);
+  EXPECT_EQ(planner->add_points(fg::SensorRole::head, cap.cloud.xyz.data(),
+                                static_cast<uint32_t>(cap.cloud.size()), 12, pose),
+            fg::Status::ok);
+  Outcome o;
+  o.status = planner->plan(o.result);
+  if (o.status != fg::Status::ok) return o;
+  const fg::Grasp& g = o.result.grasp;
+  const fg::Vec3 Y = g.approach.cross(g.closing);
+  const auto& xyz = cap.cloud.xyz;
+  // Table plane in world from the labels (points transformed by the pose).
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  size_t n = 0;
+  for (size_t i = 0; i < cap.cloud.size(); ++i) {
+    const fg::Vec3 p(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]);
+    if (!p.allFinite()) continue;
+    const fg::Vec3 w = pose.apply(p);
+    const fg::Vec3 d = w - g.position;
+    const float x = d.dot(g.closing), y = d.dot(Y), z = d.dot(g.approach);
+    if (is_table(cap.cloud.labels[i])) mean += w.cast<double>(), ++n;
+    if (std::fabs(x) <= 0.5f * g.width + 0.005f && std::fabs(y) <= 0.011f && std::fabs(z) <= 0.02f) {
+      if (is_object(cap.cloud.labels[i], object)) ++o.target_points_between_pads;
+      else ++o.other_points_between_pads;
+    }
+  }
+  const double table_z = mean.z() / static_cast<double>(n);
+  // The lowest corner of the two closed fingers and of the two open ones.
+  const float half_fd = 0.02f, t = 0.01f, hy = 0.011f;
+  for (float half_x : {0.5f * g.width, 0.5f * opening})
+    for (int k = 0; k < 16; ++k) {
+      const float sx = (k & 1) ? 1.f : -1.f;
+      const float x = sx * (half_x + ((k & 8) ? t : 0.f));
+      const fg::Vec3 c = g.position + g.closing * x + Y * ((k & 2) ? hy : -hy) +
+                         g.approach * ((k & 4) ? half_fd : -half_fd);
+      o.min_finger_height = std::min(o.min_finger_height, static_cast<double>(c.z()) - table_z);
+    }
+  return o;
+}
+
+void expect_grasp_on_target(const std::string& cap_name, int object, float opening) {
+  SCOPED_TRACE(cap_name + " object " + std::to_string(object));
+  const Capture& cap = capture(cap_name);
+  const Outcome o = plan_on(cap, scene_pose(cap, object), object, opening);
+  ASSERT_EQ(o.status, fg::Status::ok) << o.result.message << " (" << fg::to_string(o.result.reason) << ")";
+  EXPECT_GT(o.target_points_between_pads, 10) << "the pads do not hold the labelled target";
+  EXPECT_GT(o.target_points_between_pads, 4 * o.other_points_between_pads)
+      << "the pads hold more of another object than of the target";
+  EXPECT_GT(o.result.grasp.width, 0.005f);
+  EXPECT_LE(o.result.grasp.width, opening);
+  EXPECT_GT(o.min_finger_height, -0.005) << "a finger goes through the table";
+}
+}  // namespace
+
+// The manifests that ship in shared/data/scenes (2F-140 class, 0.14 m opening).
+TEST(RealCaptures, ShippedManifestsGraspTheirTarget) {
+  struct Case {
+    const char* scene;
+    const char* capture;
+    int object;
+  } cases[] = {{"learn42-obj3", "learn42", 3}, {"learn3-obj3", "learn3", 3}};
+  for (const Case& c : cases) {
+    fg::host::Scene scene;
+    const auto r = fg::host::read_scene(kShared + "/data/scenes/" + c.scene + "/scene.json", scene);
+    ASSERT_TRUE(r.ok) << r.error;
+    ASSERT_EQ(scene.sensors.size(), 1u);
+    fg::Pose pose;
+    for (int i = 0; i < 3; ++i) {
+      pose.t(i) = static_cast<float>(scene.sensors[0].pose->position[i]);
+      for (int j = 0; j < 3; ++j) pose.R(i, j) = static_cast<float>(scene.sensors[0].pose->rotation[i][j]);
+    }
+    // The pose built here from the labels is the manifest's (a check of this test's oracle).
+    const Capture& cap = capture(c.capture);
+    const fg::Pose mine = scene_pose(cap, c.object);
+    EXPECT_LT((mine.t - pose.t).norm(), 0.01f) << c.scene;
+    EXPECT_LT((mine.R - pose.R).cwiseAbs().maxCoeff(), 0.01f) << c.scene;
+    SCOPED_TRACE(c.scene);
+    const Outcome o = plan_on(cap, pose, c.object, static_cast<float>(scene.gripper.max_opening));
+    ASSERT_EQ(o.status, fg::Status::ok) << o.result.message;
+    EXPECT_GT(o.target_points_between_pads, 10);
+    EXPECT_GT(o.target_points_between_pads, 4 * o.other_points_between_pads);
+    EXPECT_LE(o.result.grasp.width, scene.gripper.max_opening);
+    EXPECT_GT(o.min_finger_height, -0.005);
+  }
+}
+
+// Objects of the other captures that fit a 0.14 m opening.
+TEST(RealCaptures, ChipsCanStandingUpright) { expect_grasp_on_target("learn44", 3, 0.14f); }
+TEST(RealCaptures, MugBesideTheCan) { expect_grasp_on_target("learn44", 4, 0.14f); }
+TEST(RealCaptures, CanWithRedLid) { expect_grasp_on_target("test36", 3, 0.14f); }
+TEST(RealCaptures, DarkTallCan) { expect_grasp_on_target("test36", 4, 0.14f); }
+TEST(RealCaptures, DarkCylindricalCan) { expect_grasp_on_target("test31", 3, 0.14f); }
+// Known limitations, kept visible: the planner answers a defined no_grasp where a
+// grasp exists. A change that finds a grasp on the target turns these into passes.
+void known_limitation(const std::string& cap_name, int object, float opening, const char* why) {
+  const Capture& cap = capture(cap_name);
+  const Outcome o = plan_on(cap, scene_pose(cap, object), object, opening);
+  if (o.status == fg::Status::ok) {
+    expect_grasp_on_target(cap_name, object, opening);
+    return;
+  }
+  ASSERT_EQ(o.status, fg::Status::no_grasp);
+  GTEST_SKIP() << "known limitation: " << why << " (" << fg::to_string(o.result.reason) << ")";
+}
+
+TEST(RealCaptures, PotWithLidSeenFromOneSensor) {
+  // shared/data/scenes/learn33-obj4: the points within the pads' reach span less than
+  // reach_width_ratio of the silhouette from every viewpoint of the single sensor.
+  known_limitation("learn33", 4, 0.14f, "the pot's seen width lies beyond the pads' reach");
+}
+TEST(RealCaptures, SmallBoxBehindTheLargeOne) {
+  known_limitation("learn8", 3, 0.14f, "the box is mostly hidden behind the large box in front");
+}
+TEST(RealCaptures, MugOnTheTable) { expect_grasp_on_target("learn33", 5, 0.14f); }
+
+// The same with the default 2F-85 class gripper (0.085 m) where the object fits it.
+TEST(RealCaptures, CansFitTheSmallGripper) {
+  expect_grasp_on_target("learn44", 3, 0.085f);
+  expect_grasp_on_target("test36", 3, 0.085f);
+}
