@@ -11,7 +11,10 @@ uint32_t build_scan_lines(const Vec2* contour, uint32_t n_contour, float y_min, 
   if (contour == nullptr || n_contour < 3 || capacity == 0 || !(y_max >= y_min) || !(delta > 0.f))
     return 0;
   const float span = y_max - y_min;
-  uint32_t n = static_cast<uint32_t>(span / delta) + 1u;
+  // In double and clamped first: span / delta can exceed any integer type. A span
+  // within 0.1% of a whole number of steps keeps its last line at y_max.
+  const double wanted = static_cast<double>(span) / static_cast<double>(delta) + 1.001;
+  uint32_t n = wanted >= static_cast<double>(capacity) ? capacity + 1u : static_cast<uint32_t>(wanted);
   if (n > capacity) {
     n = capacity;
     used_delta = capacity > 1 ? span / static_cast<float>(capacity - 1) : span;

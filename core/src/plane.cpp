@@ -21,7 +21,7 @@ bool refit(const Vec3* pts, uint32_t n, float thr, Vec3& nrm, float& d) {
   uint32_t c = 0;
   for (uint32_t i = 0; i < n; ++i) {
     const Vec3& p = pts[i];
-    if (std::fabs(nrm.dot(p) + d) > thr) continue;
+    if (!(std::fabs(nrm.dot(p) + d) <= thr)) continue;  // also skips NaN points
     const double x = p.x(), y = p.y(), z = p.z();
     sx += x; sy += y; sz += z;
     sxx += x * x; sxy += x * y; sxz += x * z; syy += y * y; syz += y * z; szz += z * z;

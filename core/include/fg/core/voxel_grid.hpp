@@ -1,7 +1,8 @@
 // One voxel grid shared by both sensors (so merging the clouds is free): a fixed
 // open-addressing hash from packed cell keys to a dense array of voxels in insertion
 // order (deterministic). Each voxel keeps the sum of its points relative to its cell
-// corner, so centroids stay exact even with hundreds of thousands of points per cell.
+// corner, so centroids stay precise (micrometres for typical counts, 0.1 mm for a
+// million points in one cell) wherever the cell lies.
 #pragma once
 #include <cstdint>
 #include "fg/core/limits.hpp"
