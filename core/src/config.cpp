@@ -41,6 +41,7 @@ Status validate(const PlannerConfig& c, const char** field) {
   else if (c.target_rule != TargetRule::nearest_to_centre && c.target_rule != TargetRule::largest)
     bad = "target_rule";
   else if (!in(c.dtheta_rad, 0.0087f, 1.5708f)) bad = "dtheta";
+  else if (!in(c.extension_dtheta_rad, 0.0087f, 1.5708f)) bad = "extension_dtheta";
   else if (!in(c.single_sensor_arc_rad, 0.0f, 3.1416f)) bad = "single_sensor_arc";
   else if (!in(c.vertical_snap_rad, 0.0f, 1.5708f)) bad = "vertical_snap";
   else if (!in(c.axis_ratio_min, 1.0f, 100.f)) bad = "axis_ratio_min";

@@ -258,7 +258,8 @@ bool Planner::build_object_frame(Vec3 axes[3], Vec3& X0) {
 uint32_t Planner::add_family(ViewFamily fam, const Vec3& axis, const Vec3& X0, float from,
                              float to, bool skip_arc, float arc_from, float arc_to) {
   const Vec3 Z0 = X0.cross(axis);
-  const float step = cfg_.dtheta_rad;
+  // The paper's arc at dtheta; the wider families of the extension at their own step.
+  const float step = fam == ViewFamily::sensor_arc ? cfg_.dtheta_rad : cfg_.extension_dtheta_rad;
   const uint32_t steps = static_cast<uint32_t>((to - from) / step + 1e-4f);
   const bool circle = fam != ViewFamily::sensor_arc;
   // The arc runs from `from` to exactly `to` (theta_1); circles stop short of 2 pi.

@@ -39,6 +39,7 @@ std::vector<ConfigOption> config_options(PlannerConfig& c) {
       {"workspace_centre_y", "workspace centre y (m)", K::real, &c.workspace_centre_y_m},
       {"target_rule", "nearest (to the workspace centre) or largest", K::rule, &c.target_rule},
       {"dtheta", "viewpoint step (rad)", K::real, &c.dtheta_rad},
+      {"extension_dtheta", "viewpoint step of the extended search (rad)", K::real, &c.extension_dtheta_rad},
       {"single_sensor_arc", "viewpoint half arc with one sensor (rad)", K::real, &c.single_sensor_arc_rad},
       {"vertical_snap", "principal axis this close to z becomes z (rad)", K::real, &c.vertical_snap_rad},
       {"axis_ratio_min", "largest/middle eigenvalue below this: axis = z", K::real, &c.axis_ratio_min},

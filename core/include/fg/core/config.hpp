@@ -37,6 +37,7 @@ struct PlannerConfig {
   float vertical_snap_rad = 0.2617994f;      //!< principal axis within 15 deg of z -> z
   float axis_ratio_min = 1.3f;       //!< largest/middle eigenvalue below this -> axis = z
   bool extend_search = true;         //!< rest of the circle + other PCA axes when the arc fails
+  float extension_dtheta_rad = 0.1745329f;  //!< 10 deg viewpoint step of those families
   float approach_view_max_rad = 1.0471976f;  //!< approach within 60 deg of a sensor's sight line
 
   // D. XOY force balance
