@@ -220,6 +220,8 @@ int main(int argc, char** argv) {
   }
   static Loaded data;
   if (!load(g_scene, data)) return 2;
+  std::printf("scene %s: %u raw points; planner workspace sizeof(fg::Planner) = %zu bytes\n",
+              g_scene.c_str(), data.raw_points, sizeof(fg::Planner));
   g_data = &data;
   g_planner = std::make_unique<fg::Planner>();
   if (g_planner->configure(data.cfg) != fg::Status::ok) return 2;
