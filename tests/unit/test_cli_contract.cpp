@@ -32,8 +32,12 @@
 #include "io/ply.hpp"
 
 #ifndef FG_CLI_PATH
-#error "FG_CLI_PATH (the built forcegrasp program) must be defined by tests/CMakeLists.txt"
-#endif
+// tests/CMakeLists.txt defines FG_CLI_PATH when the forcegrasp program is built
+// (FG_BUILD_HOST_TOOLS); without it there is nothing to run.
+TEST(CliContract, NeedsTheForcegraspProgram) {
+  GTEST_SKIP() << "forcegrasp is not part of this build (FG_BUILD_HOST_TOOLS=OFF)";
+}
+#else
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -333,10 +337,6 @@ TEST_F(CliContract, DirectoryGivenAsManifest) {
   const std::string e = j.value("error", "");
   EXPECT_NE(e.find("a_folder.json"), std::string::npos) << e;
   const std::vector<std::string> words = {"directory", "folder", "not a file", "not a regular file", "cannot read"};
-  if (!contains_any(without_paths(e, "a_folder.json"), words))
-    GTEST_SKIP() << "BUG: a directory given as the manifest is reported as '" << e
-                 << "' (read_scene in platform/host/io/scene.cpp opens it with ifstream and takes the "
-                    "directory's seek size for a file size) instead of naming the problem";
   EXPECT_TRUE(contains_any(without_paths(e, "a_folder.json"), words)) << e;
 }
 
@@ -523,6 +523,33 @@ TEST_F(CliContract, MissingCloudFile) {
   expect_invalid(plan(m), "not_there.pcd", {"cannot open", "does not exist", "not readable", "no such"});
 }
 
+TEST_F(CliContract, CloudIsADirectory) {
+  fs::create_directories(dir_ / "folder.pcd");
+  const std::string m = manifest(json{{"sensors", {sensor("head", "folder.pcd")}}});
+  expect_invalid(plan(m), "folder.pcd", {"directory"});
+}
+
+TEST_F(CliContract, CloudIsAnEndlessDevice) {
+  // A cloud that is a symlink to /dev/zero (or any endless stream) must fail fast.
+  fs::create_symlink("/dev/zero", dir_ / "zero.pcd");
+  const std::string m = manifest(json{{"sensors", {sensor("head", "zero.pcd")}}});
+  const CliRun r = plan(m);
+  expect_invalid(r, "zero.pcd", {"regular", "device"});
+  EXPECT_LT(r.seconds, 2.0) << describe(r);
+}
+
+TEST_F(CliContract, UnreadableManifest) {
+  const std::string p = path("locked.json");
+  write_file(p, example_manifest().dump());
+  fs::permissions(p, fs::perms::none);
+  if (std::ifstream(p).good()) {
+    fs::permissions(p, fs::perms::owner_all);
+    GTEST_SKIP() << "running with privileges that read a mode-000 file (root): nothing to test";
+  }
+  expect_invalid(plan(p), "locked.json", {"cannot open", "cannot read", "permission"});
+  fs::permissions(p, fs::perms::owner_all);
+}
+
 TEST_F(CliContract, UnknownCloudExtension) {
   const std::string m = cloud_scene("cloud.xyz", "0 0 1\n");
   expect_invalid(plan(m), "cloud.xyz", {"extension"});
@@ -688,9 +715,7 @@ TEST_F(CliContract, CommandLineErrorWithJsonPrintsJson) {
     is_json = json::parse(r.out).is_object();
   } catch (const json::exception&) {
   }
-  if (!is_json)
-    GTEST_SKIP() << "CONTRACT GAP: a command-line parse error with --json prints nothing on stdout "
-                    "(CLI11's message goes to stderr): stdout was '" << r.out << "'";
+  ASSERT_TRUE(is_json) << "stdout was '" << r.out << "'";
   const json j = json::parse(r.out);
   EXPECT_EQ(j.value("status", ""), "invalid_input");
 }
@@ -914,7 +939,7 @@ TEST_F(CliContract, GraspUnderTinyPosePerturbation) {
     GTEST_SKIP() << "FINDING (robustness, not a contract violation): moving the hand sensor by 1e-7 m moves "
                     "the grasp by "
                  << std::sqrt(d2) * 1000 << " mm: " << a["grasp"].dump() << " vs " << b["grasp"].dump()
-                 << " (rank_and_check sorts near-equal dz values; argmin jumps between candidates)";
+                 << " (the set of surviving candidates changes; cause not analysed)";
   EXPECT_LT(std::sqrt(d2), 0.005);
 }
 
@@ -974,3 +999,5 @@ TEST_F(CliContract, CloudPathRelativeToManifestFolder) {
 }
 
 }  // namespace
+
+#endif  // FG_CLI_PATH

@@ -1,6 +1,7 @@
 // The `forcegrasp` host program.
 #include <cstdio>
 #include <iostream>
+#include <string>
 
 #include <CLI/CLI.hpp>
 
@@ -26,7 +27,16 @@ int main(int argc, char** argv) {
       app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
       const int rc = app.exit(e);
-      return rc == 0 ? 0 : kExitInvalid;
+      if (rc == 0) return 0;  // --help
+      // A command-line error is invalid input too: with --json, stdout still carries
+      // the one JSON object of the contract.
+      for (int i = 1; i < argc; ++i)
+        if (std::string(argv[i]) == "--json") {
+          const nlohmann::json j{{"status", "invalid_input"}, {"error", std::string("command line: ") + e.what()}};
+          std::cout << j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) << "\n";
+          break;
+        }
+      return kExitInvalid;
     }
     if (plan->parsed()) {
       const PlanOutcome o = run_plan(po);

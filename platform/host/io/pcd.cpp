@@ -497,8 +497,11 @@ ReadResult read_file_bytes(const std::string& path, std::vector<uint8_t>& out, u
   const fs::file_status st = fs::status(path, ec);
   if (ec || !fs::exists(st)) return fail(path, "cannot open file (does not exist or is not readable)");
   if (fs::is_directory(st)) return fail(path, "is a directory, not a file");
+  // Devices, FIFOs and sockets are refused: one may never end (/dev/zero) or block
+  // until a writer appears, and "never hangs" is part of the contract.
+  if (!fs::is_regular_file(st)) return fail(path, "is not a regular file (a device, FIFO or socket)");
   uintmax_t expected = 0;
-  if (fs::is_regular_file(st)) {
+  {
     expected = fs::file_size(path, ec);
     if (ec) expected = 0;
     if (expected > max_bytes) {

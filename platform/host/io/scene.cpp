@@ -184,17 +184,10 @@ ReadResult parse_scene(const std::string& text, const std::string& manifest_path
 }
 
 ReadResult read_scene(const std::string& path, Scene& out) {
-  std::ifstream f(path, std::ios::binary);
-  if (!f) return ReadResult::failure(path + ": cannot open the scene manifest");
-  f.seekg(0, std::ios::end);
-  const std::streamoff size = f.tellg();
-  if (size < 0) return ReadResult::failure(path + ": cannot read the scene manifest");
-  if (static_cast<size_t>(size) > kMaxManifestBytes)
-    return ReadResult::failure(path + ": manifest is larger than 1 MiB");
-  f.seekg(0);
-  std::string text(static_cast<size_t>(size), '\0');
-  if (!f.read(text.data(), size)) return ReadResult::failure(path + ": cannot read the scene manifest");
-  return parse_scene(text, path, out);
+  std::vector<uint8_t> bytes;  // refuses directories, devices and FIFOs, bounds the size
+  if (ReadResult r = read_file_bytes(path, bytes, kMaxManifestBytes); !r.ok)
+    return ReadResult::failure(r.error + " (scene manifest)");
+  return parse_scene(std::string(bytes.begin(), bytes.end()), path, out);
 }
 
 namespace {
