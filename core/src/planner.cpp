@@ -183,15 +183,19 @@ Status Planner::plan(PlanResult& out) {
   analyse_views(0, arc_views, out);
   uint32_t found = rank_and_check(0, out);
 
-  if (found == kMaxCandidates && cfg_.extend_search) {
+  // The extension (algorithm.md G), one family at a time, stopping at the first that
+  // yields an executable grasp: the rest of the circle about Y, then circles about the
+  // middle and the minor PCA axes.
+  for (int fam = 1; fam <= 3 && found == kMaxCandidates && cfg_.extend_search; ++fam) {
     const uint32_t first_view = n_views_, first_cand = n_candidates_;
     {
       StageTimer t(stage(out, Stage::frame));
-      add_family(ViewFamily::full_circle, axes[0], X0, 0.f, 2.f * kPi, true, arc_from, arc_to);
-      for (int a = 1; a <= 2; ++a) {
+      if (fam == 1) {
+        add_family(ViewFamily::full_circle, axes[0], X0, 0.f, 2.f * kPi, true, arc_from, arc_to);
+      } else {
         const Vec3 hint = sensor_origin_[role_added_[1] ? 1 : 0] - centroid_;
-        const Vec3 Xa = orthogonal_from(axes[a], hint);
-        add_family(a == 1 ? ViewFamily::middle_axis : ViewFamily::minor_axis, axes[a], Xa, 0.f,
+        const Vec3 Xa = orthogonal_from(axes[fam - 1], hint);
+        add_family(fam == 2 ? ViewFamily::middle_axis : ViewFamily::minor_axis, axes[fam - 1], Xa, 0.f,
                    2.f * kPi, false, 0.f, 0.f);
       }
     }
