@@ -132,7 +132,7 @@ DfsResult flood(uint8_t* g, const uint8_t* counts, uint32_t w, uint32_t h, uint3
       if (ni < 0 || nj < 0 || ni >= static_cast<int64_t>(w) || nj >= static_cast<int64_t>(h)) continue;
       const uint32_t nb = static_cast<uint32_t>(nj) * w + static_cast<uint32_t>(ni);
       if (((g[nb] & kFg) != 0) != want_fg || (g[nb] & mark) != 0) continue;
-      const int back = (d + 4) & 7;  // direction from the new cell to its parent
+      const int back = (d + 4) & 7;  // direction from this cell back to its parent
       g[nb] = static_cast<uint8_t>((g[nb] & ~kParentMask) | mark | (back << kParentShift));
       if (counts != nullptr) {
         res.points += counts[nb];

@@ -155,6 +155,19 @@ Ingest make_ingest(const Pose& p, const PlannerConfig& cfg, const VoxelGrid& gri
 }
 }  // namespace
 
+// The bookkeeping both kinds of input end with.
+Status Planner::end_ingest(uint32_t offered, uint32_t finite, uint32_t kept, uint64_t t0, Status st) {
+  counts_.input += offered;
+  counts_.finite += finite;
+  counts_.after_filter += kept;
+  ingest_us_ += static_cast<uint32_t>(platform::monotonic_us() - t0);
+  if (st != Status::ok) {
+    overflow_ = true;
+    message_ = "more occupied voxels than the build's FG_MAX_VOXELS; shrink the crop box or enlarge the voxel leaf";
+  }
+  return st;
+}
+
 Status Planner::add_points(SensorRole role, const float* xyz, uint32_t count,
                            uint32_t stride_bytes, const Pose& world_T_sensor) {
   if (xyz == nullptr && count > 0) {
@@ -180,15 +193,8 @@ Status Planner::add_points(SensorRole role, const float* xyz, uint32_t count,
       break;
     }
   }
-  counts_.input += count;
-  counts_.finite += in.finite;
-  counts_.after_filter += in.kept;
-  ingest_us_ += static_cast<uint32_t>(platform::monotonic_us() - t0);
-  if (st != Status::ok) {
-    overflow_ = true;
-    message_ = "more occupied voxels than the build's FG_MAX_VOXELS; shrink the crop box or enlarge the voxel leaf";
-  }
-  return st;
+  in.flush_sight();
+  return end_ingest(count, in.finite, in.kept, t0, st);
 }
 
 Status Planner::add_depth_image(SensorRole role, const uint16_t* depth_mm, uint16_t width,
@@ -229,15 +235,8 @@ Status Planner::add_depth_image(SensorRole role, const uint16_t* depth_mm, uint1
       }
     }
   }
-  counts_.input += static_cast<uint32_t>(width) * height;
-  counts_.finite += in.finite;
-  counts_.after_filter += in.kept;
-  ingest_us_ += static_cast<uint32_t>(platform::monotonic_us() - t0);
-  if (st != Status::ok) {
-    overflow_ = true;
-    message_ = "more occupied voxels than the build's FG_MAX_VOXELS; shrink the crop box or enlarge the voxel leaf";
-  }
-  return st;
+  in.flush_sight();
+  return end_ingest(static_cast<uint32_t>(width) * height, in.finite, in.kept, t0, st);
 }
 
 }  // namespace fg

@@ -148,6 +148,7 @@ class Planner {
 
   Status check_pose(const Pose& p);
   Status ingest_begin(SensorRole role, const Pose& world_T_sensor);
+  Status end_ingest(uint32_t offered, uint32_t finite, uint32_t kept, uint64_t t0, Status st);
   bool build_object_frame(Vec3 axes[3], Vec3& X0);
   uint32_t add_family(ViewFamily fam, const Vec3& axis, const Vec3& X0, float from, float to,
                       bool skip_arc, float arc_from, float arc_to);

@@ -28,7 +28,7 @@ class VoxelGrid {
   //! inserted point at least 2 cells inside the key range (checked by insert).
   void reset(const Vec3& origin, float leaf_m);
 
-  //! Adds a world point. capacity_exceeded when a new cell is needed but kMaxVoxels
+  //! Adds a world point. capacity_exceeded when another cell is needed but kMaxVoxels
   //! cells are in use; invalid_argument when the point is outside the key range.
   Status insert(const Vec3& p) {
     const float fx = (p.x() - origin_.x()) * inv_leaf_;
