@@ -7,11 +7,9 @@
 // bytes per row), and the output cloud is only touched when the whole file parsed.
 #include "pcd.hpp"
 
-#include <algorithm>
 #include <cctype>
 #include <charconv>
 #include <cmath>
-#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -20,9 +18,9 @@
 #include <new>
 #include <string_view>
 #include <system_error>
-#include <type_traits>
 
 #include "lzf.hpp"
+#include "text_parse.hpp"
 
 static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__,
               "the PCD/PLY binary readers assume a little-endian host");
@@ -37,78 +35,16 @@ uint32_t read_label(const uint8_t* p, uint32_t size) {
   return v;
 }
 
-
-ReadResult fail(const std::string& name, const std::string& msg) {
-  return ReadResult::failure(name + ": " + msg);
-}
-
-bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
-
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && is_space(s.front())) s.remove_prefix(1);
-  while (!s.empty() && is_space(s.back())) s.remove_suffix(1);
-  return s;
-}
-
-void split_ws(std::string_view s, std::vector<std::string_view>& out) {
-  out.clear();
-  size_t i = 0;
-  while (i < s.size()) {
-    while (i < s.size() && is_space(s[i])) ++i;
-    const size_t start = i;
-    while (i < s.size() && !is_space(s[i])) ++i;
-    if (i > start) out.push_back(s.substr(start, i - start));
-  }
-}
-
-//! For messages: at most 40 characters, non-printable bytes shown as '?'.
-std::string printable(std::string_view s) {
-  std::string r;
-  const size_t n = std::min<size_t>(s.size(), 40);
-  for (size_t i = 0; i < n; ++i) {
-    const unsigned char c = static_cast<unsigned char>(s[i]);
-    r.push_back(c >= 0x20 && c < 0x7f ? static_cast<char>(c) : '?');
-  }
-  if (s.size() > n) r += "...";
-  return r;
-}
-
-bool parse_u64(std::string_view s, uint64_t& v) {
-  if (s.empty()) return false;
-  const auto res = std::from_chars(s.data(), s.data() + s.size(), v);
-  return res.ec == std::errc() && res.ptr == s.data() + s.size();
-}
-
-//! A whole token as a number: decimal or exponent form, optional sign, nan / inf.
-//! Values beyond the type's range become +-inf (or a denormal / 0), like strtod.
-template <typename T>
-bool parse_real(std::string_view s, T& v) {
-  if (!s.empty() && s.front() == '+') s.remove_prefix(1);
-  if (s.empty()) return false;
-  const auto res = std::from_chars(s.data(), s.data() + s.size(), v);
-  if (res.ptr != s.data() + s.size()) return false;
-  if (res.ec == std::errc::result_out_of_range) {
-    const std::string tmp(s);
-    char* end = nullptr;
-    if constexpr (std::is_same_v<T, float>) {
-      v = std::strtof(tmp.c_str(), &end);
-    } else {
-      v = std::strtod(tmp.c_str(), &end);
-    }
-    return end == tmp.c_str() + tmp.size();
-  }
-  return res.ec == std::errc();
-}
-
-//! double -> float without undefined behaviour for values beyond float's range.
-float to_float(double d) {
-  constexpr double kMax = static_cast<double>(std::numeric_limits<float>::max());
-  if (d > kMax) return std::numeric_limits<float>::infinity();
-  if (d < -kMax) return -std::numeric_limits<float>::infinity();
-  return static_cast<float>(d);  // NaN and in-range values
-}
-
-bool mul_ok(uint64_t a, uint64_t b, uint64_t& r) { return !__builtin_mul_overflow(a, b, &r); }
+using text::fail;
+using text::is_space;
+using text::LeadingPlus;
+using text::mul_ok;
+using text::parse_real;
+using text::parse_u64;
+using text::printable;
+using text::split_ws;
+using text::to_float;
+using text::trim;
 
 struct Field {
   std::string name;
@@ -196,7 +132,7 @@ ReadResult parse_pcd_impl(const uint8_t* data, size_t size, const std::string& n
       const std::string k(key);
       if (dup(seen)) return fail(name, "duplicate " + k + " line" + where);
       if (tok.size() != 2) return fail(name, k + " needs exactly one value" + where);
-      if (!parse_u64(tok[1], v)) {
+      if (!parse_u64(tok[1], v, LeadingPlus::reject)) {
         return fail(name, k + " value '" + printable(tok[1]) +
                               "' is not a non-negative integer (non-numeric or out of range)" + where);
       }
@@ -264,7 +200,7 @@ ReadResult parse_pcd_impl(const uint8_t* data, size_t size, const std::string& n
     fd.name = std::string(fields_tok[f]);
     const std::string fq = "field '" + printable(fd.name) + "'";
     uint64_t sz = 0;
-    if (!parse_u64(size_tok[f], sz) || (sz != 1 && sz != 2 && sz != 4 && sz != 8)) {
+    if (!parse_u64(size_tok[f], sz, LeadingPlus::reject) || (sz != 1 && sz != 2 && sz != 4 && sz != 8)) {
       return fail(name, "SIZE '" + printable(size_tok[f]) + "' of " + fq + " is not 1, 2, 4 or 8");
     }
     fd.size = static_cast<uint32_t>(sz);
@@ -277,7 +213,7 @@ ReadResult parse_pcd_impl(const uint8_t* data, size_t size, const std::string& n
       return fail(name, fq + " is TYPE F with SIZE " + std::to_string(fd.size) + " (expected 4 or 8)");
     }
     if (have_count) {
-      if (!parse_u64(count_tok[f], fd.count) || fd.count == 0) {
+      if (!parse_u64(count_tok[f], fd.count, LeadingPlus::reject) || fd.count == 0) {
         return fail(name, "COUNT '" + printable(count_tok[f]) + "' of " + fq +
                               " is not a positive integer");
       }
@@ -467,7 +403,7 @@ ReadResult parse_pcd_impl(const uint8_t* data, size_t size, const std::string& n
     }
     for (size_t i = pos; i < size; ++i) {
       const char c = static_cast<char>(data[i]);
-      if (!is_space(c) && c != '\n' && c != '\0') {
+      if (!is_space(c) && c != '\0') {
         return fail(name, "DATA ascii has more rows than the " + std::to_string(points) +
                               " declared by POINTS (extra data after the last point)");
       }

@@ -11,7 +11,6 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
-#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -19,10 +18,9 @@
 #include <new>
 #include <optional>
 #include <string_view>
-#include <system_error>
-#include <type_traits>
 
 #include "pcd.hpp"
+#include "text_parse.hpp"
 
 static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__,
               "the PCD/PLY binary readers assume a little-endian host");
@@ -31,78 +29,16 @@ namespace fg::host {
 
 namespace {
 
-ReadResult fail(const std::string& name, const std::string& msg) {
-  return ReadResult::failure(name + ": " + msg);
-}
-
-bool is_space(char c) {
-  return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f';
-}
-
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && is_space(s.front())) s.remove_prefix(1);
-  while (!s.empty() && is_space(s.back())) s.remove_suffix(1);
-  return s;
-}
-
-void split_ws(std::string_view s, std::vector<std::string_view>& out) {
-  out.clear();
-  size_t i = 0;
-  while (i < s.size()) {
-    while (i < s.size() && is_space(s[i])) ++i;
-    const size_t start = i;
-    while (i < s.size() && !is_space(s[i])) ++i;
-    if (i > start) out.push_back(s.substr(start, i - start));
-  }
-}
-
-std::string printable(std::string_view s) {
-  std::string r;
-  const size_t n = std::min<size_t>(s.size(), 40);
-  for (size_t i = 0; i < n; ++i) {
-    const unsigned char c = static_cast<unsigned char>(s[i]);
-    r.push_back(c >= 0x20 && c < 0x7f ? static_cast<char>(c) : '?');
-  }
-  if (s.size() > n) r += "...";
-  return r;
-}
-
-bool parse_u64(std::string_view s, uint64_t& v) {
-  if (!s.empty() && s.front() == '+') s.remove_prefix(1);
-  if (s.empty()) return false;
-  const auto res = std::from_chars(s.data(), s.data() + s.size(), v);
-  return res.ec == std::errc() && res.ptr == s.data() + s.size();
-}
-
-//! A whole token as a number: decimal or exponent form, optional sign, nan / inf.
-//! Values beyond the type's range become +-inf (or a denormal / 0), like strtod.
-template <typename T>
-bool parse_real(std::string_view s, T& v) {
-  if (!s.empty() && s.front() == '+') s.remove_prefix(1);
-  if (s.empty()) return false;
-  const auto res = std::from_chars(s.data(), s.data() + s.size(), v);
-  if (res.ptr != s.data() + s.size()) return false;
-  if (res.ec == std::errc::result_out_of_range) {
-    const std::string tmp(s);
-    char* end = nullptr;
-    if constexpr (std::is_same_v<T, float>) {
-      v = std::strtof(tmp.c_str(), &end);
-    } else {
-      v = std::strtod(tmp.c_str(), &end);
-    }
-    return end == tmp.c_str() + tmp.size();
-  }
-  return res.ec == std::errc();
-}
-
-float to_float(double d) {
-  constexpr double kMax = static_cast<double>(std::numeric_limits<float>::max());
-  if (d > kMax) return std::numeric_limits<float>::infinity();
-  if (d < -kMax) return -std::numeric_limits<float>::infinity();
-  return static_cast<float>(d);
-}
-
-bool mul_ok(uint64_t a, uint64_t b, uint64_t& r) { return !__builtin_mul_overflow(a, b, &r); }
+using text::fail;
+using text::is_space;
+using text::LeadingPlus;
+using text::mul_ok;
+using text::parse_real;
+using text::parse_u64;
+using text::printable;
+using text::split_ws;
+using text::to_float;
+using text::trim;
 
 enum class Scalar { i8, u8, i16, u16, i32, u32, f32, f64 };
 
@@ -243,7 +179,7 @@ ReadResult parse_ply_impl(const uint8_t* data, size_t size, const std::string& n
       if (tok.size() != 3) return fail(name, "malformed element line (expected: element NAME COUNT)" + where);
       Element e;
       e.name = std::string(tok[1]);
-      if (!parse_u64(tok[2], e.count)) {
+      if (!parse_u64(tok[2], e.count, LeadingPlus::accept)) {
         return fail(name, "element '" + printable(tok[1]) + "' count '" + printable(tok[2]) +
                               "' is not a non-negative integer (non-numeric)" + where);
       }
@@ -436,7 +372,7 @@ ReadResult parse_ply_impl(const uint8_t* data, size_t size, const std::string& n
             continue;
           }
           uint64_t n = 0;
-          if (!parse_u64(t, n)) {
+          if (!parse_u64(t, n, LeadingPlus::accept)) {
             return fail(name, "element '" + printable(e.name) + "' item " + std::to_string(i) +
                                   ": list count '" + printable(t) + "' of '" + printable(p.name) +
                                   "' is not a non-negative integer");
