@@ -1,11 +1,10 @@
 // Planner: the plan itself (algorithm.md A.5-F): support plane, target cluster,
-// object frame, virtual viewpoints, XOY and XOZ force balance, ranking and the
-// executability checks.
+// object frame, virtual viewpoints, XOY and XOZ force balance and ranking. The
+// executability checks are in planner_checks.cpp.
 #include <algorithm>
 #include <cmath>
 
 #include "fg/core/eigen_sym3.hpp"
-#include "fg/core/gjk.hpp"
 #include "fg/core/planner.hpp"
 #include "fg/platform/platform.hpp"
 
@@ -30,14 +29,6 @@ namespace {
 constexpr float kPi = 3.14159265358979f;
 // Approaches pointing up more steeply than this come from below the object: skipped.
 constexpr float kMaxApproachUp = 0.5f;
-// Normals within 30 deg of the approach belong to surfaces facing the gripper.
-constexpr float kFrontFacingCos = 0.866f;
-// Object points this far around the open fingers form the local hull they must avoid.
-constexpr float kHullNeighbourhood = 0.01f;
-// Visibility: returns within this distance of a point neither free nor hide it; a
-// finger may have this share of its samples hidden (edges of silhouettes blur).
-constexpr float kSightMargin = 0.01f;
-constexpr float kMaxHiddenShare = 0.2f;
 
 class StageTimer {
  public:
@@ -514,202 +505,6 @@ uint32_t Planner::rank_and_check(uint32_t first, PlanResult& out) {
     if (!cfg_.executability_checks || executable(c, out)) return order_[i];
   }
   return kMaxCandidates;
-}
-
-bool Planner::executable(const Candidate& c, PlanResult& out) {
-  const ViewRecord& v = views_[c.view];
-  const GripperGeometry& g = cfg_.gripper;
-  const float half_open = 0.5f * g.max_opening_m, t = g.finger_thickness_m;
-  const float half_fd = 0.5f * g.finger_depth_m;
-  const float back = g.finger_depth_m + cfg_.pregrasp_clearance_m;  // approach stroke
-  struct Box {
-    float x0, x1, y0, y1, z0, z1;
-  };
-  // Fingers open and palm, swept from the pre-grasp to the grasp (grasp frame).
-  const Box boxes[3] = {
-      {-half_open - t, -half_open, -0.5f * g.finger_width_m, 0.5f * g.finger_width_m,
-       -half_fd - back, half_fd},
-      {half_open, half_open + t, -0.5f * g.finger_width_m, 0.5f * g.finger_width_m,
-       -half_fd - back, half_fd},
-      {-half_open - t, half_open + t, -0.5f * g.palm_width_m, 0.5f * g.palm_width_m,
-       -half_fd - g.palm_depth_m - back, -half_fd},
-  };
-  // Support plane: every corner above it.
-  for (const Box& b : boxes)
-    for (int k = 0; k < 8; ++k) {
-      const Vec3 p = c.position + v.X * ((k & 1) ? b.x1 : b.x0) + v.Y * ((k & 2) ? b.y1 : b.y0) +
-                     v.Z * ((k & 4) ? b.z1 : b.z0);
-      if (plane_.height(p) < cfg_.table_clearance_m - 1e-4f) {
-        ++out.rejected.table;
-        return false;
-      }
-    }
-  // Every voxel that is not table (the target and its neighbours) stays out of the boxes.
-  const float tol = cfg_.collision_tolerance_m;
-  const uint32_t nv = grid_.size();
-  for (uint32_t i = 0; i < nv; ++i) {
-    if (state_[i] == kVoxelRemoved) continue;
-    const Vec3 d = centroids_[i] - c.position;
-    const float x = v.X.dot(d), y = v.Y.dot(d), z = v.Z.dot(d);
-    for (const Box& b : boxes) {
-      if (x > b.x0 + tol && x < b.x1 - tol && y > b.y0 + tol && y < b.y1 - tol && z > b.z0 + tol &&
-          z < b.z1 - tol) {
-        ++out.rejected.collision;
-        return false;
-      }
-    }
-  }
-  // The fingers at the open pose stay out of the target's local convex hull: surface
-  // points alone miss a finger that would sit inside the solid (a cap grasp on a big
-  // sphere), and the hull of the points around the hand fills in the unseen interior.
-  if (!fingers_clear_of_hull(c.position, ViewFrame{v.X, v.Y, v.Z})) {
-    ++out.rejected.collision;
-    return false;
-  }
-  // The open fingers must not sit in space the sensors saw only from behind a surface.
-  if (!fingers_in_seen_space(c.position, ViewFrame{v.X, v.Y, v.Z})) {
-    ++out.rejected.occluded;
-    return false;
-  }
-  // Each fitted side's normal within the cone in XOY (beta alone only compares the two
-  // sides), and the contact normals in 3D.
-  if (cfg_.friction_mu > 0.f &&
-      (!c.sides_in_cone || !friction_ok(c.position, ViewFrame{v.X, v.Y, v.Z}, c.width))) {
-    ++out.rejected.friction;
-    return false;
-  }
-  return true;
-}
-
-bool Planner::fingers_clear_of_hull(const Vec3& pos, const ViewFrame& f) {
-  const GripperGeometry& g = cfg_.gripper;
-  const float half_open = 0.5f * g.max_opening_m, t = g.finger_thickness_m;
-  const float hy = 0.5f * g.finger_width_m, hz = 0.5f * g.finger_depth_m;
-  const float m = kHullNeighbourhood;
-  uint32_t n_local = 0;
-  const uint32_t n = object_.size();
-  for (uint32_t i = 0; i < n; ++i) {
-    const Vec3 d = object_[i] - pos;
-    const Vec3 q(f.X.dot(d), f.Y.dot(d), f.Z.dot(d));
-    if (std::fabs(q.y()) <= hy + m && std::fabs(q.z()) <= hz + m &&
-        std::fabs(q.x()) <= half_open + t + m)
-      local_[n_local++] = q;
-  }
-  if (n_local == 0) return true;
-  const float tol = cfg_.collision_tolerance_m;
-  const PointSetShape hull{local_, n_local};
-  const ConvexSupport hs{point_set_support, &hull, Vec3::Zero()};
-  for (int side = 0; side < 2; ++side) {
-    const float x0 = side == 0 ? -half_open - t : half_open;
-    const AabbShape box{Vec3(x0 + tol, -hy + tol, -hz + tol), Vec3(x0 + t - tol, hy - tol, hz - tol)};
-    const ConvexSupport bs{aabb_support, &box, 0.5f * (box.lo + box.hi)};
-    if (gjk_intersect(bs, hs)) return false;
-  }
-  return true;
-}
-
-// +1: some sensor saw a return behind q (q is free space); -1: some sensor saw a
-// surface in front of q and none saw through it (q is hidden); 0: no sensor knows.
-int Planner::visibility(const Vec3& q) const {
-  int result = 0;
-  const float half = 0.5f * static_cast<float>(kSightBins);
-  for (uint32_t r = 0; r < kMaxSensors; ++r) {
-    if (!role_added_[r]) continue;
-    const Vec3 p = sensor_pose_[r].R.transpose() * (q - sensor_pose_[r].t);
-    if (!(p.z() > 0.05f)) continue;
-    const float bu = (p.x() / p.z() + 1.f) * half, bv = (p.y() / p.z() + 1.f) * half;
-    if (!(bu >= 0.f && bv >= 0.f && bu < 2.f * half && bv < 2.f * half)) continue;
-    const uint16_t d = sight_mm_[r][static_cast<uint32_t>(bv) * kSightBins + static_cast<uint32_t>(bu)];
-    if (d == 0xFFFFu) continue;
-    const float seen_m = static_cast<float>(d) * 0.001f;
-    if (seen_m > p.z() + kSightMargin) return 1;
-    if (seen_m < p.z() - kSightMargin) result = -1;
-  }
-  return result;
-}
-
-// Samples of each open finger box: too many hidden ones (behind the object as every
-// sensor saw it, and free to none) mean the finger would sit inside unseen matter.
-bool Planner::fingers_in_seen_space(const Vec3& pos, const ViewFrame& f) {
-  const GripperGeometry& g = cfg_.gripper;
-  const float half_open = 0.5f * g.max_opening_m, t = g.finger_thickness_m;
-  uint32_t hidden = 0, total = 0;
-  for (int side = 0; side < 2; ++side) {
-    const float x0 = side == 0 ? -half_open - t : half_open;
-    for (int ix = 0; ix < 2; ++ix)
-      for (int iy = 0; iy < 3; ++iy)
-        for (int iz = 0; iz < 5; ++iz) {
-          const float x = x0 + t * (0.25f + 0.5f * static_cast<float>(ix));
-          const float y = g.finger_width_m * (static_cast<float>(iy) - 1.f) * 0.5f;
-          const float z = g.finger_depth_m * (static_cast<float>(iz) * 0.25f - 0.5f);
-          ++total;
-          hidden += visibility(pos + f.X * x + f.Y * y + f.Z * z) < 0 ? 1u : 0u;
-        }
-  }
-  return static_cast<float>(hidden) <= kMaxHiddenShare * static_cast<float>(total);
-}
-
-bool Planner::normal_at(uint32_t oi, Vec3& nrm) {
-  if (normal_state_[oi] != 0) {
-    nrm = normals_[oi];
-    return normal_state_[oi] == 1;
-  }
-  normal_state_[oi] = 2;
-  const uint32_t key = grid_.voxel(object_voxel_[oi]).key;
-  const int32_t x = static_cast<int32_t>(VoxelGrid::key_x(key));
-  const int32_t y = static_cast<int32_t>(VoxelGrid::key_y(key));
-  const int32_t z = static_cast<int32_t>(VoxelGrid::key_z(key));
-  Vec3 pts[27];
-  uint32_t m = 0;
-  for (int32_t dz = -1; dz <= 1; ++dz)
-    for (int32_t dy = -1; dy <= 1; ++dy)
-      for (int32_t dx = -1; dx <= 1; ++dx) {
-        const uint32_t j = grid_.find(VoxelGrid::pack(static_cast<uint32_t>(x + dx),
-                                                      static_cast<uint32_t>(y + dy),
-                                                      static_cast<uint32_t>(z + dz)));
-        if (j != VoxelGrid::kNone && state_[j] == kVoxelTarget) pts[m++] = centroids_[j];
-      }
-  if (m < 5) return false;
-  Vec3 c, ev;
-  Mat3 vecs;
-  if (!pca(pts, m, c, ev, vecs)) return false;
-  // A surface patch: the smallest spread must be clearly below the middle one.
-  if (!(ev[0] < 0.5f * ev[1])) return false;
-  normals_[oi] = vecs.col(0);
-  normal_state_[oi] = 1;
-  nrm = normals_[oi];
-  return true;
-}
-
-// Contact normals inside the friction cone: at least half of each pad's contact
-// points with a defined normal have |n . closing| >= cos(atan(mu)). Corner and edge
-// contacts fail; faces and rounded sides pass (algorithm.md G).
-bool Planner::friction_ok(const Vec3& pos, const ViewFrame& f, float width) {
-  const GripperGeometry& g = cfg_.gripper;
-  const float cos_cone = std::cos(std::atan(cfg_.friction_mu));
-  const uint32_t n = object_.size();
-  uint32_t pass[2] = {0, 0}, total[2] = {0, 0};
-  for (uint32_t i = 0; i < n; ++i) {
-    const Vec3 d = object_[i] - pos;
-    const float x = f.X.dot(d), y = f.Y.dot(d), z = f.Z.dot(d);
-    if (std::fabs(y) > 0.5f * g.finger_width_m || std::fabs(z) > 0.5f * g.finger_depth_m) continue;
-    int side = -1;
-    if (x <= -0.5f * width + cfg_.contact_band_m) side = 0;
-    else if (x >= 0.5f * width - cfg_.contact_band_m) side = 1;
-    if (side < 0) continue;
-    Vec3 nrm;
-    if (!normal_at(i, nrm)) continue;
-    // Surfaces facing the approach are what the pads slide along, not what they
-    // squeeze (a side the sensors did not see leaves only its front edge in the band).
-    if (std::fabs(nrm.dot(f.Z)) > kFrontFacingCos) continue;
-    ++total[side];
-    pass[side] += std::fabs(nrm.dot(f.X)) >= cos_cone ? 1u : 0u;
-  }
-  // A corner or edge contact has (nearly) no normal inside the cone; noisy normals on
-  // small faces still have a good share inside.
-  for (int s = 0; s < 2; ++s)
-    if (total[s] >= 3 && 3 * pass[s] < total[s]) return false;
-  return true;
 }
 
 void Planner::fill_grasp(const Candidate& c, PlanResult& out) {
