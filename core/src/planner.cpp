@@ -483,6 +483,9 @@ bool Planner::xoz(const ViewFrame& f, const SideFit& w, Candidate& c) {
   c.rank = w.rank;
   c.balanced = w.beta <= cfg_.beta_max_rad;
   c.position = centroid_ + f.X * (0.5f * (xmin + xmax)) + f.Y * yc + f.Z * pos_z;
+  c.X = f.X;
+  c.Y = f.Y;
+  c.Z = f.Z;
   return c.position.allFinite() && std::isfinite(c.dz);
 }
 
@@ -501,7 +504,7 @@ uint32_t Planner::rank_and_check(uint32_t first, PlanResult& out) {
     return a < b;
   });
   for (uint32_t i = 0; i < m; ++i) {
-    const Candidate& c = candidates_[order_[i]];
+    Candidate& c = candidates_[order_[i]];
     if (!cfg_.executability_checks || executable(c, out)) return order_[i];
   }
   return kMaxCandidates;
@@ -512,8 +515,8 @@ void Planner::fill_grasp(const Candidate& c, PlanResult& out) {
   chosen_view_ = static_cast<int32_t>(c.view);
   Grasp& g = out.grasp;
   g.position = c.position;
-  g.approach = v.Z.normalized();
-  g.closing = v.X.normalized();
+  g.approach = c.Z.normalized();
+  g.closing = c.X.normalized();
   g.width = c.width;
   g.beta = c.beta;
   g.dz = c.dz;

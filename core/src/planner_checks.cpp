@@ -1,6 +1,7 @@
 // Planner: the executability checks of a ranked candidate (algorithm.md F and G,
 // docs/method.md): support plane, collision, the target's local hull, visibility and
 // the friction cone of the contact normals.
+#include <algorithm>
 #include <cmath>
 
 #include "fg/core/eigen_sym3.hpp"
@@ -17,10 +18,14 @@ constexpr float kHullNeighbourhood = 0.01f;
 // finger may have this share of its samples hidden (edges of silhouettes blur).
 constexpr float kSightMargin = 0.01f;
 constexpr float kMaxHiddenShare = 0.2f;
+// The largest turn of the closing direction towards the contact normals (rad).
+constexpr float kMaxClosingTurn = 0.6f;
 }  // namespace
 
-bool Planner::executable(const Candidate& c, PlanResult& out) {
-  const ViewRecord& v = views_[c.view];
+// The checks in order; returns 0 when all pass, else the number of the first failing
+// one: 1 support plane, 2 collision, 3 local hull, 4 visibility, 5 friction.
+int Planner::first_failed_check(const Candidate& c) {
+  const ViewFrame f{c.X, c.Y, c.Z};
   const GripperGeometry& g = cfg_.gripper;
   const float half_open = 0.5f * g.max_opening_m, t = g.finger_thickness_m;
   const float half_fd = 0.5f * g.finger_depth_m;
@@ -40,12 +45,9 @@ bool Planner::executable(const Candidate& c, PlanResult& out) {
   // Support plane: every corner above it.
   for (const Box& b : boxes)
     for (int k = 0; k < 8; ++k) {
-      const Vec3 p = c.position + v.X * ((k & 1) ? b.x1 : b.x0) + v.Y * ((k & 2) ? b.y1 : b.y0) +
-                     v.Z * ((k & 4) ? b.z1 : b.z0);
-      if (plane_.height(p) < cfg_.table_clearance_m - 1e-4f) {
-        ++out.rejected.table;
-        return false;
-      }
+      const Vec3 p = c.position + f.X * ((k & 1) ? b.x1 : b.x0) + f.Y * ((k & 2) ? b.y1 : b.y0) +
+                     f.Z * ((k & 4) ? b.z1 : b.z0);
+      if (plane_.height(p) < cfg_.table_clearance_m - 1e-4f) return 1;
     }
   // Every voxel that is not table (the target and its neighbours) stays out of the boxes.
   const float tol = cfg_.collision_tolerance_m;
@@ -53,34 +55,103 @@ bool Planner::executable(const Candidate& c, PlanResult& out) {
   for (uint32_t i = 0; i < nv; ++i) {
     if (state_[i] == kVoxelRemoved) continue;
     const Vec3 d = centroids_[i] - c.position;
-    const float x = v.X.dot(d), y = v.Y.dot(d), z = v.Z.dot(d);
+    const float x = f.X.dot(d), y = f.Y.dot(d), z = f.Z.dot(d);
     for (const Box& b : boxes) {
       if (x > b.x0 + tol && x < b.x1 - tol && y > b.y0 + tol && y < b.y1 - tol && z > b.z0 + tol &&
-          z < b.z1 - tol) {
-        ++out.rejected.collision;
-        return false;
-      }
+          z < b.z1 - tol)
+        return 2;
     }
   }
   // The fingers at the open pose stay out of the target's local convex hull: surface
   // points alone miss a finger that would sit inside the solid (a cap grasp on a big
   // sphere), and the hull of the points around the hand fills in the unseen interior.
-  if (!fingers_clear_of_hull(c.position, ViewFrame{v.X, v.Y, v.Z})) {
-    ++out.rejected.collision;
-    return false;
-  }
+  if (!fingers_clear_of_hull(c.position, f)) return 3;
   // The open fingers must not sit in space the sensors saw only from behind a surface.
-  if (!fingers_in_seen_space(c.position, ViewFrame{v.X, v.Y, v.Z})) {
-    ++out.rejected.occluded;
-    return false;
-  }
+  if (!fingers_in_seen_space(c.position, f)) return 4;
   // Each fitted side's normal within the cone in XOY (beta alone only compares the two
   // sides), and the contact normals in 3D.
-  if (cfg_.friction_mu > 0.f &&
-      (!c.sides_in_cone || !friction_ok(c.position, ViewFrame{v.X, v.Y, v.Z}, c.width))) {
-    ++out.rejected.friction;
-    return false;
+  if (cfg_.friction_mu > 0.f && (!c.sides_in_cone || !friction_ok(c.position, f, c.width))) return 5;
+  return 0;
+}
+
+bool Planner::executable(Candidate& c, PlanResult& out) {
+  const int failed = first_failed_check(c);
+  if (failed == 0) return true;
+  // A contact a little outside the cone (closing across a prism's diagonal, a tilted
+  // handle): turn the closing direction about the approach towards the contact
+  // normals, and check the turned grasp from the start.
+  if (failed == 5) {
+    Candidate turned = c;
+    if (refine_closing(turned) && first_failed_check(turned) == 0) {
+      c = turned;
+      return true;
+    }
   }
+  switch (failed) {
+    case 1: ++out.rejected.table; break;
+    case 2:
+    case 3: ++out.rejected.collision; break;
+    case 4: ++out.rejected.occluded; break;
+    default: ++out.rejected.friction; break;
+  }
+  return false;
+}
+
+// Mean outward contact normal of each pad's region (left: towards -X, right: +X),
+// from the point normals that do not face the approach. False when either side has
+// fewer than three.
+bool Planner::mean_contact_normals(const Vec3& pos, const ViewFrame& f, float width, Vec3 mean[2]) {
+  const GripperGeometry& g = cfg_.gripper;
+  uint32_t count[2] = {0, 0};
+  mean[0] = mean[1] = Vec3::Zero();
+  const uint32_t n = object_.size();
+  for (uint32_t i = 0; i < n; ++i) {
+    const Vec3 d = object_[i] - pos;
+    const float x = f.X.dot(d), y = f.Y.dot(d), z = f.Z.dot(d);
+    if (std::fabs(y) > 0.5f * g.finger_width_m || std::fabs(z) > 0.5f * g.finger_depth_m) continue;
+    int side = -1;
+    if (x <= -0.5f * width + cfg_.contact_band_m) side = 0;
+    else if (x >= 0.5f * width - cfg_.contact_band_m) side = 1;
+    Vec3 nrm;
+    if (side < 0 || !normal_at(i, nrm) || std::fabs(nrm.dot(f.Z)) > kFrontFacingCos) continue;
+    const float sign = (side == 0) == (nrm.dot(f.X) < 0.f) ? 1.f : -1.f;
+    mean[side] += nrm * sign;
+    ++count[side];
+  }
+  return count[0] >= 3 && count[1] >= 3;
+}
+
+// Closing along the contact normals' mean direction, kept orthogonal to the approach,
+// when that turn is small (at most kMaxClosingTurn); the width and centre are measured
+// again along the new closing direction from the points within the pads' reach.
+bool Planner::refine_closing(Candidate& c) {
+  Vec3 mean[2];
+  if (!mean_contact_normals(c.position, ViewFrame{c.X, c.Y, c.Z}, c.width, mean)) return false;
+  Vec3 x = mean[1] - mean[0];
+  x -= c.Z * c.Z.dot(x);
+  const float len = x.norm();
+  if (!(len > 1e-6f)) return false;
+  x /= len;
+  if (x.dot(c.X) < std::cos(kMaxClosingTurn)) return false;
+  const Vec3 y = c.Z.cross(x);
+  const GripperGeometry& g = cfg_.gripper;
+  float xmin = 1e9f, xmax = -1e9f;
+  const uint32_t n = object_.size();
+  for (uint32_t i = 0; i < n; ++i) {
+    const Vec3 d = object_[i] - c.position;
+    if (std::fabs(y.dot(d)) > 0.5f * g.finger_width_m || std::fabs(c.Z.dot(d)) > 0.5f * g.finger_depth_m)
+      continue;
+    const float px = x.dot(d);
+    xmin = std::min(xmin, px);
+    xmax = std::max(xmax, px);
+  }
+  if (!(xmax >= xmin)) return false;
+  const float width = xmax - xmin;
+  if (width < g.min_opening_m || width > g.max_opening_m - cfg_.width_margin_m) return false;
+  c.position += x * (0.5f * (xmin + xmax));
+  c.X = x;
+  c.Y = y;
+  c.width = width;
   return true;
 }
 

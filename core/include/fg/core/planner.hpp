@@ -139,6 +139,7 @@ class Planner {
     uint32_t view;
     float beta, dz, width, rank;
     Vec3 position;  //!< world
+    Vec3 X, Y, Z;   //!< grasp frame (closing, across, approach): the viewpoint's, or refined
     bool balanced;  //!< beta <= beta_max
     bool sides_in_cone;  //!< both fitted sides within atan(mu) of the closing normal (XOY)
   };
@@ -156,7 +157,10 @@ class Planner {
   void project(const ViewFrame& f);
   bool seen_from_a_sensor(const Vec3& approach) const;
   bool xoz(const ViewFrame& f, const SideFit& w, Candidate& c);
-  bool executable(const Candidate& c, PlanResult& out);
+  bool executable(Candidate& c, PlanResult& out);
+  int first_failed_check(const Candidate& c);
+  bool refine_closing(Candidate& c);
+  bool mean_contact_normals(const Vec3& pos, const ViewFrame& f, float width, Vec3 mean[2]);
   bool friction_ok(const Vec3& pos, const ViewFrame& f, float width);
   bool fingers_clear_of_hull(const Vec3& pos, const ViewFrame& f);
   bool fingers_in_seen_space(const Vec3& pos, const ViewFrame& f);
