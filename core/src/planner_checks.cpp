@@ -97,13 +97,16 @@ bool Planner::executable(Candidate& c, PlanResult& out) {
   return false;
 }
 
-// Mean outward contact normal of each pad's region (left: towards -X, right: +X),
-// from the point normals that do not face the approach. False when either side has
-// fewer than three.
-bool Planner::mean_contact_normals(const Vec3& pos, const ViewFrame& f, float width, Vec3 mean[2]) {
+// One pass over each pad's contact points (the band inside each side, within the
+// pad's footprint) with a defined normal that does not face the approach: surfaces
+// facing the approach are what the pads slide along, not what they squeeze (a side
+// the sensors did not see leaves only its front edge in the band). Per side: how many,
+// how many inside the friction cone, and the sum of the outward normals.
+void Planner::contact_normal_stats(const Vec3& pos, const ViewFrame& f, float width,
+                                   ContactNormalStats& st) {
   const GripperGeometry& g = cfg_.gripper;
-  uint32_t count[2] = {0, 0};
-  mean[0] = mean[1] = Vec3::Zero();
+  const float cos_cone = std::cos(std::atan(cfg_.friction_mu));
+  st = ContactNormalStats{};
   const uint32_t n = object_.size();
   for (uint32_t i = 0; i < n; ++i) {
     const Vec3 d = object_[i] - pos;
@@ -114,20 +117,23 @@ bool Planner::mean_contact_normals(const Vec3& pos, const ViewFrame& f, float wi
     else if (x >= 0.5f * width - cfg_.contact_band_m) side = 1;
     Vec3 nrm;
     if (side < 0 || !normal_at(i, nrm) || std::fabs(nrm.dot(f.Z)) > kFrontFacingCos) continue;
-    const float sign = (side == 0) == (nrm.dot(f.X) < 0.f) ? 1.f : -1.f;
-    mean[side] += nrm * sign;
-    ++count[side];
+    const float along = nrm.dot(f.X);
+    ++st.total[side];
+    st.inside_cone[side] += std::fabs(along) >= cos_cone ? 1u : 0u;
+    st.outward_sum[side] += (side == 0) == (along < 0.f) ? nrm : Vec3(-nrm);
   }
-  return count[0] >= 3 && count[1] >= 3;
 }
 
 // Closing along the contact normals' mean direction, kept orthogonal to the approach,
 // when that turn is small (at most kMaxClosingTurn); the width and centre are measured
-// again along the new closing direction from the points within the pads' reach.
+// again along the turned closing direction from the points within the pads' reach.
 bool Planner::refine_closing(Candidate& c) {
-  Vec3 mean[2];
-  if (!mean_contact_normals(c.position, ViewFrame{c.X, c.Y, c.Z}, c.width, mean)) return false;
-  Vec3 x = mean[1] - mean[0];
+  ContactNormalStats st;
+  contact_normal_stats(c.position, ViewFrame{c.X, c.Y, c.Z}, c.width, st);
+  if (st.total[0] < 3 || st.total[1] < 3) return false;
+  // Along the mean outward normals: from the left contact's towards the right's.
+  Vec3 x = st.outward_sum[1] / static_cast<float>(st.total[1]) -
+           st.outward_sum[0] / static_cast<float>(st.total[0]);
   x -= c.Z * c.Z.dot(x);
   const float len = x.norm();
   if (!(len > 1e-6f)) return false;
@@ -256,33 +262,13 @@ bool Planner::normal_at(uint32_t oi, Vec3& nrm) {
 }
 
 // Contact normals inside the friction cone: at least a third of each pad's contact
-// points with a defined normal have |n . closing| >= cos(atan(mu)). Corner and edge
-// contacts fail; faces and rounded sides pass (algorithm.md G).
+// normals have |n . closing| >= cos(atan(mu)). Corner and edge contacts fail (nearly
+// none inside); faces and rounded sides pass, noisy normals on small faces too.
 bool Planner::friction_ok(const Vec3& pos, const ViewFrame& f, float width) {
-  const GripperGeometry& g = cfg_.gripper;
-  const float cos_cone = std::cos(std::atan(cfg_.friction_mu));
-  const uint32_t n = object_.size();
-  uint32_t pass[2] = {0, 0}, total[2] = {0, 0};
-  for (uint32_t i = 0; i < n; ++i) {
-    const Vec3 d = object_[i] - pos;
-    const float x = f.X.dot(d), y = f.Y.dot(d), z = f.Z.dot(d);
-    if (std::fabs(y) > 0.5f * g.finger_width_m || std::fabs(z) > 0.5f * g.finger_depth_m) continue;
-    int side = -1;
-    if (x <= -0.5f * width + cfg_.contact_band_m) side = 0;
-    else if (x >= 0.5f * width - cfg_.contact_band_m) side = 1;
-    if (side < 0) continue;
-    Vec3 nrm;
-    if (!normal_at(i, nrm)) continue;
-    // Surfaces facing the approach are what the pads slide along, not what they
-    // squeeze (a side the sensors did not see leaves only its front edge in the band).
-    if (std::fabs(nrm.dot(f.Z)) > kFrontFacingCos) continue;
-    ++total[side];
-    pass[side] += std::fabs(nrm.dot(f.X)) >= cos_cone ? 1u : 0u;
-  }
-  // A corner or edge contact has (nearly) no normal inside the cone; noisy normals on
-  // small faces still have a good share inside.
+  ContactNormalStats st;
+  contact_normal_stats(pos, f, width, st);
   for (int s = 0; s < 2; ++s)
-    if (total[s] >= 3 && 3 * pass[s] < total[s]) return false;
+    if (st.total[s] >= 3 && 3 * st.inside_cone[s] < st.total[s]) return false;
   return true;
 }
 

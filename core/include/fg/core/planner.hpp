@@ -160,7 +160,12 @@ class Planner {
   bool executable(Candidate& c, PlanResult& out);
   int first_failed_check(const Candidate& c);
   bool refine_closing(Candidate& c);
-  bool mean_contact_normals(const Vec3& pos, const ViewFrame& f, float width, Vec3 mean[2]);
+  struct ContactNormalStats {
+    uint32_t total[2] = {0, 0};        //!< left, right
+    uint32_t inside_cone[2] = {0, 0};
+    Vec3 outward_sum[2] = {Vec3::Zero(), Vec3::Zero()};
+  };
+  void contact_normal_stats(const Vec3& pos, const ViewFrame& f, float width, ContactNormalStats& st);
   bool friction_ok(const Vec3& pos, const ViewFrame& f, float width);
   bool fingers_clear_of_hull(const Vec3& pos, const ViewFrame& f);
   bool fingers_in_seen_space(const Vec3& pos, const ViewFrame& f);
