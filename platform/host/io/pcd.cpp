@@ -472,14 +472,7 @@ ReadResult read_file_bytes(const std::string& path, std::vector<uint8_t>& out, u
 
 ReadResult parse_pcd(const uint8_t* data, size_t size, const std::string& name, PointCloud& out,
                      const ReadLimits& limits) {
-  if (data == nullptr && size != 0) return fail(name, "no data");
-  try {
-    return parse_pcd_impl(data, size, name, out, limits);
-  } catch (const std::bad_alloc&) {
-    return fail(name, "out of memory while reading the cloud");
-  } catch (const std::exception& e) {
-    return fail(name, std::string("unexpected error: ") + e.what());
-  }
+  return text::guarded_parse(data, size, name, [&] { return parse_pcd_impl(data, size, name, out, limits); });
 }
 
 ReadResult read_pcd(const std::string& path, PointCloud& out, const ReadLimits& limits) {

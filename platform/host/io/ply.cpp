@@ -398,14 +398,7 @@ ReadResult parse_ply_impl(const uint8_t* data, size_t size, const std::string& n
 
 ReadResult parse_ply(const uint8_t* data, size_t size, const std::string& name, PointCloud& out,
                      const ReadLimits& limits) {
-  if (data == nullptr && size != 0) return fail(name, "no data");
-  try {
-    return parse_ply_impl(data, size, name, out, limits);
-  } catch (const std::bad_alloc&) {
-    return fail(name, "out of memory while reading the cloud");
-  } catch (const std::exception& e) {
-    return fail(name, std::string("unexpected error: ") + e.what());
-  }
+  return text::guarded_parse(data, size, name, [&] { return parse_ply_impl(data, size, name, out, limits); });
 }
 
 ReadResult read_ply(const std::string& path, PointCloud& out, const ReadLimits& limits) {

@@ -6,6 +6,8 @@
 #include <charconv>
 #include <cstdint>
 #include <cstdlib>
+#include <exception>
+#include <new>
 #include <limits>
 #include <string>
 #include <string_view>
@@ -97,5 +99,19 @@ inline float to_float(double d) {
 }
 
 inline bool mul_ok(uint64_t a, uint64_t b, uint64_t& r) { return !__builtin_mul_overflow(a, b, &r); }
+
+//! Runs a reader's parse on bytes in memory: a null buffer, an allocation failure or any
+//! other exception becomes an error naming `name`, never an escape.
+template <typename Parse>
+ReadResult guarded_parse(const uint8_t* data, size_t size, const std::string& name, Parse&& parse) {
+  if (data == nullptr && size != 0) return fail(name, "no data");
+  try {
+    return parse();
+  } catch (const std::bad_alloc&) {
+    return fail(name, "out of memory while reading the cloud");
+  } catch (const std::exception& e) {
+    return fail(name, std::string("unexpected error: ") + e.what());
+  }
+}
 
 }  // namespace fg::host::text
