@@ -306,70 +306,63 @@ void Planner::project(const ViewFrame& f) {
   }
 }
 
-Status Planner::analyze_view(uint32_t view_index, ViewDetail& out) {
-  if (view_index >= n_views_) return Status::invalid_argument;
-  const ViewRecord& v = views_[view_index];
-  const ViewFrame f{v.X, v.Y, v.Z};
+// D.1-D.8 for one viewpoint: projection, concave hull, scan lines, width filter and the
+// best windows (at most max_windows, best first). Shared by the plan and the pictures.
+Status Planner::silhouette_windows(const ViewFrame& f, Vec2* contour, uint32_t& n_contour,
+                                   ScanLine* lines, uint32_t& n_lines, SideFit* windows,
+                                   uint32_t max_windows, uint32_t& n_windows) {
+  n_contour = n_lines = n_windows = 0;
   project(f);
-  const uint32_t n = object_.size();
-  for (uint32_t i = 0; i < n; ++i) out.points[i] = proj_[i];
-  out.n_points = n;
   ConcaveHullParams hp;
   hp.cell_m = cfg_.hull_cell_m;
   hp.closing_cells = cfg_.hull_closing_cells;
   float cell = 0.f;
   bool inside = false;
-  const Status s = concave_hull_2d(proj_, n, hp, hull_scratch_, out.contour, kMaxContourVertices,
-                                   out.n_contour, cell, inside);
-  if (s != Status::ok) return s;
-  float ymin = 0.f, ymax = 0.f;
-  for (uint32_t i = 0; i < out.n_contour; ++i) {
-    ymin = i == 0 ? out.contour[i].y : std::min(ymin, out.contour[i].y);
-    ymax = i == 0 ? out.contour[i].y : std::max(ymax, out.contour[i].y);
+  const Status s = concave_hull_2d(proj_, object_.size(), hp, hull_scratch_, contour,
+                                   kMaxContourVertices, n_contour, cell, inside);
+  if (s != Status::ok || n_contour < 3) return s;
+  float ymin = contour[0].y, ymax = contour[0].y;
+  for (uint32_t i = 1; i < n_contour; ++i) {
+    ymin = std::min(ymin, contour[i].y);
+    ymax = std::max(ymax, contour[i].y);
   }
   float delta = cfg_.scan_delta_m;
-  out.n_lines = build_scan_lines(out.contour, out.n_contour, ymin, ymax, cfg_.scan_delta_m,
-                                 out.lines, kMaxScanLines, delta);
-  mark_graspable(out.lines, out.n_lines, cfg_.gripper.min_opening_m,
+  n_lines = build_scan_lines(contour, n_contour, ymin, ymax, cfg_.scan_delta_m, lines,
+                             kMaxScanLines, delta);
+  mark_graspable(lines, n_lines, cfg_.gripper.min_opening_m,
                  cfg_.gripper.max_opening_m - cfg_.width_margin_m);
-  const uint32_t k = static_cast<uint32_t>(std::ceil(cfg_.gripper.finger_width_m / delta - 1e-4f));
-  out.has_best = best_windows(out.lines, out.n_lines, cfg_.dx_threshold_m, k < 2 ? 2 : k, 0.f,
-                              cfg_.centre_weight, &out.best, 1) > 0;
+  // k = ceil(finger_width / delta) lines per window (delta may have grown to fit).
+  uint32_t k = static_cast<uint32_t>(std::ceil(cfg_.gripper.finger_width_m / delta - 1e-4f));
+  if (k < 2) k = 2;
+  n_windows = best_windows(lines, n_lines, cfg_.dx_threshold_m, k, 0.f, cfg_.centre_weight,
+                           windows, max_windows);
   return Status::ok;
 }
 
-void Planner::analyse_views(uint32_t first, uint32_t last, PlanResult& out) {
-  ConcaveHullParams hp;
-  hp.cell_m = cfg_.hull_cell_m;
-  hp.closing_cells = cfg_.hull_closing_cells;
+Status Planner::analyze_view(uint32_t view_index, ViewDetail& out) {
+  if (view_index >= n_views_) return Status::invalid_argument;
+  const ViewRecord& v = views_[view_index];
+  uint32_t n_windows = 0;
+  const Status s = silhouette_windows(ViewFrame{v.X, v.Y, v.Z}, out.contour, out.n_contour,
+                                      out.lines, out.n_lines, &out.best, 1, n_windows);
   const uint32_t n = object_.size();
+  for (uint32_t i = 0; i < n; ++i) out.points[i] = proj_[i];
+  out.n_points = n;
+  out.has_best = n_windows > 0;
+  return s;
+}
+
+void Planner::analyse_views(uint32_t first, uint32_t last, PlanResult& out) {
   for (uint32_t vi = first; vi < last; ++vi) {
     ViewRecord& v = views_[vi];
     const ViewFrame f{v.X, v.Y, v.Z};
     uint32_t n_windows = 0;
-    float delta = cfg_.scan_delta_m;
     {
       StageTimer t(stage(out, Stage::xoy));
-      project(f);
-      uint32_t nc = 0;
-      float cell = 0.f;
-      bool inside = false;
-      if (concave_hull_2d(proj_, n, hp, hull_scratch_, contour_, kMaxContourVertices, nc, cell,
-                          inside) != Status::ok || nc < 3)
+      uint32_t nc = 0, nl = 0;
+      if (silhouette_windows(f, contour_, nc, lines_, nl, windows_, cfg_.candidates_per_view,
+                             n_windows) != Status::ok)
         continue;
-      float ymin = contour_[0].y, ymax = contour_[0].y;
-      for (uint32_t i = 1; i < nc; ++i) {
-        ymin = std::min(ymin, contour_[i].y);
-        ymax = std::max(ymax, contour_[i].y);
-      }
-      const uint32_t nl =
-          build_scan_lines(contour_, nc, ymin, ymax, cfg_.scan_delta_m, lines_, kMaxScanLines, delta);
-      mark_graspable(lines_, nl, cfg_.gripper.min_opening_m,
-                     cfg_.gripper.max_opening_m - cfg_.width_margin_m);
-      uint32_t k = static_cast<uint32_t>(std::ceil(cfg_.gripper.finger_width_m / delta - 1e-4f));
-      if (k < 2) k = 2;
-      n_windows = best_windows(lines_, nl, cfg_.dx_threshold_m, k, 0.f, cfg_.centre_weight,
-                               windows_, cfg_.candidates_per_view);
     }
     StageTimer t(stage(out, Stage::xoz));
     for (uint32_t w = 0; w < n_windows && n_candidates_ < kMaxCandidates; ++w) {
@@ -480,7 +473,6 @@ bool Planner::xoz(const ViewFrame& f, const SideFit& w, Candidate& c) {
                     (std::fabs(w.a_left) <= cfg_.friction_mu && std::fabs(w.a_right) <= cfg_.friction_mu);
   c.width = width;
   c.beta = w.beta;
-  c.rank = w.rank;
   c.balanced = w.beta <= cfg_.beta_max_rad;
   c.position = centroid_ + f.X * (0.5f * (xmin + xmax)) + f.Y * yc + f.Z * pos_z;
   c.X = f.X;

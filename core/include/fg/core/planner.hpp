@@ -137,7 +137,7 @@ class Planner {
  private:
   struct Candidate {
     uint32_t view;
-    float beta, dz, width, rank;
+    float beta, dz, width;
     Vec3 position;  //!< world
     Vec3 X, Y, Z;   //!< grasp frame (closing, across, approach): the viewpoint's, or refined
     bool balanced;  //!< beta <= beta_max
@@ -155,6 +155,9 @@ class Planner {
                       bool skip_arc, float arc_from, float arc_to);
   void analyse_views(uint32_t first, uint32_t last, PlanResult& out);
   void project(const ViewFrame& f);
+  Status silhouette_windows(const ViewFrame& f, Vec2* contour, uint32_t& n_contour, ScanLine* lines,
+                            uint32_t& n_lines, SideFit* windows, uint32_t max_windows,
+                            uint32_t& n_windows);
   bool seen_from_a_sensor(const Vec3& approach) const;
   bool xoz(const ViewFrame& f, const SideFit& w, Candidate& c);
   bool executable(Candidate& c, PlanResult& out);
@@ -173,7 +176,6 @@ class Planner {
   bool normal_at(uint32_t object_index, Vec3& n);
   uint32_t rank_and_check(uint32_t first_candidate, PlanResult& out);
   void fill_grasp(const Candidate& c, PlanResult& out);
-  float view_theta_step() const;
 
   PlannerConfig cfg_;
   const char* message_ = "";
