@@ -6,7 +6,7 @@
 #define FG_LIMITS_H
 
 #define FG_MAX_VOXELS 98304u          /* occupied voxels of the merged cloud */
-#define FG_VOXEL_HASH_SLOTS 262144u   /* open-addressing slots, a power of two > 2x voxels */
+#define FG_VOXEL_HASH_SLOTS 131072u   /* open-addressing slots, a power of two >= 4/3 x voxels */
 #define FG_MAX_OBJECT_POINTS 16384u   /* voxel centroids of the target object */
 #define FG_HULL_GRID_DIM 256u         /* silhouette raster is at most DIM x DIM cells */
 #define FG_MAX_CONTOUR_VERTICES 4096u /* concave hull polygon */
@@ -15,5 +15,7 @@
 #define FG_MAX_CANDIDATES 512u        /* ranked grasp candidates kept for the checks */
 #define FG_RANSAC_MAX_ITERS 1024u     /* upper bound of the configured iteration count */
 #define FG_MAX_SENSORS 2u             /* head and hand */
+#define FG_SIGHT_BINS 256u            /* nearest-return direction bins per axis, per sensor */
+#define FG_VOXEL_CACHE_BITS 12u       /* 2^bits recent cells cached by the ingest loop */
 
 #endif

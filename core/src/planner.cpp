@@ -97,29 +97,34 @@ Status Planner::plan(PlanResult& out) {
   // A.5 support plane
   {
     StageTimer t(stage(out, Stage::plane));
-    for (uint32_t i = 0; i < nv; ++i) centroids_[i] = grid_.centroid(i);
+    grid_.finalize();  // sums become centroids; no more points until reset()
+    const Vec3* centroids = grid_.centroids();
     PlaneParams pp;
     pp.distance_m = cfg_.plane_distance_m;
     pp.iterations = cfg_.ransac_iterations;
     pp.seed = cfg_.ransac_seed;
     pp.max_tilt_rad = cfg_.plane_max_tilt_rad;
     uint32_t inl = 0;
-    plane_found_ = ransac_plane(centroids_, nv, pp, plane_, inl);
+    plane_found_ = ransac_plane(centroids, nv, pp, plane_, inl);
     if (!plane_found_) {
       // No support plane in view: nothing is removed, and the lowest point stands in
       // for the floor in the clearance checks.
-      float zmin = centroids_[0].z();
-      for (uint32_t i = 1; i < nv; ++i) zmin = std::min(zmin, centroids_[i].z());
+      float zmin = centroids[0].z();
+      for (uint32_t i = 1; i < nv; ++i) zmin = std::min(zmin, centroids[i].z());
       plane_.n = Vec3::UnitZ();
       plane_.d = -zmin;
     }
     uint32_t removed = 0;
     for (uint32_t i = 0; i < nv; ++i) {
-      const bool table = plane_found_ && plane_.height(centroids_[i]) < cfg_.object_min_height_m;
+      const bool table = plane_found_ && plane_.height(centroids[i]) < cfg_.object_min_height_m;
       state_[i] = table ? kVoxelRemoved : kVoxelFree;
       removed += table ? 1u : 0u;
     }
     counts_.plane = removed;
+    // Neighbour searches from here on (clustering, normals) look for object voxels
+    // only: take the support plane out of the hash.
+    static_assert(kVoxelRemoved == 0, "state_ doubles as the keep flags");
+    if (removed > 0) grid_.keep_in_index_only(state_);
   }
 
   // A.6 target cluster
@@ -131,8 +136,10 @@ Status Planner::plan(PlanResult& out) {
     cp.centre_x = cfg_.workspace_centre_x_m;
     cp.centre_y = cfg_.workspace_centre_y_m;
     cp.rule = cfg_.target_rule;
+    // The breadth-first queue borrows the voxel count storage, idle after finalize().
+    uint32_t* queue = grid_.lend_count_storage();
     const ClusterResult cr =
-        cluster_and_pick(grid_, state_, queue_, cp, object_voxel_, kMaxObjectPoints);
+        cluster_and_pick(grid_, state_, queue, cp, object_voxel_, kMaxObjectPoints);
     if (cr.target_size == 0)
       return finish(Status::no_grasp, NoGraspReason::no_object,
                     plane_found_ ? "no cluster large enough stands on the support plane"
@@ -141,7 +148,7 @@ Status Planner::plan(PlanResult& out) {
       return finish(Status::capacity_exceeded, NoGraspReason::none,
                     "the target object has more voxels than the build's FG_MAX_OBJECT_POINTS");
     for (uint32_t i = 0; i < cr.target_size; ++i) {
-      (void)object_.push(centroids_[object_voxel_[i]]);
+      (void)object_.push(grid_.centroid(object_voxel_[i]));
       normal_state_[i] = 0;
     }
     counts_.object = cr.target_size;

@@ -52,9 +52,10 @@ int Planner::first_failed_check(const Candidate& c) {
   // Every voxel that is not table (the target and its neighbours) stays out of the boxes.
   const float tol = cfg_.collision_tolerance_m;
   const uint32_t nv = grid_.size();
+  const Vec3* centroids = grid_.centroids();
   for (uint32_t i = 0; i < nv; ++i) {
     if (state_[i] == kVoxelRemoved) continue;
-    const Vec3 d = centroids_[i] - c.position;
+    const Vec3 d = centroids[i] - c.position;
     const float x = f.X.dot(d), y = f.Y.dot(d), z = f.Z.dot(d);
     for (const Box& b : boxes) {
       if (x > b.x0 + tol && x < b.x1 - tol && y > b.y0 + tol && y < b.y1 - tol && z > b.z0 + tol &&
@@ -247,7 +248,7 @@ bool Planner::normal_at(uint32_t oi, Vec3& nrm) {
         const uint32_t j = grid_.find(VoxelGrid::pack(static_cast<uint32_t>(x + dx),
                                                       static_cast<uint32_t>(y + dy),
                                                       static_cast<uint32_t>(z + dz)));
-        if (j != VoxelGrid::kNone && state_[j] == kVoxelTarget) pts[m++] = centroids_[j];
+        if (j != VoxelGrid::kNone && state_[j] == kVoxelTarget) pts[m++] = grid_.centroid(j);
       }
   if (m < 5) return false;
   Vec3 c, ev;

@@ -73,6 +73,10 @@ Status Planner::ingest_begin(SensorRole role, const Pose& world_T_sensor) {
     message_ = "this sensor role was already added since reset()";
     return Status::invalid_sensor;
   }
+  if (grid_.finalized()) {
+    message_ = "sensor data added after plan(): call reset() to start a new capture";
+    return Status::invalid_sequence;
+  }
   const Status s = check_pose(world_T_sensor);
   if (s != Status::ok) return s;
   role_added_[r] = true;

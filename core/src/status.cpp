@@ -12,6 +12,7 @@ const char* to_string(Status s) {
     case Status::invalid_config: return "invalid_config";
     case Status::no_input: return "no_input";
     case Status::invalid_sensor: return "invalid_sensor";
+    case Status::invalid_sequence: return "invalid_sequence";
     case Status::capacity_exceeded: return "capacity_exceeded";
     case Status::numeric_failure: return "numeric_failure";
     case Status::internal_error: return "internal_error";

@@ -6,23 +6,28 @@ void VoxelGrid::reset(const Vec3& origin, float leaf_m) {
   origin_ = origin;
   leaf_ = leaf_m;
   inv_leaf_ = 1.0f / leaf_m;
-  if (!initialised_) {
-    for (uint32_t s = 0; s < kVoxelHashSlots; ++s) slots_[s] = Slot{0u, 0u};
+  slot_bits_ = kSlotBits;
+  slot_mask_ = kVoxelHashSlots - 1;
+  if (!initialised_ || index_pruned_) {
+    for (uint32_t s = 0; s < kVoxelHashSlots; ++s) slots_[s] = 0u;
   } else {
     // Clear only the slots in use, so a reset costs O(voxels), not O(slots). Each
     // voxel's slot holds its index + 1; probe from its home slot until found.
     for (uint32_t i = 0; i < size_; ++i) {
-      uint32_t s = slot_of(voxels_[i].key);
+      uint32_t s = slot_of(keys_[i]);
       for (uint32_t probe = 0; probe < kVoxelHashSlots; ++probe) {
-        if (slots_[s].index1 == i + 1) {
-          slots_[s].index1 = 0;
+        if ((slots_[s] & kIndexMask) == i + 1) {
+          slots_[s] = 0;
           break;
         }
-        s = (s + 1) & (kVoxelHashSlots - 1);
+        s = (s + 1) & slot_mask_;
       }
     }
   }
   initialised_ = true;
+  finalized_ = false;
+  counts_lent_ = false;
+  index_pruned_ = false;
   size_ = 0;
   for (uint32_t i = 0; i < (1u << kCacheBits); ++i) {
     cache_key_[i] = 0xFFFFFFFFu;
@@ -32,39 +37,81 @@ void VoxelGrid::reset(const Vec3& origin, float leaf_m) {
 
 uint32_t VoxelGrid::find(uint32_t key) const {
   uint32_t s = slot_of(key);
+  const uint32_t tag = tag_of(key);
   for (uint32_t probe = 0; probe < kVoxelHashSlots; ++probe) {
-    const Slot& sl = slots_[s];
-    if (sl.index1 == 0) return kNone;
-    if (sl.key == key) return sl.index1 - 1;
-    s = (s + 1) & (kVoxelHashSlots - 1);
+    const uint32_t slot = slots_[s];
+    if (slot == 0) return kNone;
+    const uint32_t index = (slot & kIndexMask) - 1;
+    if ((slot & ~kIndexMask) == tag && keys_[index] == key) return index;
+    s = (s + 1) & slot_mask_;
   }
   return kNone;
 }
 
 uint32_t VoxelGrid::find_or_add(uint32_t key) {
   uint32_t s = slot_of(key);
-  // The table is never more than half full (limits.hpp), so an empty slot is near.
+  // The table is never more than 3/4 full (limits.hpp), so an empty slot is near.
+  const uint32_t tag = tag_of(key);
   for (uint32_t probe = 0; probe < kVoxelHashSlots; ++probe) {
-    Slot& sl = slots_[s];
-    if (sl.index1 == 0) {
+    const uint32_t slot = slots_[s];
+    if (slot == 0) {
       if (size_ >= kMaxVoxels) return kNone;
-      voxels_[size_] = Voxel{key, 0u, 0.f, 0.f, 0.f};
-      sl.key = key;
-      sl.index1 = ++size_;
+      keys_[size_] = key;
+      counts_[size_] = 0;
+      sums_[size_] = Vec3::Zero();
+      slots_[s] = tag | ++size_;
       return size_ - 1;
     }
-    if (sl.key == key) return sl.index1 - 1;
-    s = (s + 1) & (kVoxelHashSlots - 1);
+    const uint32_t index = (slot & kIndexMask) - 1;
+    if ((slot & ~kIndexMask) == tag && keys_[index] == key) return index;
+    s = (s + 1) & slot_mask_;
   }
   return kNone;
 }
 
 Vec3 VoxelGrid::centroid(uint32_t i) const {
-  const Voxel& v = voxels_[i];
-  const float inv = 1.0f / static_cast<float>(v.count);
-  return Vec3(origin_.x() + static_cast<float>(key_x(v.key)) * leaf_ + v.sx * inv,
-              origin_.y() + static_cast<float>(key_y(v.key)) * leaf_ + v.sy * inv,
-              origin_.z() + static_cast<float>(key_z(v.key)) * leaf_ + v.sz * inv);
+  if (finalized_) return sums_[i];
+  const float inv = 1.0f / static_cast<float>(counts_[i]);
+  const uint32_t k = keys_[i];
+  return Vec3(origin_.x() + static_cast<float>(key_x(k)) * leaf_ + sums_[i].x() * inv,
+              origin_.y() + static_cast<float>(key_y(k)) * leaf_ + sums_[i].y() * inv,
+              origin_.z() + static_cast<float>(key_z(k)) * leaf_ + sums_[i].z() * inv);
+}
+
+void VoxelGrid::finalize() {
+  if (finalized_) return;
+  for (uint32_t i = 0; i < size_; ++i) sums_[i] = centroid(i);
+  finalized_ = true;
+}
+
+void VoxelGrid::keep_in_index_only(const uint8_t* keep) {
+  // A table sized for the kept voxels (at most half full) stays in the fast caches.
+  uint32_t kept = 0;
+  for (uint32_t i = 0; i < size_; ++i) kept += keep[i] != 0 ? 1u : 0u;
+  uint32_t bits = 6;
+  while (bits < kSlotBits && (1u << bits) < 2u * kept) ++bits;
+  slot_bits_ = bits;
+  slot_mask_ = (1u << bits) - 1u;
+  for (uint32_t s = 0; s <= slot_mask_; ++s) slots_[s] = 0u;
+  for (uint32_t s = 0; s < (1u << kCacheBits); ++s) cache_key_[s] = 0xFFFFFFFFu;
+  index_pruned_ = true;
+  for (uint32_t i = 0; i < size_; ++i) {
+    if (keep[i] == 0) continue;
+    uint32_t s = slot_of(keys_[i]);
+    for (uint32_t probe = 0; probe < kVoxelHashSlots; ++probe) {  // keys are distinct
+      if (slots_[s] == 0) {
+        slots_[s] = tag_of(keys_[i]) | (i + 1);
+        break;
+      }
+      s = (s + 1) & slot_mask_;
+    }
+  }
+}
+
+uint32_t* VoxelGrid::lend_count_storage() {
+  if (!finalized_) return nullptr;
+  counts_lent_ = true;
+  return counts_;
 }
 
 }  // namespace fg

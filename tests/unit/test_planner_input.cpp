@@ -289,6 +289,29 @@ TEST(PlannerInput, SameRoleTwiceAndUnknownRole) {
   EXPECT_EQ(pl->add_points(SensorRole::head, xyz, 1, 12, Pose{}), Status::ok);
 }
 
+// One capture per plan: the grid's sums become centroids in plan(), so more data
+// needs reset() first, and says so.
+TEST(PlannerInput, DataAfterPlanNeedsReset) {
+  auto pl = make_planner();
+  const float xyz[6] = {0.5f, 0.f, 0.8f, 0.51f, 0.f, 0.8f};
+  ASSERT_EQ(pl->add_points(SensorRole::head, xyz, 2, 12, Pose{}), Status::ok);
+  fg::PlanResult r;
+  (void)pl->plan(r);
+  EXPECT_EQ(r.points.voxels, 2u);
+  EXPECT_EQ(pl->add_points(SensorRole::hand, xyz, 2, 12, Pose{}), Status::invalid_sequence);
+  EXPECT_TRUE(nonempty(pl->last_message()));
+  const uint16_t depth[4] = {800, 800, 800, 800};
+  EXPECT_EQ(pl->add_depth_image(SensorRole::hand, depth, 2, 2, fg::PinholeIntrinsics{}, Pose{}),
+            Status::invalid_sequence);
+  // Planning again is allowed and gives the same answer.
+  fg::PlanResult r2;
+  (void)pl->plan(r2);
+  EXPECT_EQ(r2.status, r.status);
+  EXPECT_EQ(r2.points.voxels, r.points.voxels);
+  pl->reset();
+  EXPECT_EQ(pl->add_points(SensorRole::hand, xyz, 2, 12, Pose{}), Status::ok);
+}
+
 TEST(PlannerInput, BadDepthImageArguments) {
   auto pl = make_planner();
   const uint16_t depth[4] = {800, 800, 800, 800};

@@ -283,7 +283,8 @@ TEST(VoxelGrid, ResetThenReuseEqualsFreshGrid) {
       const fg::Voxel &a = reused->voxel(i), &b = fresh->voxel(i);
       EXPECT_EQ(a.key, b.key);
       EXPECT_EQ(a.count, b.count);
-      EXPECT_EQ(std::memcmp(&a.sx, &b.sx, 3 * sizeof(float)), 0);
+      const Vec3 ca = reused->centroid(i), cb = fresh->centroid(i);
+      EXPECT_EQ(std::memcmp(ca.data(), cb.data(), 3 * sizeof(float)), 0);
       EXPECT_EQ(reused->find(a.key), i);
     }
     expect_matches(*reused, o, 2e-6);
@@ -294,6 +295,71 @@ TEST(VoxelGrid, ResetThenReuseEqualsFreshGrid) {
     previous_keys.clear();
     for (uint32_t i = 0; i < reused->size(); ++i) previous_keys.push_back(reused->voxel(i).key);
   }
+}
+
+// finalize() keeps every centroid bit for bit, refuses further points until reset(),
+// and only then lends the count storage.
+TEST(VoxelGrid, FinalizeKeepsCentroidsAndLendsCounts) {
+  std::mt19937 rng(11);
+  const Vec3 origin(-0.1f, -0.1f, -0.1f);
+  const std::vector<Vec3> pts = clustered(rng, Vec3(0.f, 0.f, 0.f), Vec3(0.3f, 0.2f, 0.1f), 6, 400, 0.02f);
+  auto g = make_grid(origin, 0.005f);
+  insert_all(*g, pts);
+  EXPECT_EQ(g->lend_count_storage(), nullptr);
+  std::vector<Vec3> before;
+  for (uint32_t i = 0; i < g->size(); ++i) before.push_back(g->centroid(i));
+  const uint32_t n = g->size(), count0 = g->voxel(0).count;
+  g->finalize();
+  g->finalize();  // a second call changes nothing
+  ASSERT_TRUE(g->finalized());
+  ASSERT_EQ(g->size(), n);
+  for (uint32_t i = 0; i < n; ++i) {
+    EXPECT_EQ(std::memcmp(g->centroids()[i].data(), before[i].data(), sizeof(float) * 3), 0);
+    EXPECT_EQ(std::memcmp(g->centroid(i).data(), before[i].data(), sizeof(float) * 3), 0);
+  }
+  EXPECT_EQ(g->insert(pts[0]), Status::invalid_sequence);
+  EXPECT_EQ(g->size(), n);
+  EXPECT_EQ(g->voxel(0).count, count0);
+  uint32_t* scratch = g->lend_count_storage();
+  ASSERT_NE(scratch, nullptr);
+  for (uint32_t i = 0; i < n; ++i) scratch[i] = 0xDEADBEEFu;
+  EXPECT_EQ(g->voxel(0).count, 0u);
+  for (uint32_t i = 0; i < n; ++i) EXPECT_EQ(g->find(g->key(i)), i);
+  g->reset(origin, 0.005f);
+  EXPECT_FALSE(g->finalized());
+  insert_all(*g, pts);
+  ASSERT_EQ(g->size(), n);
+  EXPECT_EQ(g->voxel(0).count, count0);
+  for (uint32_t i = 0; i < n; ++i)
+    EXPECT_EQ(std::memcmp(g->centroid(i).data(), before[i].data(), sizeof(float) * 3), 0);
+}
+
+// keep_in_index_only(): find() sees exactly the kept voxels, indices and centroids do
+// not move, and a reset brings back a complete index.
+TEST(VoxelGrid, IndexPrunedToKeptVoxels) {
+  std::mt19937 rng(12);
+  const Vec3 origin(-0.1f, -0.1f, -0.1f);
+  const std::vector<Vec3> pts = uniform_box(rng, Vec3(0.f, 0.f, 0.f), Vec3(0.4f, 0.4f, 0.2f), 60000);
+  auto g = make_grid(origin, 0.005f);
+  insert_all(*g, pts);
+  g->finalize();
+  const uint32_t n = g->size();
+  std::vector<uint8_t> keep(n);
+  std::vector<Vec3> cen(n);
+  for (uint32_t i = 0; i < n; ++i) {
+    keep[i] = (rng() % 5 == 0) ? 1 : 0;
+    cen[i] = g->centroid(i);
+  }
+  g->keep_in_index_only(keep.data());
+  ASSERT_EQ(g->size(), n);
+  for (uint32_t i = 0; i < n; ++i) {
+    EXPECT_EQ(g->find(g->key(i)), keep[i] ? i : VoxelGrid::kNone) << "voxel " << i;
+    EXPECT_EQ(std::memcmp(g->centroid(i).data(), cen[i].data(), sizeof(float) * 3), 0);
+  }
+  g->reset(origin, 0.005f);
+  insert_all(*g, pts);
+  ASSERT_EQ(g->size(), n);
+  for (uint32_t i = 0; i < n; ++i) EXPECT_EQ(g->find(g->key(i)), i);
 }
 
 TEST(VoxelGrid, CapacityExceededBeyondMaxVoxels) {

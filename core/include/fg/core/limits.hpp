@@ -8,7 +8,7 @@
 #define FG_MAX_VOXELS 98304u
 #endif
 #ifndef FG_VOXEL_HASH_SLOTS
-#define FG_VOXEL_HASH_SLOTS 262144u
+#define FG_VOXEL_HASH_SLOTS 131072u
 #endif
 #ifndef FG_MAX_OBJECT_POINTS
 #define FG_MAX_OBJECT_POINTS 16384u
@@ -34,6 +34,12 @@
 #ifndef FG_MAX_SENSORS
 #define FG_MAX_SENSORS 2u
 #endif
+#ifndef FG_SIGHT_BINS
+#define FG_SIGHT_BINS 256u
+#endif
+#ifndef FG_VOXEL_CACHE_BITS
+#define FG_VOXEL_CACHE_BITS 12u
+#endif
 
 namespace fg {
 inline constexpr uint32_t kMaxVoxels = FG_MAX_VOXELS;
@@ -46,11 +52,16 @@ inline constexpr uint32_t kMaxViewpoints = FG_MAX_VIEWPOINTS;
 inline constexpr uint32_t kMaxCandidates = FG_MAX_CANDIDATES;
 inline constexpr uint32_t kRansacMaxIters = FG_RANSAC_MAX_ITERS;
 inline constexpr uint32_t kMaxSensors = FG_MAX_SENSORS;
+inline constexpr uint32_t kSightBins = FG_SIGHT_BINS;           //!< per axis, per sensor
+inline constexpr uint32_t kVoxelCacheBits = FG_VOXEL_CACHE_BITS;  //!< ingest's cell cache
 
 static_assert(kMaxVoxels > 0 && kMaxObjectPoints > 0, "capacities must be positive");
 static_assert((kVoxelHashSlots & (kVoxelHashSlots - 1)) == 0, "hash slots must be a power of two");
-static_assert(kVoxelHashSlots >= 2 * kMaxVoxels, "keep the voxel hash at most half full");
+static_assert(uint64_t{kVoxelHashSlots} * 3 >= uint64_t{kMaxVoxels} * 4,
+              "keep the voxel hash at most three quarters full");
 static_assert(kMaxObjectPoints <= kMaxVoxels, "the object is a subset of the voxels");
 static_assert(kHullGridDim >= 16 && kHullGridDim <= 4096, "hull raster size out of range");
 static_assert(kMaxContourVertices >= 8, "contour capacity too small");
+static_assert(kSightBins >= 16 && kSightBins <= 1024, "sight map size out of range");
+static_assert(kVoxelCacheBits >= 4 && kVoxelCacheBits <= 16, "voxel cache size out of range");
 }  // namespace fg

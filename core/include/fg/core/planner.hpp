@@ -187,7 +187,6 @@ class Planner {
   // What each sensor saw: the nearest return (mm) per direction bin over
   // x/z, y/z in [-1, 1) (a 90 deg cone), 0xFFFF where nothing returned. It tells space
   // seen to be free (a return behind it) from space hidden behind a surface.
-  static constexpr uint32_t kSightBins = 256;
   uint16_t sight_mm_[kMaxSensors][kSightBins * kSightBins];
   PointCounts counts_;
   Vec3 crop_min_ = Vec3::Zero(), crop_max_ = Vec3::Zero();
@@ -197,8 +196,6 @@ class Planner {
   // A. partial model
   VoxelGrid grid_;
   uint8_t state_[kMaxVoxels];
-  uint32_t queue_[kMaxVoxels];
-  Vec3 centroids_[kMaxVoxels];
   uint32_t object_voxel_[kMaxObjectPoints];
   PointBuffer<kMaxObjectPoints> object_;
   Plane plane_;

@@ -17,6 +17,7 @@ enum class Status : int32_t {
   invalid_config = -103,    //!< a configuration value out of its documented range
   no_input = -104,          //!< plan() called before any sensor data was added
   invalid_sensor = -105,    //!< unknown sensor role, or the same role added twice
+  invalid_sequence = -106,  //!< a call out of order (sensor data added after plan() without reset())
 
   // -200..-299: capacity
   capacity_exceeded = -200,  //!< more data than the build configuration holds

@@ -1,8 +1,13 @@
 // One voxel grid shared by both sensors (so merging the clouds is free): a fixed
-// open-addressing hash from packed cell keys to a dense array of voxels in insertion
+// open-addressing hash from packed cell keys to dense per-voxel arrays in insertion
 // order (deterministic). Each voxel keeps the sum of its points relative to its cell
 // corner, so centroids stay precise (micrometres for typical counts, 0.1 mm for a
 // million points in one cell) wherever the cell lies.
+// Memory is arranged by use, to keep the host workspace small: a hash slot is one
+// word, the voxel index + 1 with a tag of the key in the spare high bits (so most
+// probes of other keys are rejected without reading the key array), finalize() turns the sums into
+// centroids in place, and the count array, no longer needed then, is lent to the
+// clustering as its queue.
 #pragma once
 #include <cstdint>
 #include "fg/core/limits.hpp"
@@ -13,10 +18,10 @@ namespace fg {
 
 constexpr uint32_t detail_log2u(uint32_t v) { return v <= 1 ? 0 : 1 + detail_log2u(v >> 1); }
 
+//! What a voxel holds besides its centroid.
 struct Voxel {
   uint32_t key;    //!< x | y << 11 | z << 22 (cell indices relative to the grid origin)
-  uint32_t count;  //!< points that fell in the cell
-  float sx, sy, sz;  //!< sum of (point - cell corner)
+  uint32_t count;  //!< points that fell in the cell (0 once the count storage is lent)
 };
 
 class VoxelGrid {
@@ -29,18 +34,21 @@ class VoxelGrid {
   void reset(const Vec3& origin, float leaf_m);
 
   //! Adds a world point. capacity_exceeded when another cell is needed but kMaxVoxels
-  //! cells are in use; invalid_argument when the point is outside the key range.
+  //! cells are in use; invalid_argument when the point is outside the key range;
+  //! invalid_sequence after finalize().
   Status insert(const Vec3& p) {
     const float fx = (p.x() - origin_.x()) * inv_leaf_;
     const float fy = (p.y() - origin_.y()) * inv_leaf_;
     const float fz = (p.z() - origin_.z()) * inv_leaf_;
+    if (finalized_) return Status::invalid_sequence;
     if (!(fx >= 2.f && fy >= 2.f && fz >= 2.f && fx < kMaxX - 2 && fy < kMaxY - 2 && fz < kMaxZ - 2))
       return Status::invalid_argument;
     return insert_cell(fx, fy, fz) ? Status::ok : Status::capacity_exceeded;
   }
 
   //! The hot path of insert(): (fx, fy, fz) are coordinates in cell units from the
-  //! origin, already checked to lie in [2, kMax - 2). False when the grid is full.
+  //! origin, already checked to lie in [2, kMax - 2), before finalize(). False when
+  //! the grid is full.
   bool insert_cell(float fx, float fy, float fz) {
     const uint32_t ix = static_cast<uint32_t>(fx), iy = static_cast<uint32_t>(fy),
                    iz = static_cast<uint32_t>(fz);
@@ -55,18 +63,34 @@ class VoxelGrid {
       cache_key_[h] = key;
       cache_index_[h] = idx;
     }
-    Voxel& v = voxels_[idx];
-    v.count += 1;
-    v.sx += (fx - static_cast<float>(ix)) * leaf_;
-    v.sy += (fy - static_cast<float>(iy)) * leaf_;
-    v.sz += (fz - static_cast<float>(iz)) * leaf_;
+    counts_[idx] += 1;
+    float* sum = sums_[idx].data();
+    sum[0] += (fx - static_cast<float>(ix)) * leaf_;
+    sum[1] += (fy - static_cast<float>(iy)) * leaf_;
+    sum[2] += (fz - static_cast<float>(iz)) * leaf_;
     return true;
   }
+
+  //! Turns every voxel's sum into its centroid (world frame), in place; insert() is
+  //! refused from then on until reset(). Calling it again does nothing.
+  void finalize();
+  bool finalized() const { return finalized_; }
+  //! The centroids as one contiguous array of size() points (after finalize()).
+  const Vec3* centroids() const { return sums_; }
+  //! Rebuilds the hash so that find() sees only the voxels with keep[i] != 0 (the
+  //! others stay in the arrays and keep their indices). Planning drops the support
+  //! plane this way: the later neighbour searches then probe a nearly empty table.
+  void keep_in_index_only(const uint8_t* keep);
+  //! After finalize(): lends the count storage (size() entries) as caller scratch,
+  //! valid until reset(); voxel(i).count reads 0 from then on. nullptr before.
+  uint32_t* lend_count_storage();
 
   uint32_t size() const { return size_; }
   float leaf() const { return leaf_; }
   const Vec3& origin() const { return origin_; }
-  const Voxel& voxel(uint32_t i) const { return voxels_[i]; }
+  Voxel voxel(uint32_t i) const { return Voxel{keys_[i], counts_lent_ ? 0u : counts_[i]}; }
+  uint32_t key(uint32_t i) const { return keys_[i]; }
+  //! Mean of the voxel's points (world frame), before and after finalize().
   Vec3 centroid(uint32_t i) const;
   //! Index of the voxel with `key`, or kNone.
   uint32_t find(uint32_t key) const;
@@ -78,26 +102,34 @@ class VoxelGrid {
 
  private:
   uint32_t find_or_add(uint32_t key);
-  static uint32_t slot_of(uint32_t key) {
-    return (key * 0x9E3779B1u) >> (32 - kSlotBits);
+  uint32_t slot_of(uint32_t key) const {
+    return (key * 0x9E3779B1u) >> (32 - slot_bits_);
   }
   static constexpr uint32_t kSlotBits = detail_log2u(kVoxelHashSlots);
+  // A slot: index + 1 (0 = empty) in the low kIndexBits, the key's tag above.
+  static constexpr uint32_t kIndexBits = detail_log2u(kMaxVoxels) + 1;
+  static constexpr uint32_t kIndexMask = (1u << kIndexBits) - 1u;
+  static_assert(kIndexBits <= 24, "the slot word keeps at least 8 tag bits");
+  static uint32_t tag_of(uint32_t key) { return ((key * 0x85EBCA6Bu) >> kIndexBits) << kIndexBits; }
 
   Vec3 origin_ = Vec3::Zero();
   float leaf_ = 0.005f;
   float inv_leaf_ = 200.f;
   uint32_t size_ = 0;
-  static constexpr uint32_t kCacheBits = 12;
+  static constexpr uint32_t kCacheBits = kVoxelCacheBits;
   // Empty entries hold 0xFFFFFFFF: no real key has all bits set (z < kMaxZ - 2).
   uint32_t cache_key_[1u << kCacheBits];
   uint32_t cache_index_[1u << kCacheBits];
   bool initialised_ = false;
-  struct Slot {
-    uint32_t key;
-    uint32_t index1;  // voxel index + 1; 0 = empty
-  };
-  Slot slots_[kVoxelHashSlots];  // keys kept in the slots: a probe touches one cache line
-  Voxel voxels_[kMaxVoxels];
+  bool finalized_ = false;
+  bool counts_lent_ = false;
+  bool index_pruned_ = false;  // some voxels are not in the hash (reset clears it all)
+  uint32_t slot_bits_ = kSlotBits;  // slots in use: 2^slot_bits_ (fewer once pruned)
+  uint32_t slot_mask_ = kVoxelHashSlots - 1;
+  uint32_t slots_[kVoxelHashSlots];  // tag | (voxel index + 1); 0 = empty
+  uint32_t keys_[kMaxVoxels];
+  uint32_t counts_[kMaxVoxels];
+  Vec3 sums_[kMaxVoxels];  // sum of (point - cell corner); the centroid after finalize()
 };
 
 }  // namespace fg
