@@ -18,4 +18,8 @@
 #define FG_SIGHT_BINS 256u            /* nearest-return direction bins per axis, per sensor */
 #define FG_VOXEL_CACHE_BITS 12u       /* 2^bits recent cells cached by the ingest loop */
 
+/* The workspace budget: firmware_api's FG_WORKSPACE_SIZE, a compile-time upper bound of
+ * fg_workspace_size() (checked by a static_assert in firmware_api/src/fg_api.cpp). */
+#define FG_WORKSPACE_SIZE 4194304u      /* 4 MiB */
+
 #endif

@@ -1,0 +1,224 @@
+/* forcegrasp: the C API that robot-controller firmware links.
+ *
+ * The planner lives in one opaque workspace in memory the caller owns: no heap, no
+ * global state (two workspaces work side by side), no callbacks, no errno. Every call
+ * returns an fg_status; values are explicit and never reused. Compiles as C99 and C++.
+ *
+ * A capture cycle:
+ *   static FG_WORKSPACE_STORAGE(mem);                      (or any aligned buffer)
+ *   fg_config cfg; fg_config_default(&cfg);               (then change fields)
+ *   fg_workspace *ws; fg_init(mem, sizeof mem, &cfg, &ws);
+ *   fg_add_depth_image(ws, FG_SENSOR_HEAD, ...); fg_add_points(ws, FG_SENSOR_HAND, ...);
+ *   fg_grasp g; fg_plan(ws, &g);                           (FG_OK or FG_NO_GRASP + g.reason)
+ *   fg_reset(ws);                                          (next capture)
+ *
+ * Frames: poses are world_T_sensor (a sensor-frame point p maps to R p + t, metres);
+ * grasp vectors are in the world frame. Sensor frames are optical: +z along the view.
+ * Not thread-safe per workspace; different workspaces are independent. */
+#ifndef FORCEGRASP_H
+#define FORCEGRASP_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "fg_limits.h" /* the build configuration's capacities and workspace budget */
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define FG_VERSION_MAJOR 0
+#define FG_VERSION_MINOR 2
+#define FG_VERSION_PATCH 0
+/** Bumped whenever a struct below changes layout or a function changes meaning. */
+#define FG_ABI_VERSION 1u
+
+#ifndef FG_WORKSPACE_SIZE
+#error "fg_limits.h of the build configuration must define FG_WORKSPACE_SIZE"
+#endif
+/** Alignment the workspace memory needs (bytes). */
+#define FG_WORKSPACE_ALIGN 16u
+/** A buffer that always fits: `static FG_WORKSPACE_STORAGE(mem);` then fg_init(mem, sizeof mem, ...). */
+#if defined(__GNUC__)
+#define FG_WORKSPACE_STORAGE(name) unsigned char name[FG_WORKSPACE_SIZE] __attribute__((aligned(16)))
+#elif defined(__cplusplus)
+#define FG_WORKSPACE_STORAGE(name) unsigned char name alignas(16)[FG_WORKSPACE_SIZE]
+#else
+#define FG_WORKSPACE_STORAGE(name) unsigned char name[FG_WORKSPACE_SIZE] /* align it yourself */
+#endif
+
+/** The opaque planner workspace, inside caller-owned memory. */
+typedef struct fg_workspace fg_workspace;
+
+/** Outcome of every call: 0 ok, positive = ordinary outcome, negative = error by cause. */
+typedef enum fg_status {
+  FG_OK = 0,
+  FG_NO_GRASP = 1, /**< valid input, but no grasp fits: see fg_grasp.reason */
+
+  /* -100..-109: the caller's data */
+  FG_ERR_INVALID_ARGUMENT = -100, /**< null pointer, zero size, bad stride, bad enum */
+  FG_ERR_NON_FINITE = -101,       /**< NaN or Inf where a finite number is required */
+  FG_ERR_INVALID_POSE = -102,     /**< rotation not orthonormal / right-handed, absurd translation */
+  FG_ERR_INVALID_CONFIG = -103,   /**< a configuration value out of its documented range */
+  FG_ERR_NO_INPUT = -104,         /**< fg_plan before any sensor data */
+  FG_ERR_INVALID_SENSOR = -105,   /**< unknown sensor role, or the same role twice per capture */
+  FG_ERR_INVALID_SEQUENCE = -106, /**< sensor data after fg_plan without fg_reset */
+
+  /* -110..-119: the workspace and the API contract */
+  FG_ERR_WORKSPACE_TOO_SMALL = -110,  /**< size < fg_workspace_size() */
+  FG_ERR_WORKSPACE_MISALIGNED = -111, /**< memory not aligned to FG_WORKSPACE_ALIGN */
+  FG_ERR_ABI_MISMATCH = -112,         /**< header and library disagree (FG_ABI_VERSION) */
+  FG_ERR_CONFIG_SIZE = -113,          /**< fg_config.struct_size is not this library's */
+  FG_ERR_NOT_A_WORKSPACE = -114,      /**< pointer is not a workspace made by fg_init */
+
+  /* -200: capacity */
+  FG_ERR_CAPACITY_EXCEEDED = -200, /**< more data than the build configuration holds */
+  /* -300: numerics */
+  FG_ERR_NUMERIC_FAILURE = -300, /**< a computation produced a non-finite result */
+  /* -900: bugs */
+  FG_ERR_INTERNAL = -900
+} fg_status;
+
+/** Why a valid input produced FG_NO_GRASP. */
+typedef enum fg_no_grasp_reason {
+  FG_REASON_NONE = 0,
+  FG_REASON_NO_POINTS = 1,      /**< nothing left after the range filter and crop box */
+  FG_REASON_NO_PLANE = 2,       /**< no support plane was found */
+  FG_REASON_NO_OBJECT = 3,      /**< nothing stands on the support plane */
+  FG_REASON_TOO_FEW_POINTS = 4, /**< the target cluster is too small to analyse */
+  FG_REASON_TOO_WIDE = 5,       /**< wider than the opening from every viewpoint */
+  FG_REASON_NO_CANDIDATE = 6,   /**< no candidate passed the force-balance filters */
+  FG_REASON_COLLISION = 7,      /**< every candidate hit the support plane or another object */
+  FG_REASON_UNREACHABLE = 8,    /**< every candidate failed inverse kinematics */
+  FG_REASON_FRICTION = 9,       /**< every candidate's contact normals left the friction cone */
+  FG_REASON_DEGENERATE = 10     /**< the object cloud has no defined principal axis */
+} fg_no_grasp_reason;
+
+typedef enum fg_sensor_role { FG_SENSOR_HEAD = 0, FG_SENSOR_HAND = 1 } fg_sensor_role;
+
+typedef enum fg_target_rule { FG_TARGET_NEAREST_TO_CENTRE = 0, FG_TARGET_LARGEST = 1 } fg_target_rule;
+
+/** Stages timed by fg_plan (fg_grasp.stage_us). */
+enum {
+  FG_STAGE_INGEST = 0, FG_STAGE_PLANE, FG_STAGE_CLUSTER, FG_STAGE_FRAME, FG_STAGE_XOY,
+  FG_STAGE_XOZ, FG_STAGE_SELECT, FG_STAGE_TOTAL, FG_STAGE_COUNT
+};
+
+/** A rigid transform: rotation row-major (r[3*i + j] = R(i, j)) and translation (m). */
+typedef struct fg_pose {
+  float r[9];
+  float t[3];
+} fg_pose;
+
+/** Pinhole intrinsics of a depth image (pixels). */
+typedef struct fg_intrinsics {
+  float fx, fy, cx, cy;
+} fg_intrinsics;
+
+/** Parallel-gripper geometry (metres); grasp frame: +z approach, +x closing. */
+typedef struct fg_gripper {
+  float max_opening_m, min_opening_m;
+  float finger_width_m, finger_depth_m, finger_thickness_m;
+  float palm_depth_m, palm_width_m;
+} fg_gripper;
+
+/** Planner configuration; fill with fg_config_default() and change what you need.
+ *  The meaning and range of each field is in docs/configuration.md (same names). */
+typedef struct fg_config {
+  uint32_t struct_size; /**< sizeof(fg_config) as the caller compiled it */
+  uint32_t abi_version; /**< FG_ABI_VERSION as the caller compiled it */
+  fg_gripper gripper;
+  /* A. partial model */
+  float range_min_m, range_max_m;
+  float crop_half_x_m, crop_half_y_m, crop_min_z_m, crop_max_z_m;
+  float voxel_leaf_m, plane_distance_m;
+  uint32_t ransac_iterations, ransac_seed;
+  float plane_max_tilt_rad, object_min_height_m;
+  uint32_t cluster_cells, min_object_points;
+  float workspace_centre_x_m, workspace_centre_y_m;
+  uint32_t target_rule; /**< fg_target_rule */
+  /* B/C. object frame and viewpoints */
+  float dtheta_rad, single_sensor_arc_rad, vertical_snap_rad, axis_ratio_min;
+  uint32_t extend_search; /**< 0 or 1 */
+  float extension_dtheta_rad, approach_view_max_rad;
+  /* D. XOY force balance */
+  float scan_delta_m, dx_threshold_m, width_margin_m, hull_cell_m;
+  uint32_t hull_closing_cells, candidates_per_view;
+  float centre_weight;
+  /* E/F. XOZ balance, selection, checks */
+  float beta_max_rad, contact_band_m, reach_width_ratio, friction_mu;
+  float table_clearance_m, collision_tolerance_m, pregrasp_clearance_m, palm_clearance_m;
+  uint32_t paper_depth;           /**< 0 or 1 */
+  uint32_t executability_checks;  /**< 0 or 1 */
+} fg_config;
+
+/** The planner's answer. Vectors are world-frame; units metres and radians. */
+typedef struct fg_grasp {
+  int32_t reason;         /**< fg_no_grasp_reason when fg_plan returned FG_NO_GRASP */
+  float position[3];      /**< between the pads */
+  float approach[3];      /**< unit, palm towards the object */
+  float closing[3];       /**< unit, one finger towards the other */
+  float pregrasp[3];      /**< position backed off along -approach */
+  float width_m;          /**< object width between the contact regions */
+  float beta_rad;         /**< XOY force balance */
+  float dz_m;             /**< XOZ force balance */
+  uint32_t points_input, points_finite, points_kept, voxels, plane_voxels, object_voxels;
+  uint32_t viewpoints, candidates;
+  uint32_t stage_us[FG_STAGE_COUNT]; /**< time per stage (platform clock) */
+} fg_grasp;
+
+/** (major << 16) | (minor << 8) | patch of the library. */
+uint32_t fg_version(void);
+/** FG_ABI_VERSION compiled into the library. */
+uint32_t fg_abi_version(void);
+/** Bytes the workspace needs (never more than FG_WORKSPACE_SIZE). */
+size_t fg_workspace_size(void);
+/** Alignment the workspace needs (FG_WORKSPACE_ALIGN). */
+size_t fg_workspace_align(void);
+/** Static name of a status, e.g. "FG_ERR_INVALID_POSE"; "FG_UNKNOWN_STATUS" otherwise. */
+const char *fg_status_str(fg_status status);
+/** Static name of a no-grasp reason, e.g. "too_wide". */
+const char *fg_reason_str(fg_no_grasp_reason reason);
+
+/** Fills the defaults of docs/configuration.md, struct_size and abi_version. */
+fg_status fg_config_default(fg_config *cfg);
+
+/** Checks every value of cfg without a workspace; on an error, *field (when field is
+ *  not NULL) names the first offending field as docs/configuration.md and
+ *  `forcegrasp config` name its option: without the unit suffix ("voxel_leaf" for
+ *  voxel_leaf_m, "gripper.max_opening"), static text. */
+fg_status fg_config_check(const fg_config *cfg, const char **field);
+
+/** Builds a workspace in `memory` (size bytes, FG_WORKSPACE_ALIGN-aligned) and checks
+ *  cfg (struct_size, abi_version, every value). On success *out points into memory;
+ *  the memory is the workspace until the caller reuses it (no fg_deinit needed).
+ *  On failure *out is NULL (when out is not NULL). */
+fg_status fg_init(void *memory, size_t size, const fg_config *cfg, fg_workspace **out);
+
+/** Starts a new capture: forgets the sensor data of the previous one. */
+fg_status fg_reset(fg_workspace *ws);
+
+/** Adds one sensor's depth image (uint16 millimetres, 0 = no return, row-major,
+ *  width x height) for this capture. Each role at most once per capture. */
+fg_status fg_add_depth_image(fg_workspace *ws, fg_sensor_role role, const uint16_t *depth_mm,
+                             uint16_t width, uint16_t height, const fg_intrinsics *k,
+                             const fg_pose *world_T_sensor);
+
+/** Adds one sensor's points: count xyz triples of float (sensor frame, metres), the
+ *  first float of point i at xyz + i * stride_bytes (stride >= 12; any alignment).
+ *  NaN points are skipped. Each role at most once per capture. */
+fg_status fg_add_points(fg_workspace *ws, fg_sensor_role role, const float *xyz, size_t count,
+                        size_t stride_bytes, const fg_pose *world_T_sensor);
+
+/** Plans a grasp on this capture. FG_OK: *out holds the grasp. FG_NO_GRASP:
+ *  out->reason says why. Errors leave out's counts and times filled where known. */
+fg_status fg_plan(fg_workspace *ws, fg_grasp *out);
+
+/** The last call's message naming the problem (static text, never NULL). */
+const char *fg_last_message(const fg_workspace *ws);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* FORCEGRASP_H */

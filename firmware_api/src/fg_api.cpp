@@ -1,0 +1,310 @@
+// The C API of firmware_api/include/forcegrasp/forcegrasp.h over the C++ core.
+// Embedded rules: no heap (the workspace is placement-constructed in caller memory),
+// no exceptions, no global state.
+#include "forcegrasp/forcegrasp.h"
+
+#include <cstdint>
+#include <new>
+
+#include "fg/core/planner.hpp"
+
+namespace {
+constexpr uint32_t kMagic = 0x46475753u;  // "FGWS"
+}  // namespace
+
+struct fg_workspace {
+  uint32_t magic;             // kMagic while the workspace is valid
+  const fg_workspace* self;   // == this: a byte copy of a workspace is refused
+  const char* message;        // static text of the last call
+  fg::Planner planner;
+};
+
+static_assert(sizeof(fg_workspace) <= FG_WORKSPACE_SIZE,
+              "the workspace outgrew the build configuration's FG_WORKSPACE_SIZE budget");
+static_assert(alignof(fg_workspace) <= FG_WORKSPACE_ALIGN, "workspace alignment above FG_WORKSPACE_ALIGN");
+
+// The C statuses and reasons are the core's values: one numbering, checked here.
+#define FG_SAME(c_value, core_value) \
+  static_assert(static_cast<int32_t>(c_value) == static_cast<int32_t>(core_value), #c_value)
+FG_SAME(FG_OK, fg::Status::ok);
+FG_SAME(FG_NO_GRASP, fg::Status::no_grasp);
+FG_SAME(FG_ERR_INVALID_ARGUMENT, fg::Status::invalid_argument);
+FG_SAME(FG_ERR_NON_FINITE, fg::Status::non_finite);
+FG_SAME(FG_ERR_INVALID_POSE, fg::Status::invalid_pose);
+FG_SAME(FG_ERR_INVALID_CONFIG, fg::Status::invalid_config);
+FG_SAME(FG_ERR_NO_INPUT, fg::Status::no_input);
+FG_SAME(FG_ERR_INVALID_SENSOR, fg::Status::invalid_sensor);
+FG_SAME(FG_ERR_INVALID_SEQUENCE, fg::Status::invalid_sequence);
+FG_SAME(FG_ERR_CAPACITY_EXCEEDED, fg::Status::capacity_exceeded);
+FG_SAME(FG_ERR_NUMERIC_FAILURE, fg::Status::numeric_failure);
+FG_SAME(FG_ERR_INTERNAL, fg::Status::internal_error);
+FG_SAME(FG_REASON_NONE, fg::NoGraspReason::none);
+FG_SAME(FG_REASON_NO_POINTS, fg::NoGraspReason::no_points);
+FG_SAME(FG_REASON_NO_PLANE, fg::NoGraspReason::no_plane);
+FG_SAME(FG_REASON_NO_OBJECT, fg::NoGraspReason::no_object);
+FG_SAME(FG_REASON_TOO_FEW_POINTS, fg::NoGraspReason::too_few_points);
+FG_SAME(FG_REASON_TOO_WIDE, fg::NoGraspReason::too_wide);
+FG_SAME(FG_REASON_NO_CANDIDATE, fg::NoGraspReason::no_candidate);
+FG_SAME(FG_REASON_COLLISION, fg::NoGraspReason::collision);
+FG_SAME(FG_REASON_UNREACHABLE, fg::NoGraspReason::unreachable);
+FG_SAME(FG_REASON_FRICTION, fg::NoGraspReason::friction);
+FG_SAME(FG_REASON_DEGENERATE, fg::NoGraspReason::degenerate);
+FG_SAME(FG_STAGE_INGEST, fg::Stage::ingest);
+FG_SAME(FG_STAGE_TOTAL, fg::Stage::total);
+FG_SAME(FG_STAGE_COUNT, fg::Stage::count);
+#undef FG_SAME
+
+namespace {
+
+fg_status to_c(fg::Status s) { return static_cast<fg_status>(static_cast<int32_t>(s)); }
+
+// One field list for both directions keeps the C struct and PlannerConfig in step.
+#define FG_CONFIG_FIELDS(X)                                                                   \
+  X(range_min_m) X(range_max_m) X(crop_half_x_m) X(crop_half_y_m) X(crop_min_z_m)            \
+  X(crop_max_z_m) X(voxel_leaf_m) X(plane_distance_m) X(ransac_iterations) X(ransac_seed)    \
+  X(plane_max_tilt_rad) X(object_min_height_m) X(cluster_cells) X(min_object_points)         \
+  X(workspace_centre_x_m) X(workspace_centre_y_m) X(dtheta_rad) X(single_sensor_arc_rad)     \
+  X(vertical_snap_rad) X(axis_ratio_min) X(extension_dtheta_rad) X(approach_view_max_rad)    \
+  X(scan_delta_m) X(dx_threshold_m) X(width_margin_m) X(hull_cell_m) X(hull_closing_cells)   \
+  X(candidates_per_view) X(centre_weight) X(beta_max_rad) X(contact_band_m)                  \
+  X(reach_width_ratio) X(friction_mu) X(table_clearance_m) X(collision_tolerance_m)          \
+  X(pregrasp_clearance_m) X(palm_clearance_m)
+#define FG_GRIPPER_FIELDS(X)                                                                  \
+  X(max_opening_m) X(min_opening_m) X(finger_width_m) X(finger_depth_m) X(finger_thickness_m) \
+  X(palm_depth_m) X(palm_width_m)
+
+void to_c(const fg::PlannerConfig& p, fg_config& c) {
+#define X(f) c.f = p.f;
+  FG_CONFIG_FIELDS(X)
+#undef X
+#define X(f) c.gripper.f = p.gripper.f;
+  FG_GRIPPER_FIELDS(X)
+#undef X
+  c.target_rule = static_cast<uint32_t>(p.target_rule);
+  c.extend_search = p.extend_search ? 1u : 0u;
+  c.paper_depth = p.paper_depth ? 1u : 0u;
+  c.executability_checks = p.executability_checks ? 1u : 0u;
+}
+
+// Flags must be 0 or 1 and the rule a known value: anything else is invalid_config.
+fg_status from_c(const fg_config& c, fg::PlannerConfig& p, const char** field) {
+#define X(f) p.f = c.f;
+  FG_CONFIG_FIELDS(X)
+#undef X
+#define X(f) p.gripper.f = c.gripper.f;
+  FG_GRIPPER_FIELDS(X)
+#undef X
+  struct Flag {
+    uint32_t value;
+    bool* dst;
+    const char* name;
+  };
+  const Flag flags[] = {{c.extend_search, &p.extend_search, "extend_search"},
+                        {c.paper_depth, &p.paper_depth, "paper_depth"},
+                        {c.executability_checks, &p.executability_checks, "executability_checks"}};
+  for (const Flag& f : flags) {
+    if (f.value > 1u) {
+      if (field != nullptr) *field = f.name;
+      return FG_ERR_INVALID_CONFIG;
+    }
+    *f.dst = f.value == 1u;
+  }
+  if (c.target_rule > 1u) {
+    if (field != nullptr) *field = "target_rule";
+    return FG_ERR_INVALID_CONFIG;
+  }
+  p.target_rule = static_cast<fg::TargetRule>(c.target_rule);
+  return to_c(fg::validate(p, field));
+}
+
+fg_status check_header(const fg_config* cfg, const char** field) {
+  if (cfg == nullptr) return FG_ERR_INVALID_ARGUMENT;
+  if (cfg->struct_size != sizeof(fg_config)) {
+    if (field != nullptr) *field = "struct_size";
+    return FG_ERR_CONFIG_SIZE;
+  }
+  if (cfg->abi_version != FG_ABI_VERSION) {
+    if (field != nullptr) *field = "abi_version";
+    return FG_ERR_ABI_MISMATCH;
+  }
+  return FG_OK;
+}
+
+bool valid(const fg_workspace* ws) { return ws != nullptr && ws->magic == kMagic && ws->self == ws; }
+
+fg::Pose to_pose(const fg_pose& in) {
+  fg::Pose out;
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) out.R(i, j) = in.r[3 * i + j];
+    out.t(i) = in.t[i];
+  }
+  return out;
+}
+
+// Roles outside the enum are refused before any cast can wrap them onto a valid one.
+bool role_ok(fg_sensor_role role) {
+  const int32_t r = static_cast<int32_t>(role);
+  return r >= 0 && static_cast<uint32_t>(r) < fg::kMaxSensors;
+}
+
+fg_status fail(fg_workspace* ws, fg_status s, const char* message) {
+  ws->message = message;
+  return s;
+}
+
+void copy3(const fg::Vec3& v, float out[3]) {
+  for (int i = 0; i < 3; ++i) out[i] = v(i);
+}
+
+}  // namespace
+
+extern "C" {
+
+uint32_t fg_version(void) {
+  return (static_cast<uint32_t>(FG_VERSION_MAJOR) << 16) | (static_cast<uint32_t>(FG_VERSION_MINOR) << 8) |
+         static_cast<uint32_t>(FG_VERSION_PATCH);
+}
+
+uint32_t fg_abi_version(void) { return FG_ABI_VERSION; }
+
+size_t fg_workspace_size(void) { return sizeof(fg_workspace); }
+
+size_t fg_workspace_align(void) { return FG_WORKSPACE_ALIGN; }
+
+const char* fg_status_str(fg_status status) {
+  switch (status) {
+    case FG_OK: return "FG_OK";
+    case FG_NO_GRASP: return "FG_NO_GRASP";
+    case FG_ERR_INVALID_ARGUMENT: return "FG_ERR_INVALID_ARGUMENT";
+    case FG_ERR_NON_FINITE: return "FG_ERR_NON_FINITE";
+    case FG_ERR_INVALID_POSE: return "FG_ERR_INVALID_POSE";
+    case FG_ERR_INVALID_CONFIG: return "FG_ERR_INVALID_CONFIG";
+    case FG_ERR_NO_INPUT: return "FG_ERR_NO_INPUT";
+    case FG_ERR_INVALID_SENSOR: return "FG_ERR_INVALID_SENSOR";
+    case FG_ERR_INVALID_SEQUENCE: return "FG_ERR_INVALID_SEQUENCE";
+    case FG_ERR_WORKSPACE_TOO_SMALL: return "FG_ERR_WORKSPACE_TOO_SMALL";
+    case FG_ERR_WORKSPACE_MISALIGNED: return "FG_ERR_WORKSPACE_MISALIGNED";
+    case FG_ERR_ABI_MISMATCH: return "FG_ERR_ABI_MISMATCH";
+    case FG_ERR_CONFIG_SIZE: return "FG_ERR_CONFIG_SIZE";
+    case FG_ERR_NOT_A_WORKSPACE: return "FG_ERR_NOT_A_WORKSPACE";
+    case FG_ERR_CAPACITY_EXCEEDED: return "FG_ERR_CAPACITY_EXCEEDED";
+    case FG_ERR_NUMERIC_FAILURE: return "FG_ERR_NUMERIC_FAILURE";
+    case FG_ERR_INTERNAL: return "FG_ERR_INTERNAL";
+  }
+  return "FG_UNKNOWN_STATUS";
+}
+
+const char* fg_reason_str(fg_no_grasp_reason reason) {
+  return fg::to_string(static_cast<fg::NoGraspReason>(static_cast<int32_t>(reason)));
+}
+
+fg_status fg_config_default(fg_config* cfg) {
+  if (cfg == nullptr) return FG_ERR_INVALID_ARGUMENT;
+  *cfg = fg_config{};
+  cfg->struct_size = sizeof(fg_config);
+  cfg->abi_version = FG_ABI_VERSION;
+  to_c(fg::PlannerConfig{}, *cfg);
+  return FG_OK;
+}
+
+fg_status fg_config_check(const fg_config* cfg, const char** field) {
+  if (field != nullptr) *field = "";
+  const fg_status h = check_header(cfg, field);
+  if (h != FG_OK) return h;
+  fg::PlannerConfig p;
+  return from_c(*cfg, p, field);
+}
+
+fg_status fg_init(void* memory, size_t size, const fg_config* cfg, fg_workspace** out) {
+  if (out == nullptr) return FG_ERR_INVALID_ARGUMENT;
+  *out = nullptr;
+  if (memory == nullptr) return FG_ERR_INVALID_ARGUMENT;
+  if (reinterpret_cast<uintptr_t>(memory) % FG_WORKSPACE_ALIGN != 0) return FG_ERR_WORKSPACE_MISALIGNED;
+  if (size < sizeof(fg_workspace)) return FG_ERR_WORKSPACE_TOO_SMALL;
+  const fg_status h = check_header(cfg, nullptr);
+  if (h != FG_OK) return h;
+  fg::PlannerConfig p;
+  const fg_status s = from_c(*cfg, p, nullptr);
+  if (s != FG_OK) return s;
+  fg_workspace* ws = new (memory) fg_workspace;  // placement: no allocation
+  ws->magic = 0;
+  ws->self = ws;
+  ws->message = "";
+  if (ws->planner.configure(p) != fg::Status::ok) return FG_ERR_INTERNAL;  // validated above
+  ws->magic = kMagic;
+  *out = ws;
+  return FG_OK;
+}
+
+fg_status fg_reset(fg_workspace* ws) {
+  if (!valid(ws)) return FG_ERR_NOT_A_WORKSPACE;
+  ws->planner.reset();
+  ws->message = "";
+  return FG_OK;
+}
+
+fg_status fg_add_depth_image(fg_workspace* ws, fg_sensor_role role, const uint16_t* depth_mm,
+                             uint16_t width, uint16_t height, const fg_intrinsics* k,
+                             const fg_pose* world_T_sensor) {
+  if (!valid(ws)) return FG_ERR_NOT_A_WORKSPACE;
+  if (!role_ok(role)) return fail(ws, FG_ERR_INVALID_SENSOR, "unknown sensor role");
+  if (k == nullptr) return fail(ws, FG_ERR_INVALID_ARGUMENT, "intrinsics pointer is null");
+  if (world_T_sensor == nullptr) return fail(ws, FG_ERR_INVALID_ARGUMENT, "pose pointer is null");
+  const fg::Pose pose = to_pose(*world_T_sensor);
+  const fg::PinholeIntrinsics ki{k->fx, k->fy, k->cx, k->cy};
+  const fg::Status s = ws->planner.add_depth_image(static_cast<fg::SensorRole>(role), depth_mm, width,
+                                                   height, ki, pose);
+  ws->message = ws->planner.last_message();
+  return to_c(s);
+}
+
+fg_status fg_add_points(fg_workspace* ws, fg_sensor_role role, const float* xyz, size_t count,
+                        size_t stride_bytes, const fg_pose* world_T_sensor) {
+  if (!valid(ws)) return FG_ERR_NOT_A_WORKSPACE;
+  if (!role_ok(role)) return fail(ws, FG_ERR_INVALID_SENSOR, "unknown sensor role");
+  if (world_T_sensor == nullptr) return fail(ws, FG_ERR_INVALID_ARGUMENT, "pose pointer is null");
+  if (count > UINT32_MAX) return fail(ws, FG_ERR_CAPACITY_EXCEEDED, "more than 2^32 - 1 points in one call");
+  if (stride_bytes > UINT32_MAX) return fail(ws, FG_ERR_INVALID_ARGUMENT, "stride_bytes above 2^32 - 1");
+  const fg::Pose pose = to_pose(*world_T_sensor);
+  const fg::Status s =
+      ws->planner.add_points(static_cast<fg::SensorRole>(role), xyz, static_cast<uint32_t>(count),
+                             static_cast<uint32_t>(stride_bytes), pose);
+  ws->message = ws->planner.last_message();
+  return to_c(s);
+}
+
+fg_status fg_plan(fg_workspace* ws, fg_grasp* out) {
+  if (!valid(ws)) return FG_ERR_NOT_A_WORKSPACE;
+  if (out == nullptr) return fail(ws, FG_ERR_INVALID_ARGUMENT, "grasp output pointer is null");
+  fg::PlanResult r;
+  ws->planner.plan(r);
+  *out = fg_grasp{};
+  out->reason = static_cast<int32_t>(r.reason);
+  if (r.status == fg::Status::ok) {
+    copy3(r.grasp.position, out->position);
+    copy3(r.grasp.approach, out->approach);
+    copy3(r.grasp.closing, out->closing);
+    copy3(r.grasp.pregrasp, out->pregrasp);
+    out->width_m = r.grasp.width;
+    out->beta_rad = r.grasp.beta;
+    out->dz_m = r.grasp.dz;
+  }
+  out->points_input = r.points.input;
+  out->points_finite = r.points.finite;
+  out->points_kept = r.points.after_filter;
+  out->voxels = r.points.voxels;
+  out->plane_voxels = r.points.plane;
+  out->object_voxels = r.points.object;
+  out->viewpoints = r.viewpoints;
+  out->candidates = r.candidates;
+  for (uint32_t i = 0; i < FG_STAGE_COUNT; ++i) out->stage_us[i] = r.stage_us[i];
+  ws->message = r.message;
+  return to_c(r.status);
+}
+
+const char* fg_last_message(const fg_workspace* ws) {
+  if (!valid(ws)) return "not a workspace made by fg_init";
+  return ws->message;
+}
+
+}  // extern "C"
