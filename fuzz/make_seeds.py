@@ -461,12 +461,69 @@ def make_plan():
     out("plan", "depth_empty.bin", plan_input([depth_block(1, HAND_EYE, TARGET, 0, 12, 30.0)]))
 
 
+# ---- firmware C API call sequences (layout: fuzz/api_fuzz.cpp) ------------------------
+
+def api_pose_raw(eye, target):
+    """Pose encoding 1: the 9 row-major entries of world_R_sensor, then t."""
+    x, y, z = look_at(eye, target)
+    return f32(*[(x, y, z)[j][i] for i in range(3) for j in range(3)], *eye)
+
+
+def api_init(slot, mem=0, cfg=0, extra=b""):
+    return bytes([0, slot, mem, cfg]) + extra
+
+
+def api_points(slot, role, eye, target, step=2, flags=1 << 2, stride=12):
+    axes = look_at(eye, target)
+    block = points_block(0, eye, target, stride=stride, step=step)
+    # Reuse the world points of points_block: its payload follows role, kind, pose, stride, u16.
+    payload = block[2 + 24 + 1 + 2:]
+    return bytes([2, slot, role & 0xFF, flags]) + api_pose_raw(eye, target) + bytes([stride]) + \
+        struct.pack("<H", len(payload)) + payload
+
+
+def api_depth(slot, role, eye, target, w=40, h=30, f=75.0, flags=1 << 2):
+    block = depth_block(0, eye, target, w, h, f)
+    rest = block[2 + 24:]  # w, h, intrinsics, u16, payload: the same layout
+    return bytes([3, slot, role & 0xFF, flags]) + api_pose_raw(eye, target) + rest
+
+
+def api_plan(slot, null_out=0):
+    return bytes([4, slot, null_out])
+
+
+def make_api():
+    capture = api_points(0, 0, HEAD_EYE, TARGET) + api_depth(0, 1, HAND_EYE, TARGET)
+    out("api", "one_capture.bin", api_init(0) + capture + api_plan(0) + api_plan(0) +
+        api_points(0, 1, HAND_EYE, TARGET, step=8) + bytes([5, 0]) + bytes([1, 0]) + api_plan(0) + capture + api_plan(0))
+    out("api", "two_workspaces.bin",
+        api_init(0) + api_init(1) + api_points(1, 0, HEAD_EYE, TARGET) + api_points(0, 0, HEAD_EYE, TARGET, step=3) +
+        api_depth(1, 1, HAND_EYE, TARGET) + api_plan(1) + api_plan(0) + bytes([1, 1]) + api_plan(1))
+    out("api", "bad_memory.bin",
+        api_init(0, mem=1) + api_init(0, mem=8) + api_init(0, mem=2 << 4) + api_init(0, mem=3 << 4, extra=struct.pack("<H", 7)) +
+        api_init(0, mem=64) + api_init(0, mem=128) + api_init(0, mem=1 << 4) + api_plan(0))
+    out("api", "bad_config.bin",
+        api_init(0, cfg=1, extra=struct.pack("<I", 12)) + api_init(0, cfg=2, extra=struct.pack("<I", 99)) +
+        api_init(0, cfg=3) + api_init(0, cfg=5, extra=bytes([6]) + f32(NAN) + bytes([3]) + f32(-1.0)) +
+        api_init(1, cfg=4, extra=bytes([11]) + f32(0.3)) + api_points(1, 0, HEAD_EYE, TARGET, step=4) + api_plan(1))
+    out("api", "wrong_order.bin",
+        api_plan(0) + bytes([1, 0]) + api_init(0) + api_plan(0, 1) + api_plan(0) + api_points(0, 7, HEAD_EYE, TARGET, step=8) +
+        api_points(0, 0xFF, HEAD_EYE, TARGET, step=8) + api_points(0, 0, HEAD_EYE, TARGET, step=8, flags=1) +
+        api_points(0, 0, HEAD_EYE, TARGET, step=8, flags=2) + api_points(0, 0, HEAD_EYE, TARGET, step=8, stride=4) +
+        api_depth(0, 1, HAND_EYE, TARGET, 8, 6, 15.0, flags=16) + api_points(2, 0, HEAD_EYE, TARGET, step=8) + api_plan(3))
+    out("api", "bogus_and_strings.bin",
+        api_init(0) + bytes([7, 0, 7, 1, 7, 2, 7, 3]) + bytes([6]) + struct.pack("<ii", -112, 10) +
+        bytes([6]) + struct.pack("<ii", 12345, -3) + bytes([8, 3, 13]) + f32(NAN) + bytes([40]) + f32(-1.0) +
+        bytes([2]) + struct.pack("<I", 0xFFFFFFFF))
+
+
 if __name__ == "__main__":
     make_pcd()
     make_ply()
     make_scene()
     make_plan()
-    for t in ("pcd", "ply", "scene", "plan"):
+    make_api()
+    for t in ("pcd", "ply", "scene", "plan", "api"):
         d = os.path.join(HERE, "corpus", t)
         files = sorted(os.listdir(d))
         print("%-6s %2d files, largest %d bytes" % (t, len(files), max(os.path.getsize(os.path.join(d, f)) for f in files)))

@@ -39,7 +39,7 @@ constexpr uint32_t kMaxDepthSide = 64;
 constexpr size_t kMaxPointBytes = 65535;  // a u16 payload length
 
 // Everything the core touches lives in static storage: nothing here allocates.
-fg::Planner g_planner;  // ~7 MB, constructed once
+fg::Planner g_planner;  // ~4 MB, constructed once
 fg::PlanResult g_result;
 fg::ViewDetail g_detail;
 alignas(16) unsigned char g_points[kMaxPointBytes + 16];

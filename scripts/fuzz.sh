@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Fuzzes the PCD, PLY and scene readers and the core planner with libFuzzer
+# Fuzzes the PCD, PLY and scene readers, the core planner and firmware C API call
+# sequences with libFuzzer
 # (fuzz/README.md): installs what is missing (the project's packages, plus clang 14 and
 # its fuzzer runtime, needed by this script only), builds the `fuzz` preset (clang,
 # ASan + UBSan), runs every target for SECONDS_PER_TARGET seconds (default 60; up to
@@ -46,7 +47,7 @@ cmake --build --preset fuzz -j "$(nproc)"
 bin=$root/build/fuzz/fuzz
 
 # ---- corpora ---------------------------------------------------------------------------
-targets=(pcd ply scene plan)
+targets=(pcd ply scene plan api)
 declare -A dict=([pcd]=pcd.dict [ply]=ply.dict [scene]=json.dict)
 work=$(mktemp -d "${TMPDIR:-/tmp}/fg-fuzz.XXXXXX")
 cleanup() { if [ "${FUZZ_KEEP:-0}" = 1 ]; then echo "fuzz: work folder kept: $work"; else rm -rf "$work"; fi; }
@@ -76,7 +77,7 @@ done < <(find "$shared/scenes" "$root/examples" -type f -name '*.json' ! -name '
 # Input size cap of the fuzzing loops. The real clouds (up to 2.5 MB) run whole once in
 # the pass below; in the loops libFuzzer truncates them to the cap, keeping their headers
 # and the start of their data: full-size inputs would cut the executions a hundredfold.
-declare -A max_len=([pcd]=65536 [ply]=65536 [scene]=16384 [plan]=16384)
+declare -A max_len=([pcd]=65536 [ply]=65536 [scene]=16384 [plan]=16384 [api]=16384)
 
 # ---- run -------------------------------------------------------------------------------
 jobs=${FUZZ_JOBS:-$(nproc)}

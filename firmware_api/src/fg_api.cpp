@@ -212,7 +212,9 @@ fg_status fg_config_check(const fg_config* cfg, const char** field) {
   const fg_status h = check_header(cfg, field);
   if (h != FG_OK) return h;
   fg::PlannerConfig p;
-  return from_c(*cfg, p, field);
+  const fg_status s = from_c(*cfg, p, field);
+  if (field != nullptr && *field == nullptr) *field = "";  // the core leaves NULL when all is well
+  return s;
 }
 
 fg_status fg_init(void* memory, size_t size, const fg_config* cfg, fg_workspace** out) {

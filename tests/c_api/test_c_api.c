@@ -204,6 +204,7 @@ static void test_config(void) {
   CHECK(cfg.struct_size == sizeof(fg_config) && cfg.abi_version == FG_ABI_VERSION);
   CHECK(fabsf(cfg.voxel_leaf_m - 0.005f) < 1e-9f && fabsf(cfg.gripper.max_opening_m - 0.085f) < 1e-9f);
   CHECK_STATUS(fg_config_check(&cfg, &field), FG_OK);
+  CHECK(field != NULL && field[0] == '\0');
   CHECK_STATUS(fg_config_check(NULL, &field), FG_ERR_INVALID_ARGUMENT);
 
   cfg.voxel_leaf_m = -1.f;

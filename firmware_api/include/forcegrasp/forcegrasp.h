@@ -186,7 +186,7 @@ fg_status fg_config_default(fg_config *cfg);
 /** Checks every value of cfg without a workspace; on an error, *field (when field is
  *  not NULL) names the first offending field as docs/configuration.md and
  *  `forcegrasp config` name its option: without the unit suffix ("voxel_leaf" for
- *  voxel_leaf_m, "gripper.max_opening"), static text. */
+ *  voxel_leaf_m, "gripper.max_opening"), static text; "" when all is well. */
 fg_status fg_config_check(const fg_config *cfg, const char **field);
 
 /** Builds a workspace in `memory` (size bytes, FG_WORKSPACE_ALIGN-aligned) and checks

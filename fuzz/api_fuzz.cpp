@@ -1,0 +1,325 @@
+// Fuzz target: sequences of firmware C API calls (firmware_api/include/forcegrasp/
+// forcegrasp.h) on two workspaces: any order, null pointers, undersized, misaligned or
+// bogus workspace memory, raw config fields, raw roles, poses, points and depth images.
+// Findings: crashes, sanitizer reports, hangs, heap use inside the API (the no-heap
+// guard is armed around every call), and breaches of the API's promises checked below
+// (a failed fg_init writes nothing and sets *out to NULL; refusals of bad memory have
+// their own statuses; every status has a name; messages are never NULL; an FG_OK grasp
+// is finite, with unit vectors and a width inside the gripper's opening).
+//
+// Input: a sequence of operations until the bytes run out (at most 64), each a u8 op
+// code (modulo 9) and its arguments; bytes past the end read as 0.
+//   0 init        u8 slot, u8 memory (bits 0-3 misalignment, bits 4-5 size: whole
+//                 buffer / exactly fg_workspace_size() / one byte less / u16 * 64;
+//                 bit 6 null memory, bit 7 null out), u8 config (0 default, 1 raw
+//                 struct_size, 2 raw abi_version, 3 null, 4-7: 1-4 raw field overrides:
+//                 u8 field, u32 value)
+//   1 reset       u8 slot
+//   2 add_points  u8 slot, i8 role, u8 flags (bit 0 null xyz, bit 1 null pose, bits 2-3
+//                 pose: identity / 12 raw floats / looking down from a raw height /
+//                 raw translation), u8 stride, u16 payload bytes, payload
+//   3 add_depth   u8 slot, i8 role, u8 flags (bit 0 null image, bit 1 null pose, bits
+//                 2-3 pose as above, bit 4 null intrinsics), u8 width % 65, u8 height % 65,
+//                 4 raw floats fx fy cx cy, u16 payload bytes, payload (uint16 mm)
+//   4 plan        u8 slot, u8 (bit 0: null output)
+//   5 message     u8 slot
+//   6 strings     i32 status, i32 reason
+//   7 bogus       u8 variant: a call on NULL, zeroed bytes, the inside of a workspace,
+//                 a byte copy of a workspace's header
+//   8 check       u8 count % 5 raw field overrides on the defaults
+// Slot 2 and 3 name no workspace (NULL), so calls on them test that path too.
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+
+#include "forcegrasp/forcegrasp.h"
+#include "no_heap_guard.hpp"
+
+namespace {
+
+constexpr size_t kMemBytes = FG_WORKSPACE_SIZE + 64;
+constexpr uint32_t kMaxDepthSide = 64;
+constexpr size_t kMaxPayload = 65535;
+
+alignas(64) unsigned char g_mem[2][kMemBytes];
+fg_workspace* g_ws[4];  // slots 2, 3 stay NULL
+alignas(16) unsigned char g_payload[kMaxPayload + 16];
+uint16_t g_depth[kMaxDepthSide * kMaxDepthSide];
+alignas(16) unsigned char g_junk[256];
+const bool g_verbose = std::getenv("FG_FUZZ_API_VERBOSE") != nullptr;
+
+class Reader {
+ public:
+  Reader(const uint8_t* data, size_t size) : p_(data), n_(size) {}
+  bool done() const { return i_ >= n_; }
+  uint8_t u8() { return i_ < n_ ? p_[i_++] : 0; }
+  uint16_t u16() {
+    const uint16_t lo = u8();
+    return static_cast<uint16_t>(lo | (u8() << 8));
+  }
+  uint32_t u32() {
+    uint32_t v = 0;
+    for (int k = 0; k < 4; ++k) v |= static_cast<uint32_t>(u8()) << (8 * k);
+    return v;
+  }
+  float f32() {
+    const uint32_t b = u32();
+    float f;
+    std::memcpy(&f, &b, 4);
+    return f;
+  }
+  size_t take(size_t want, const uint8_t*& out) {
+    const size_t left = i_ < n_ ? n_ - i_ : 0;
+    const size_t k = want < left ? want : left;
+    out = p_ + i_;
+    i_ += k;
+    return k;
+  }
+
+ private:
+  const uint8_t* p_;
+  size_t n_;
+  size_t i_ = 0;
+};
+
+[[noreturn]] void breach(const char* what, int status) {
+  fg_fuzz::disarm();
+  std::fprintf(stderr, "\n==fg-api== FINDING: %s (status %d)\n", what, status);
+  std::abort();
+}
+
+// Every status an API call returns must be a named one.
+fg_status named(fg_status s) {
+  if (std::strcmp(fg_status_str(s), "FG_UNKNOWN_STATUS") == 0) breach("a call returned an unnamed status", s);
+  return s;
+}
+
+// A raw write into any field of fg_config (floats and uint32 alike: 4 bytes each).
+void override_field(fg_config& c, uint8_t index, uint32_t value) {
+  static_assert(sizeof(fg_config) % 4 == 0, "fg_config is a sequence of 4-byte fields");
+  const size_t fields = sizeof(fg_config) / 4;
+  // Field 0 and 1 are struct_size and abi_version: the header ops reach those.
+  const size_t k = 2 + index % (fields - 2);
+  std::memcpy(reinterpret_cast<unsigned char*>(&c) + 4 * k, &value, 4);
+}
+
+fg_pose read_pose(uint32_t encoding, Reader& r) {
+  fg_pose p = {{1, 0, 0, 0, 1, 0, 0, 0, 1}, {0, 0, 0}};
+  switch (encoding) {
+    case 0: p.t[0] = 0.5f; p.t[2] = 0.9f; break;  // identity rotation: looking up
+    case 1:
+      for (float& v : p.r) v = r.f32();
+      for (float& v : p.t) v = r.f32();
+      break;
+    case 2: {  // looking straight down from a raw height above the workspace centre
+      const float rd[9] = {1, 0, 0, 0, -1, 0, 0, 0, -1};
+      std::memcpy(p.r, rd, sizeof rd);
+      p.t[0] = 0.5f;
+      p.t[2] = r.f32();
+      break;
+    }
+    default:
+      for (float& v : p.t) v = r.f32();
+      break;
+  }
+  return p;
+}
+
+fg_workspace* slot_ws(uint8_t s) { return g_ws[s & 3u]; }
+
+void op_init(Reader& r) {
+  const uint8_t slot = r.u8() & 1u, mem = r.u8(), cfgv = r.u8();
+  const size_t offset = mem & 15u;
+  size_t size = kMemBytes - offset;
+  switch ((mem >> 4) & 3u) {
+    case 1: size = fg_workspace_size(); break;
+    case 2: size = fg_workspace_size() - 1; break;
+    case 3: size = static_cast<size_t>(r.u16()) * 64u; break;
+    default: break;
+  }
+  if (size > kMemBytes - offset) size = kMemBytes - offset;
+  unsigned char* memory = (mem & 64u) != 0 ? nullptr : g_mem[slot] + offset;
+  fg_config cfg;
+  fg_config_default(&cfg);
+  const fg_config* cfgp = &cfg;
+  const uint32_t v = cfgv & 7u;
+  if (v == 1) cfg.struct_size = r.u32();
+  if (v == 2) cfg.abi_version = r.u32();
+  if (v == 3) cfgp = nullptr;
+  for (uint32_t i = 0; v >= 4 && i < v - 3; ++i) {
+    const uint8_t f = r.u8();
+    override_field(cfg, f, r.u32());
+  }
+  unsigned char before[64];
+  if (memory != nullptr) std::memcpy(before, memory, sizeof before);
+  fg_workspace* out = reinterpret_cast<fg_workspace*>(g_junk);  // must become NULL on failure
+  fg_workspace** outp = (mem & 128u) != 0 ? nullptr : &out;
+  g_ws[slot] = nullptr;
+  fg_fuzz::arm();
+  const fg_status s = named(fg_init(memory, size, cfgp, outp));
+  fg_fuzz::disarm();
+  if (s == FG_OK) {
+    if (memory == nullptr || outp == nullptr || (offset % FG_WORKSPACE_ALIGN) != 0 || size < fg_workspace_size())
+      breach("fg_init accepted bad memory", s);
+    if (static_cast<void*>(out) != static_cast<void*>(memory)) breach("fg_init's workspace is not at the memory given", s);
+    g_ws[slot] = out;
+    return;
+  }
+  if (outp != nullptr && out != nullptr) breach("a failed fg_init left *out non-NULL", s);
+  if (memory != nullptr && std::memcmp(before, memory, sizeof before) != 0)
+    breach("a failed fg_init wrote into the memory", s);
+  if (memory != nullptr && outp != nullptr && cfgp != nullptr) {
+    if ((offset % FG_WORKSPACE_ALIGN) != 0 && s != FG_ERR_WORKSPACE_MISALIGNED)
+      breach("misaligned memory not reported as FG_ERR_WORKSPACE_MISALIGNED", s);
+    if ((offset % FG_WORKSPACE_ALIGN) == 0 && size < fg_workspace_size() && s != FG_ERR_WORKSPACE_TOO_SMALL)
+      breach("undersized memory not reported as FG_ERR_WORKSPACE_TOO_SMALL", s);
+  }
+}
+
+void op_add_points(Reader& r) {
+  fg_workspace* ws = slot_ws(r.u8());
+  const fg_sensor_role role = static_cast<fg_sensor_role>(static_cast<int8_t>(r.u8()));
+  const uint8_t flags = r.u8();
+  const fg_pose pose = read_pose((flags >> 2) & 3u, r);
+  const size_t stride = r.u8();
+  const uint8_t* src = nullptr;
+  const size_t n = r.take(r.u16(), src);
+  std::memcpy(g_payload, src, n);
+  // An honest count: every point lies inside the bytes given.
+  const size_t step = stride < 12 ? 12 : stride;
+  const size_t count = n >= 12 ? (n - 12) / step + 1 : 0;
+  const float* xyz = (flags & 1u) != 0 ? nullptr : reinterpret_cast<const float*>(g_payload);
+  fg_fuzz::arm();
+  named(fg_add_points(ws, role, xyz, count, stride, (flags & 2u) != 0 ? nullptr : &pose));
+  fg_fuzz::disarm();
+}
+
+void op_add_depth(Reader& r) {
+  fg_workspace* ws = slot_ws(r.u8());
+  const fg_sensor_role role = static_cast<fg_sensor_role>(static_cast<int8_t>(r.u8()));
+  const uint8_t flags = r.u8();
+  const fg_pose pose = read_pose((flags >> 2) & 3u, r);
+  const uint16_t w = static_cast<uint16_t>(r.u8() % (kMaxDepthSide + 1));
+  const uint16_t h = static_cast<uint16_t>(r.u8() % (kMaxDepthSide + 1));
+  fg_intrinsics k;
+  k.fx = r.f32();
+  k.fy = r.f32();
+  k.cx = r.f32();
+  k.cy = r.f32();
+  const uint8_t* src = nullptr;
+  const size_t n = r.take(r.u16(), src);
+  for (size_t i = 0; i < static_cast<size_t>(w) * h; ++i)
+    g_depth[i] = 2 * i + 1 < n ? static_cast<uint16_t>(src[2 * i] | (src[2 * i + 1] << 8)) : 0;
+  fg_fuzz::arm();
+  named(fg_add_depth_image(ws, role, (flags & 1u) != 0 ? nullptr : g_depth, w, h,
+                           (flags & 16u) != 0 ? nullptr : &k, (flags & 2u) != 0 ? nullptr : &pose));
+  fg_fuzz::disarm();
+}
+
+bool unit(const float v[3]) {
+  const float n = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  return std::fabs(n - 1.f) < 1e-3f;
+}
+
+void op_plan(Reader& r) {
+  fg_workspace* ws = slot_ws(r.u8());
+  const bool null_out = (r.u8() & 1u) != 0;
+  fg_grasp g;
+  fg_fuzz::arm();
+  const fg_status s = named(fg_plan(ws, null_out ? nullptr : &g));
+  fg_fuzz::disarm();
+  if (g_verbose) std::fprintf(stderr, "api_fuzz: plan %s\n", fg_status_str(s));
+  if (s != FG_OK) return;
+  if (null_out) breach("fg_plan returned FG_OK without an output", s);
+  for (int i = 0; i < 3; ++i)
+    if (!std::isfinite(g.position[i]) || !std::isfinite(g.pregrasp[i])) breach("non-finite grasp position", s);
+  if (!unit(g.approach) || !unit(g.closing)) breach("grasp directions are not unit vectors", s);
+  if (!(g.width_m >= 0.f && g.width_m <= 0.5f)) breach("grasp width outside any opening", s);
+}
+
+void op_bogus(Reader& r) {
+  const uint8_t v = r.u8() % 4u;
+  fg_workspace* ws = nullptr;
+  if (v == 1) {
+    std::memset(g_junk, 0, sizeof g_junk);
+    ws = reinterpret_cast<fg_workspace*>(g_junk);
+  } else if (v == 2) {
+    ws = reinterpret_cast<fg_workspace*>(g_mem[0] + 16);
+  } else if (v == 3) {
+    std::memcpy(g_junk, g_mem[0], sizeof g_junk);  // a copy names a magic but not itself
+    ws = reinterpret_cast<fg_workspace*>(g_junk);
+  }
+  fg_grasp g;
+  const fg_pose pose = {{1, 0, 0, 0, 1, 0, 0, 0, 1}, {0, 0, 0}};
+  const float xyz[3] = {0.5f, 0.f, 0.5f};
+  fg_fuzz::arm();
+  const fg_status a = fg_plan(ws, &g), b = fg_reset(ws);
+  const fg_status c = fg_add_points(ws, FG_SENSOR_HEAD, xyz, 1, 12, &pose);
+  const char* m = fg_last_message(ws);
+  fg_fuzz::disarm();
+  if (a != FG_ERR_NOT_A_WORKSPACE || b != FG_ERR_NOT_A_WORKSPACE || c != FG_ERR_NOT_A_WORKSPACE)
+    breach("a call on memory that is no workspace was not refused", a);
+  if (m == nullptr) breach("fg_last_message returned NULL", 0);
+}
+
+void op_check(Reader& r) {
+  fg_config cfg;
+  fg_config_default(&cfg);
+  const uint32_t n = r.u8() % 5u;
+  for (uint32_t i = 0; i < n; ++i) {
+    const uint8_t f = r.u8();
+    override_field(cfg, f, r.u32());
+  }
+  const char* field = nullptr;
+  fg_fuzz::arm();
+  const fg_status s = named(fg_config_check(&cfg, &field));
+  fg_fuzz::disarm();
+  if (field == nullptr) breach("fg_config_check left the field name NULL", s);
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  static const bool live = (fg_fuzz::guard_self_test(), true);
+  (void)live;
+  // Each input starts without workspaces, and no stale one in the buffers either.
+  for (auto& ws : g_ws) ws = nullptr;
+  for (auto& m : g_mem) std::memset(m, 0, 256);
+
+  Reader r(data, size);
+  for (int op = 0; op < 64 && !r.done(); ++op) {
+    switch (r.u8() % 9u) {
+      case 0: op_init(r); break;
+      case 1: {
+        fg_workspace* ws = slot_ws(r.u8());
+        fg_fuzz::arm();
+        named(fg_reset(ws));
+        fg_fuzz::disarm();
+        break;
+      }
+      case 2: op_add_points(r); break;
+      case 3: op_add_depth(r); break;
+      case 4: op_plan(r); break;
+      case 5: {
+        fg_workspace* ws = slot_ws(r.u8());
+        fg_fuzz::arm();
+        const char* m = fg_last_message(ws);
+        fg_fuzz::disarm();
+        if (m == nullptr) breach("fg_last_message returned NULL", 0);
+        break;
+      }
+      case 6: {
+        const int32_t s = static_cast<int32_t>(r.u32()), reason = static_cast<int32_t>(r.u32());
+        if (fg_status_str(static_cast<fg_status>(s)) == nullptr ||
+            fg_reason_str(static_cast<fg_no_grasp_reason>(reason)) == nullptr)
+          breach("a string function returned NULL", s);
+        break;
+      }
+      case 7: op_bogus(r); break;
+      default: op_check(r); break;
+    }
+  }
+  return 0;
+}
