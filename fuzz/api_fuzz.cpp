@@ -180,7 +180,7 @@ void op_init(Reader& r) {
 
 void op_add_points(Reader& r) {
   fg_workspace* ws = slot_ws(r.u8());
-  const fg_sensor_role role = static_cast<fg_sensor_role>(static_cast<int8_t>(r.u8()));
+  const int32_t role = static_cast<int8_t>(r.u8());
   const uint8_t flags = r.u8();
   const fg_pose pose = read_pose((flags >> 2) & 3u, r);
   const size_t stride = r.u8();
@@ -198,7 +198,7 @@ void op_add_points(Reader& r) {
 
 void op_add_depth(Reader& r) {
   fg_workspace* ws = slot_ws(r.u8());
-  const fg_sensor_role role = static_cast<fg_sensor_role>(static_cast<int8_t>(r.u8()));
+  const int32_t role = static_cast<int8_t>(r.u8());
   const uint8_t flags = r.u8();
   const fg_pose pose = read_pose((flags >> 2) & 3u, r);
   const uint16_t w = static_cast<uint16_t>(r.u8() % (kMaxDepthSide + 1));
@@ -312,8 +312,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       }
       case 6: {
         const int32_t s = static_cast<int32_t>(r.u32()), reason = static_cast<int32_t>(r.u32());
-        if (fg_status_str(static_cast<fg_status>(s)) == nullptr ||
-            fg_reason_str(static_cast<fg_no_grasp_reason>(reason)) == nullptr)
+        if (fg_status_str(s) == nullptr || fg_reason_str(reason) == nullptr)
           breach("a string function returned NULL", s);
         break;
       }

@@ -142,10 +142,7 @@ fg::Pose to_pose(const fg_pose& in) {
 }
 
 // Roles outside the enum are refused before any cast can wrap them onto a valid one.
-bool role_ok(fg_sensor_role role) {
-  const int32_t r = static_cast<int32_t>(role);
-  return r >= 0 && static_cast<uint32_t>(r) < fg::kMaxSensors;
-}
+bool role_ok(int32_t role) { return role >= 0 && static_cast<uint32_t>(role) < fg::kMaxSensors; }
 
 fg_status fail(fg_workspace* ws, fg_status s, const char* message) {
   ws->message = message;
@@ -171,7 +168,7 @@ size_t fg_workspace_size(void) { return sizeof(fg_workspace); }
 
 size_t fg_workspace_align(void) { return FG_WORKSPACE_ALIGN; }
 
-const char* fg_status_str(fg_status status) {
+const char* fg_status_str(int32_t status) {
   switch (status) {
     case FG_OK: return "FG_OK";
     case FG_NO_GRASP: return "FG_NO_GRASP";
@@ -194,8 +191,9 @@ const char* fg_status_str(fg_status status) {
   return "FG_UNKNOWN_STATUS";
 }
 
-const char* fg_reason_str(fg_no_grasp_reason reason) {
-  return fg::to_string(static_cast<fg::NoGraspReason>(static_cast<int32_t>(reason)));
+const char* fg_reason_str(int32_t reason) {
+  if (reason < FG_REASON_NONE || reason > FG_REASON_DEGENERATE) return "unknown_reason";
+  return fg::to_string(static_cast<fg::NoGraspReason>(reason));
 }
 
 fg_status fg_config_default(fg_config* cfg) {
@@ -245,7 +243,7 @@ fg_status fg_reset(fg_workspace* ws) {
   return FG_OK;
 }
 
-fg_status fg_add_depth_image(fg_workspace* ws, fg_sensor_role role, const uint16_t* depth_mm,
+fg_status fg_add_depth_image(fg_workspace* ws, int32_t role, const uint16_t* depth_mm,
                              uint16_t width, uint16_t height, const fg_intrinsics* k,
                              const fg_pose* world_T_sensor) {
   if (!valid(ws)) return FG_ERR_NOT_A_WORKSPACE;
@@ -260,7 +258,7 @@ fg_status fg_add_depth_image(fg_workspace* ws, fg_sensor_role role, const uint16
   return to_c(s);
 }
 
-fg_status fg_add_points(fg_workspace* ws, fg_sensor_role role, const float* xyz, size_t count,
+fg_status fg_add_points(fg_workspace* ws, int32_t role, const float* xyz, size_t count,
                         size_t stride_bytes, const fg_pose* world_T_sensor) {
   if (!valid(ws)) return FG_ERR_NOT_A_WORKSPACE;
   if (!role_ok(role)) return fail(ws, FG_ERR_INVALID_SENSOR, "unknown sensor role");

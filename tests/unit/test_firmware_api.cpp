@@ -77,7 +77,7 @@ TEST_P(FirmwareApiScenes, SameAnswerAsThePlanner) {
   ASSERT_EQ(fg_init(mem->bytes, sizeof mem->bytes, &cfg, &ws), FG_OK);
   for (size_t i = 0; i < d.clouds.size(); ++i) {
     const fg_pose pose = to_c(d.poses[i]);
-    ASSERT_EQ(fg_add_points(ws, static_cast<fg_sensor_role>(d.roles[i]), d.clouds[i].xyz.data(),
+    ASSERT_EQ(fg_add_points(ws, static_cast<int32_t>(d.roles[i]), d.clouds[i].xyz.data(),
                             d.clouds[i].size(), 12, &pose),
               FG_OK);
   }

@@ -175,10 +175,13 @@ uint32_t fg_abi_version(void);
 size_t fg_workspace_size(void);
 /** Alignment the workspace needs (FG_WORKSPACE_ALIGN). */
 size_t fg_workspace_align(void);
-/** Static name of a status, e.g. "FG_ERR_INVALID_POSE"; "FG_UNKNOWN_STATUS" otherwise. */
-const char *fg_status_str(fg_status status);
-/** Static name of a no-grasp reason, e.g. "too_wide". */
-const char *fg_reason_str(fg_no_grasp_reason reason);
+/* Enumerations the caller passes in travel as int32_t: any value a C caller can form
+ * is defined input (refused with a status), and the ABI does not depend on enum size. */
+
+/** Static name of an fg_status, e.g. "FG_ERR_INVALID_POSE"; "FG_UNKNOWN_STATUS" otherwise. */
+const char *fg_status_str(int32_t status);
+/** Static name of an fg_no_grasp_reason, e.g. "too_wide"; "unknown_reason" otherwise. */
+const char *fg_reason_str(int32_t reason);
 
 /** Fills the defaults of docs/configuration.md, struct_size and abi_version. */
 fg_status fg_config_default(fg_config *cfg);
@@ -199,15 +202,16 @@ fg_status fg_init(void *memory, size_t size, const fg_config *cfg, fg_workspace 
 fg_status fg_reset(fg_workspace *ws);
 
 /** Adds one sensor's depth image (uint16 millimetres, 0 = no return, row-major,
- *  width x height) for this capture. Each role at most once per capture. */
-fg_status fg_add_depth_image(fg_workspace *ws, fg_sensor_role role, const uint16_t *depth_mm,
+ *  width x height) for this capture. role: an fg_sensor_role, each at most once per
+ *  capture (others: FG_ERR_INVALID_SENSOR). */
+fg_status fg_add_depth_image(fg_workspace *ws, int32_t role, const uint16_t *depth_mm,
                              uint16_t width, uint16_t height, const fg_intrinsics *k,
                              const fg_pose *world_T_sensor);
 
 /** Adds one sensor's points: count xyz triples of float (sensor frame, metres), the
  *  first float of point i at xyz + i * stride_bytes (stride >= 12; any alignment).
- *  NaN points are skipped. Each role at most once per capture. */
-fg_status fg_add_points(fg_workspace *ws, fg_sensor_role role, const float *xyz, size_t count,
+ *  NaN points are skipped. role: an fg_sensor_role, each at most once per capture. */
+fg_status fg_add_points(fg_workspace *ws, int32_t role, const float *xyz, size_t count,
                         size_t stride_bytes, const fg_pose *world_T_sensor);
 
 /** Plans a grasp on this capture. FG_OK: *out holds the grasp. FG_NO_GRASP:
