@@ -90,7 +90,10 @@ TEST(SimWorld, RayIntersectionMatchesSphereTracing) {
         EXPECT_GT(g.normalized().dot(n), 0.999) << shape_name(s) << " ray " << k;
       }
     }
-    EXPECT_GT(hits, 100) << shape_name(s);
+    // At least a quarter of the 400 rays hit. The count moves by a ray or two between
+    // targets (the random parts differ in their last bits): aarch64 gives exactly 100
+    // for ellipsoids.
+    EXPECT_GE(hits, 100) << shape_name(s);
     EXPECT_GT(misses, 20) << shape_name(s);
   }
 }
