@@ -19,7 +19,9 @@
 #define FG_VOXEL_CACHE_BITS 8u       /* 2^bits recent cells cached by the ingest loop */
 
 /* The workspace budget: firmware_api's FG_WORKSPACE_SIZE, a compile-time upper bound of
- * fg_workspace_size() (checked by a static_assert in firmware_api/src/fg_api.cpp). */
-#define FG_WORKSPACE_SIZE 524288u      /* 512 KiB */
+ * fg_workspace_size() (checked by a static_assert in firmware_api/src/fg_api.cpp).
+ * Kept close to the real size (216 KiB) because firmware reserves FG_WORKSPACE_SIZE
+ * bytes statically; the configuration's limit is 512 KiB. */
+#define FG_WORKSPACE_SIZE 229376u      /* 224 KiB */
 
 #endif

@@ -1,12 +1,14 @@
 // fg_m7_image: the planner on a bare-metal Cortex-M7 (QEMU mps2-an500 or the board).
 // Builds a small deterministic scene in code (a 6 x 4 x 8 cm box standing on a table,
-// seen by one sensor 0.6 m behind and 0.45 m above it), plans once with a static
-// fg::Planner and prints the grasp, the point counts and the stage times through the
-// platform log. It proves that core/ and robot/ link and run without heap, exceptions
-// or RTTI (check_image.cmake checks the symbols); main() returns 0 on a grasp.
+// seen by one sensor 0.6 m behind and 0.45 m above it), plans once through the
+// firmware C API (forcegrasp.h) in a static workspace, as firmware would, and prints
+// the grasp, the point counts and the stage times through the platform log. It proves
+// that firmware_api, core/ and robot/ link and run without heap, exceptions or RTTI
+// (check_image.cmake checks the symbols); main() returns 0 on a grasp.
 #include <cstdint>
 
 #include "fg/core/planner.hpp"
+#include "forcegrasp/forcegrasp.h"
 #include "fg/core/prng.hpp"
 #include "fg/platform/platform.hpp"
 #include "fg/robot/ur5.hpp"
@@ -18,7 +20,7 @@ using fg::Vec3;
 using fg::cortex_m::TextLine;
 
 // Static, never on the stack: the workspace is hundreds of KiB.
-fg::Planner g_planner;
+FG_WORKSPACE_STORAGE(g_workspace_memory);
 
 constexpr uint32_t kMaxScenePoints = 4096;
 float g_xyz[kMaxScenePoints * 3];  // the sensor's points, optical frame
@@ -83,32 +85,31 @@ void build_scene(const fg::Pose& pose) {
 
 void say(const TextLine& line) { fg::platform::log(fg::platform::LogLevel::info, line.c_str()); }
 
-void report(const fg::PlanResult& r, uint64_t cycles) {
-  const fg::Grasp& g = r.grasp;
-  if (r.status == fg::Status::ok) {
+void report(fg_status status, const fg_grasp& g, const char* message, uint64_t cycles) {
+  if (status == FG_OK) {
     TextLine line;
     line << "grasp: position ";
-    line.fixed(g.position.x()) << " ";
-    line.fixed(g.position.y()) << " ";
-    line.fixed(g.position.z()) << " width ";
-    line.fixed(g.width) << " closing ";
-    line.fixed(g.closing.x()) << " ";
-    line.fixed(g.closing.y()) << " ";
-    line.fixed(g.closing.z());
+    line.fixed(g.position[0]) << " ";
+    line.fixed(g.position[1]) << " ";
+    line.fixed(g.position[2]) << " width ";
+    line.fixed(g.width_m) << " closing ";
+    line.fixed(g.closing[0]) << " ";
+    line.fixed(g.closing[1]) << " ";
+    line.fixed(g.closing[2]);
     say(line);
   } else {
     TextLine line;
-    line << "no grasp: " << fg::to_string(r.status) << " " << fg::to_string(r.reason) << " (" << r.message << ")";
+    line << "no grasp: " << fg_status_str(status) << " " << fg_reason_str(g.reason) << " (" << message << ")";
     say(line);
   }
   TextLine pts;
-  pts << "points: input " << r.points.input << " voxels " << r.points.voxels << " plane " << r.points.plane
-      << " object " << r.points.object << " viewpoints " << r.viewpoints << " candidates " << r.candidates;
+  pts << "points: input " << g.points_input << " voxels " << g.voxels << " plane " << g.plane_voxels
+      << " object " << g.object_voxels << " viewpoints " << g.viewpoints << " candidates " << g.candidates;
   say(pts);
   TextLine t;
   t << "stage_us:";
-  for (uint32_t s = 0; s < static_cast<uint32_t>(fg::Stage::count); ++s)
-    t << " " << fg::to_string(static_cast<fg::Stage>(s)) << " " << r.stage_us[s];
+  for (uint32_t s = 0; s < FG_STAGE_COUNT; ++s)
+    t << " " << fg::to_string(static_cast<fg::Stage>(s)) << " " << g.stage_us[s];
   say(t);
   TextLine c;
   c << "cycles (DWT) for add_points + plan: " << cycles;
@@ -116,12 +117,23 @@ void report(const fg::PlanResult& r, uint64_t cycles) {
   say(c);
 }
 
+fg_pose to_c(const fg::Pose& p) {
+  fg_pose c{};
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) c.r[3 * i + j] = p.R(i, j);
+    c.t[i] = p.t(i);
+  }
+  return c;
+}
+
 }  // namespace
 
 int main() {
   {
     TextLine line;
-    line << "fg_m7_image: sizeof(fg::Planner) = " << static_cast<uint32_t>(sizeof(fg::Planner)) << " bytes";
+    line << "fg_m7_image: forcegrasp " << (fg_version() >> 16) << "." << ((fg_version() >> 8) & 0xFFu) << "."
+         << (fg_version() & 0xFFu) << ", workspace " << static_cast<uint32_t>(fg_workspace_size())
+         << " bytes (budget " << static_cast<uint32_t>(FG_WORKSPACE_SIZE) << ")";
     say(line);
   }
   // The robot layer links too: the nominal UR5 at its zero pose.
@@ -137,23 +149,27 @@ int main() {
     say(line);
   }
 
-  const char* field = nullptr;
-  if (g_planner.configure(fg::PlannerConfig{}, &field) != fg::Status::ok) {
+  fg_config cfg;
+  fg_config_default(&cfg);
+  fg_workspace* ws = nullptr;
+  const fg_status init = fg_init(g_workspace_memory, sizeof g_workspace_memory, &cfg, &ws);
+  if (init != FG_OK) {
     TextLine line;
-    line << "configure failed: " << field;
+    line << "fg_init failed: " << fg_status_str(init);
     say(line);
     return 1;
   }
-  fg::PlanResult result;
+  const fg_pose sensor = to_c(pose);
   const uint64_t c0 = fg::platform::cycle_counter();
-  const fg::Status added = g_planner.add_points(fg::SensorRole::head, g_xyz, g_count, 12, pose);
-  if (added != fg::Status::ok) {
+  const fg_status added = fg_add_points(ws, FG_SENSOR_HEAD, g_xyz, g_count, 12, &sensor);
+  if (added != FG_OK) {
     TextLine line;
-    line << "add_points failed: " << fg::to_string(added) << " (" << g_planner.last_message() << ")";
+    line << "fg_add_points failed: " << fg_status_str(added) << " (" << fg_last_message(ws) << ")";
     say(line);
     return 1;
   }
-  g_planner.plan(result);
-  report(result, fg::platform::cycle_counter() - c0);
-  return result.status == fg::Status::ok ? 0 : 1;
+  fg_grasp grasp;
+  const fg_status planned = fg_plan(ws, &grasp);
+  report(planned, grasp, fg_last_message(ws), fg::platform::cycle_counter() - c0);
+  return planned == FG_OK ? 0 : 1;
 }
