@@ -1,0 +1,281 @@
+// The grasp task state machine (grasp_task.hpp). Embedded rules: no heap, no
+// exceptions; every state ends by success, failure or its timeout.
+#include "fg/task/grasp_task.hpp"
+
+#include <cmath>
+
+namespace fg::task {
+namespace {
+
+robot::PoseD to_d(const Pose& p) {
+  robot::PoseD d;
+  d.R = p.R.cast<double>();
+  d.t = p.t.cast<double>();
+  return d;
+}
+
+Pose to_f(const robot::PoseD& d) {
+  Pose p;
+  p.R = d.R.cast<float>();
+  p.t = d.t.cast<float>();
+  return p;
+}
+
+robot::PoseD compose(const robot::PoseD& a, const robot::PoseD& b) {
+  robot::PoseD c;
+  c.R = a.R * b.R;
+  c.t = a.R * b.t + a.t;
+  return c;
+}
+
+robot::PoseD inverse(const robot::PoseD& a) {
+  robot::PoseD c;
+  c.R = a.R.transpose();
+  c.t = -(c.R * a.t);
+  return c;
+}
+
+bool all_finite(const Pose& p) { return p.R.allFinite() && p.t.allFinite(); }
+
+}  // namespace
+
+const char* to_string(TaskState s) {
+  switch (s) {
+    case TaskState::idle: return "idle";
+    case TaskState::capturing: return "capturing";
+    case TaskState::planning: return "planning";
+    case TaskState::opening: return "opening";
+    case TaskState::to_pregrasp: return "to_pregrasp";
+    case TaskState::approaching: return "approaching";
+    case TaskState::closing: return "closing";
+    case TaskState::lifting: return "lifting";
+    case TaskState::succeeded: return "succeeded";
+    case TaskState::failed: return "failed";
+  }
+  return "unknown_state";
+}
+
+const char* to_string(TaskFailure f) {
+  switch (f) {
+    case TaskFailure::none: return "none";
+    case TaskFailure::invalid_config: return "invalid_config";
+    case TaskFailure::sensor_failed: return "sensor_failed";
+    case TaskFailure::sensor_timeout: return "sensor_timeout";
+    case TaskFailure::no_grasp: return "no_grasp";
+    case TaskFailure::unreachable: return "unreachable";
+    case TaskFailure::arm_refused: return "arm_refused";
+    case TaskFailure::arm_fault: return "arm_fault";
+    case TaskFailure::arm_timeout: return "arm_timeout";
+    case TaskFailure::gripper_refused: return "gripper_refused";
+    case TaskFailure::gripper_fault: return "gripper_fault";
+    case TaskFailure::gripper_timeout: return "gripper_timeout";
+    case TaskFailure::missed: return "missed";
+  }
+  return "unknown_failure";
+}
+
+Status GraspTask::start(const TaskConfig& cfg) {
+  state_ = TaskState::idle;
+  ticks_ = 0;
+  plan_ = PlanResult{};
+  const bool ok = all_finite(cfg.world_T_base) && all_finite(cfg.world_T_head) &&
+                  all_finite(cfg.tool0_T_hand) && (cfg.use_head || cfg.use_hand) &&
+                  std::isfinite(cfg.tcp_offset_m) && cfg.tcp_offset_m >= 0.f && cfg.tcp_offset_m < 1.f &&
+                  std::isfinite(cfg.lift_m) && cfg.lift_m >= 0.f && cfg.lift_m < 1.f &&
+                  cfg.speed_fraction > 0.0 && cfg.speed_fraction <= 1.0 && std::isfinite(cfg.grip_force_n) &&
+                  cfg.grip_force_n > 0.f && cfg.joint_tolerance_rad > 0.0 && cfg.joint_tolerance_rad < 0.5 &&
+                  cfg.capture_timeout_us > 0 && cfg.move_timeout_us > 0 && cfg.gripper_timeout_us > 0;
+  if (!ok) {
+    state_ = TaskState::failed;
+    failure_ = TaskFailure::invalid_config;
+    message_ = "task configuration: a pose is not finite, no sensor is used, or a value is out of range";
+    return Status::invalid_config;
+  }
+  cfg_ = cfg;
+  failure_ = TaskFailure::none;
+  message_ = "";
+  state_ = TaskState::capturing;
+  entry_done_ = false;
+  entered_us_ = 0;  // set by the first step, which reads the clock
+  return Status::ok;
+}
+
+void GraspTask::enter(TaskState s, uint64_t now_us) {
+  state_ = s;
+  entered_us_ = now_us;
+  entry_done_ = false;
+}
+
+TaskState GraspTask::fail(TaskFailure f, const char* message) {
+  state_ = TaskState::failed;
+  failure_ = f;
+  message_ = message;
+  return state_;
+}
+
+bool GraspTask::timed_out(uint64_t now_us, uint32_t timeout_us) const {
+  return now_us - entered_us_ > timeout_us;
+}
+
+void GraspTask::abort(const TaskHal& hal, TaskFailure reason) {
+  hal.arm.stop();
+  if (state_ != TaskState::succeeded && state_ != TaskState::failed) fail(reason, "aborted by the caller");
+}
+
+TaskState GraspTask::step(Planner& planner, const TaskHal& hal) {
+  if (state_ == TaskState::idle || state_ == TaskState::succeeded || state_ == TaskState::failed) return state_;
+  ++ticks_;
+  const uint64_t now = hal.clock.now_us();
+  if (ticks_ == 1) entered_us_ = now;
+  switch (state_) {
+    case TaskState::capturing: return step_capture(planner, hal, now);
+    case TaskState::planning: return step_plan(planner, hal, now);
+    case TaskState::opening:
+    case TaskState::closing: {
+      const bool opening = state_ == TaskState::opening;
+      if (!entry_done_) {
+        const float open_m = planner.config().gripper.max_opening_m;
+        const Status s = opening ? hal.gripper.open_to(open_m) : hal.gripper.close(cfg_.grip_force_n);
+        if (s != Status::ok) return fail(TaskFailure::gripper_refused, "the gripper refused the command");
+        entry_done_ = true;
+        return state_;
+      }
+      hal::GripperState g;
+      if (hal.gripper.read_state(g) != Status::ok || g.fault)
+        return fail(TaskFailure::gripper_fault, "the gripper reported a fault");
+      if (!g.moving) {
+        if (opening) {
+          enter(TaskState::to_pregrasp, now);
+        } else if (g.contact) {
+          enter(TaskState::lifting, now);
+        } else {
+          return fail(TaskFailure::missed, "the gripper closed without touching the object");
+        }
+        return state_;
+      }
+      if (timed_out(now, cfg_.gripper_timeout_us))
+        return fail(TaskFailure::gripper_timeout, "the gripper did not finish in time");
+      return state_;
+    }
+    case TaskState::to_pregrasp: return step_move(hal, now, q_pre_, TaskState::approaching);
+    case TaskState::approaching: return step_move(hal, now, q_grasp_, TaskState::closing);
+    case TaskState::lifting: return step_move(hal, now, q_lift_, TaskState::succeeded);
+    default: return state_;
+  }
+}
+
+TaskState GraspTask::step_capture(Planner& planner, const TaskHal& hal, uint64_t now) {
+  hal::DepthSensor* sensors[2] = {hal.head, hal.hand};
+  const bool used[2] = {cfg_.use_head, cfg_.use_hand};
+  if (!entry_done_) {
+    // The wrist sensor's pose comes from the arm: it must stand still for the image.
+    hal::ArmState arm;
+    if (hal.arm.read_state(arm) != Status::ok || arm.fault)
+      return fail(TaskFailure::arm_fault, "the arm reported a fault before the capture");
+    if (arm.moving) {
+      if (timed_out(now, cfg_.capture_timeout_us))
+        return fail(TaskFailure::sensor_timeout, "the arm kept moving: no still image for the wrist sensor");
+      return state_;
+    }
+    for (int i = 0; i < 6; ++i) q_capture_[i] = arm.q[i];
+    planner.reset();
+    for (int r = 0; r < 2; ++r) {
+      pending_[r] = used[r];
+      if (!used[r]) continue;
+      if (sensors[r] == nullptr) return fail(TaskFailure::sensor_failed, "a configured sensor has no driver");
+      if (sensors[r]->request_capture() != Status::ok)
+        return fail(TaskFailure::sensor_failed, "a sensor refused the capture request");
+    }
+    entry_done_ = true;
+    return state_;
+  }
+  for (int r = 0; r < 2; ++r) {
+    if (!pending_[r]) continue;
+    hal::DepthFrame frame;
+    const hal::CaptureState cs = sensors[r]->poll(frame);
+    if (cs == hal::CaptureState::failed || cs == hal::CaptureState::idle)
+      return fail(TaskFailure::sensor_failed, "a sensor failed its capture");
+    if (cs != hal::CaptureState::ready) continue;
+    Pose world_T_sensor = cfg_.world_T_head;
+    if (r == 1) {
+      robot::PoseD base_T_tool0;
+      if (!robot::ur5_forward_d(cfg_.robot, q_capture_, base_T_tool0))
+        return fail(TaskFailure::arm_fault, "the arm reported non-finite joints");
+      world_T_sensor = to_f(compose(compose(to_d(cfg_.world_T_base), base_T_tool0), to_d(cfg_.tool0_T_hand)));
+    }
+    const Status s = planner.add_depth_image(r == 0 ? SensorRole::head : SensorRole::hand, frame.depth_mm,
+                                             frame.width, frame.height, frame.k, world_T_sensor);
+    if (s != Status::ok) return fail(TaskFailure::sensor_failed, planner.last_message());
+    pending_[r] = false;
+  }
+  if (!pending_[0] && !pending_[1]) {
+    enter(TaskState::planning, now);
+    return state_;
+  }
+  if (timed_out(now, cfg_.capture_timeout_us)) return fail(TaskFailure::sensor_timeout, "a sensor gave no image in time");
+  return state_;
+}
+
+bool GraspTask::solve(const robot::PoseD& base_T_tool0, const double* near, double* out) const {
+  robot::IkSolutions sols;
+  if (!robot::ik_has_solution(robot::ur5_inverse(cfg_.robot, base_T_tool0, sols, cfg_.ik))) return false;
+  const robot::IkChoice c = robot::choose_nearest(near, sols, cfg_.ik.limits);
+  if (c.status != robot::IkStatus::ok) return false;
+  for (int i = 0; i < 6; ++i) out[i] = c.q[i];
+  return true;
+}
+
+TaskState GraspTask::step_plan(Planner& planner, const TaskHal&, uint64_t now) {
+  planner.plan(plan_);
+  if (plan_.status != Status::ok) return fail(TaskFailure::no_grasp, plan_.message);
+  const Grasp& g = plan_.grasp;
+  const robot::PoseD base_T_world = inverse(to_d(cfg_.world_T_base));
+  // Tool0 frame at the grasp: z along the approach, x along the closing direction, the
+  // flange tcp_offset behind the pads' centre. A parallel gripper grasps the same way
+  // turned half a turn about the approach: tried when the first way is out of reach.
+  for (int turn = 0; turn < 2; ++turn) {
+    const double sign = turn == 0 ? 1.0 : -1.0;
+    robot::PoseD w;
+    const Eigen::Vector3d z = g.approach.cast<double>().normalized();
+    const Eigen::Vector3d x = (sign * g.closing.cast<double>()).normalized();
+    w.R.col(0) = x;
+    w.R.col(1) = z.cross(x);
+    w.R.col(2) = z;
+    const Eigen::Vector3d back = z * static_cast<double>(cfg_.tcp_offset_m);
+    w.t = g.pregrasp.cast<double>() - back;
+    const robot::PoseD pre = compose(base_T_world, w);
+    w.t = g.position.cast<double>() - back;
+    const robot::PoseD at = compose(base_T_world, w);
+    w.t.z() += static_cast<double>(cfg_.lift_m);
+    const robot::PoseD lift = compose(base_T_world, w);
+    if (solve(pre, q_capture_, q_pre_) && solve(at, q_pre_, q_grasp_) && solve(lift, q_grasp_, q_lift_)) {
+      enter(TaskState::opening, now);
+      return state_;
+    }
+  }
+  return fail(TaskFailure::unreachable, "no joint solution inside the limits for the pre-grasp, grasp or lift pose");
+}
+
+TaskState GraspTask::step_move(const TaskHal& hal, uint64_t now, const double* target, TaskState next) {
+  if (!entry_done_) {
+    if (hal.arm.move_joints(target, cfg_.speed_fraction) != Status::ok)
+      return fail(TaskFailure::arm_refused, "the arm refused the joint target");
+    entry_done_ = true;
+    return state_;
+  }
+  hal::ArmState arm;
+  if (hal.arm.read_state(arm) != Status::ok || arm.fault) return fail(TaskFailure::arm_fault, "the arm reported a fault");
+  bool there = !arm.moving;
+  for (int i = 0; i < 6 && there; ++i) there = std::fabs(arm.q[i] - target[i]) <= cfg_.joint_tolerance_rad;
+  if (there) {
+    enter(next, now);
+    return state_;
+  }
+  if (timed_out(now, cfg_.move_timeout_us)) {
+    hal.arm.stop();
+    return fail(TaskFailure::arm_timeout, "the arm did not reach its target in time");
+  }
+  return state_;
+}
+
+}  // namespace fg::task
