@@ -7,9 +7,87 @@
 #include <new>
 
 #include "fg/core/planner.hpp"
+#include "fg/task/grasp_task.hpp"
 
 namespace {
 constexpr uint32_t kMagic = 0x46475753u;  // "FGWS"
+
+// The firmware's callbacks behind the HAL interfaces the task drives. A callback's
+// non-zero result is a refusal; a capture state outside FG_CAPTURE_* is a failure.
+class OpsClock final : public fg::hal::Clock {
+ public:
+  const fg_hal_ops* ops = nullptr;
+
+ private:
+  uint64_t do_now_us() override { return ops->now_us(ops->ctx); }
+};
+
+class OpsSensor final : public fg::hal::DepthSensor {
+ public:
+  const fg_hal_ops* ops = nullptr;
+  int32_t role = FG_SENSOR_HEAD;
+
+ private:
+  fg::Status do_request_capture() override {
+    return ops->sensor_request(ops->ctx, role) == 0 ? fg::Status::ok : fg::Status::invalid_argument;
+  }
+  fg::hal::CaptureState do_poll(fg::hal::DepthFrame& out) override {
+    fg_depth_frame f{};
+    switch (ops->sensor_poll(ops->ctx, role, &f)) {
+      case FG_CAPTURE_IDLE: return fg::hal::CaptureState::idle;
+      case FG_CAPTURE_BUSY: return fg::hal::CaptureState::busy;
+      case FG_CAPTURE_READY:
+        out.depth_mm = f.depth_mm;
+        out.width = f.width;
+        out.height = f.height;
+        out.k = fg::PinholeIntrinsics{f.k.fx, f.k.fy, f.k.cx, f.k.cy};
+        return fg::hal::CaptureState::ready;
+      default: return fg::hal::CaptureState::failed;
+    }
+  }
+};
+
+class OpsArm final : public fg::hal::ArmLink {
+ public:
+  const fg_hal_ops* ops = nullptr;
+
+ private:
+  fg::Status do_move_joints(const double q[6], double speed) override {
+    return ops->arm_move(ops->ctx, q, speed) == 0 ? fg::Status::ok : fg::Status::invalid_argument;
+  }
+  fg::Status do_read_state(fg::hal::ArmState& out) override {
+    fg_arm_state a{};
+    if (ops->arm_read(ops->ctx, &a) != 0) return fg::Status::invalid_argument;
+    for (int i = 0; i < 6; ++i) out.q[i] = a.q[i];
+    out.moving = a.moving != 0;
+    out.fault = a.fault != 0;
+    return fg::Status::ok;
+  }
+  void do_stop() override { ops->arm_stop(ops->ctx); }
+};
+
+class OpsGripper final : public fg::hal::Gripper {
+ public:
+  const fg_hal_ops* ops = nullptr;
+
+ private:
+  fg::Status do_open_to(float w) override {
+    return ops->gripper_open(ops->ctx, w) == 0 ? fg::Status::ok : fg::Status::invalid_argument;
+  }
+  fg::Status do_close(float f) override {
+    return ops->gripper_close(ops->ctx, f) == 0 ? fg::Status::ok : fg::Status::invalid_argument;
+  }
+  fg::Status do_read_state(fg::hal::GripperState& out) override {
+    fg_gripper_state g{};
+    if (ops->gripper_read(ops->ctx, &g) != 0) return fg::Status::invalid_argument;
+    out.width_m = g.width_m;
+    out.moving = g.moving != 0;
+    out.contact = g.contact != 0;
+    out.fault = g.fault != 0;
+    return fg::Status::ok;
+  }
+};
+
 }  // namespace
 
 struct fg_workspace {
@@ -17,6 +95,14 @@ struct fg_workspace {
   const fg_workspace* self;   // == this: a byte copy of a workspace is refused
   const char* message;        // static text of the last call
   fg::Planner planner;
+  // The grasp task and the firmware's hardware behind the HAL interfaces.
+  bool task_started;
+  fg_hal_ops ops;
+  OpsClock clock;
+  OpsSensor head, hand;
+  OpsArm arm;
+  OpsGripper gripper;
+  fg::task::GraspTask task;
 };
 
 static_assert(sizeof(fg_workspace) <= FG_WORKSPACE_SIZE,
@@ -52,6 +138,30 @@ FG_SAME(FG_REASON_DEGENERATE, fg::NoGraspReason::degenerate);
 FG_SAME(FG_STAGE_INGEST, fg::Stage::ingest);
 FG_SAME(FG_STAGE_TOTAL, fg::Stage::total);
 FG_SAME(FG_STAGE_COUNT, fg::Stage::count);
+FG_SAME(FG_TASK_IDLE, fg::task::TaskState::idle);
+FG_SAME(FG_TASK_CAPTURING, fg::task::TaskState::capturing);
+FG_SAME(FG_TASK_PLANNING, fg::task::TaskState::planning);
+FG_SAME(FG_TASK_OPENING, fg::task::TaskState::opening);
+FG_SAME(FG_TASK_TO_PREGRASP, fg::task::TaskState::to_pregrasp);
+FG_SAME(FG_TASK_APPROACHING, fg::task::TaskState::approaching);
+FG_SAME(FG_TASK_CLOSING, fg::task::TaskState::closing);
+FG_SAME(FG_TASK_LIFTING, fg::task::TaskState::lifting);
+FG_SAME(FG_TASK_SUCCEEDED, fg::task::TaskState::succeeded);
+FG_SAME(FG_TASK_FAILED, fg::task::TaskState::failed);
+FG_SAME(FG_TASK_OK, fg::task::TaskFailure::none);
+FG_SAME(FG_TASK_INVALID_CONFIG, fg::task::TaskFailure::invalid_config);
+FG_SAME(FG_TASK_SENSOR_FAILED, fg::task::TaskFailure::sensor_failed);
+FG_SAME(FG_TASK_SENSOR_TIMEOUT, fg::task::TaskFailure::sensor_timeout);
+FG_SAME(FG_TASK_NO_GRASP, fg::task::TaskFailure::no_grasp);
+FG_SAME(FG_TASK_UNREACHABLE, fg::task::TaskFailure::unreachable);
+FG_SAME(FG_TASK_ARM_REFUSED, fg::task::TaskFailure::arm_refused);
+FG_SAME(FG_TASK_ARM_FAULT, fg::task::TaskFailure::arm_fault);
+FG_SAME(FG_TASK_ARM_TIMEOUT, fg::task::TaskFailure::arm_timeout);
+FG_SAME(FG_TASK_GRIPPER_REFUSED, fg::task::TaskFailure::gripper_refused);
+FG_SAME(FG_TASK_GRIPPER_FAULT, fg::task::TaskFailure::gripper_fault);
+FG_SAME(FG_TASK_GRIPPER_TIMEOUT, fg::task::TaskFailure::gripper_timeout);
+FG_SAME(FG_TASK_MISSED, fg::task::TaskFailure::missed);
+FG_SAME(FG_TASK_ABORTED, fg::task::TaskFailure::aborted);
 #undef FG_SAME
 
 namespace {
@@ -153,6 +263,29 @@ void copy3(const fg::Vec3& v, float out[3]) {
   for (int i = 0; i < 3; ++i) out[i] = v(i);
 }
 
+void fill_grasp(const fg::PlanResult& r, fg_grasp& out) {
+  out = fg_grasp{};
+  out.reason = static_cast<int32_t>(r.reason);
+  if (r.status == fg::Status::ok) {
+    copy3(r.grasp.position, out.position);
+    copy3(r.grasp.approach, out.approach);
+    copy3(r.grasp.closing, out.closing);
+    copy3(r.grasp.pregrasp, out.pregrasp);
+    out.width_m = r.grasp.width;
+    out.beta_rad = r.grasp.beta;
+    out.dz_m = r.grasp.dz;
+  }
+  out.points_input = r.points.input;
+  out.points_finite = r.points.finite;
+  out.points_kept = r.points.after_filter;
+  out.voxels = r.points.voxels;
+  out.plane_voxels = r.points.plane;
+  out.object_voxels = r.points.object;
+  out.viewpoints = r.viewpoints;
+  out.candidates = r.candidates;
+  for (uint32_t i = 0; i < FG_STAGE_COUNT; ++i) out.stage_us[i] = r.stage_us[i];
+}
+
 }  // namespace
 
 extern "C" {
@@ -230,6 +363,7 @@ fg_status fg_init(void* memory, size_t size, const fg_config* cfg, fg_workspace*
   ws->magic = 0;
   ws->self = ws;
   ws->message = "";
+  ws->task_started = false;
   if (ws->planner.configure(p) != fg::Status::ok) return FG_ERR_INTERNAL;  // validated above
   ws->magic = kMagic;
   *out = ws;
@@ -278,28 +412,96 @@ fg_status fg_plan(fg_workspace* ws, fg_grasp* out) {
   if (out == nullptr) return fail(ws, FG_ERR_INVALID_ARGUMENT, "grasp output pointer is null");
   fg::PlanResult r;
   ws->planner.plan(r);
-  *out = fg_grasp{};
-  out->reason = static_cast<int32_t>(r.reason);
-  if (r.status == fg::Status::ok) {
-    copy3(r.grasp.position, out->position);
-    copy3(r.grasp.approach, out->approach);
-    copy3(r.grasp.closing, out->closing);
-    copy3(r.grasp.pregrasp, out->pregrasp);
-    out->width_m = r.grasp.width;
-    out->beta_rad = r.grasp.beta;
-    out->dz_m = r.grasp.dz;
-  }
-  out->points_input = r.points.input;
-  out->points_finite = r.points.finite;
-  out->points_kept = r.points.after_filter;
-  out->voxels = r.points.voxels;
-  out->plane_voxels = r.points.plane;
-  out->object_voxels = r.points.object;
-  out->viewpoints = r.viewpoints;
-  out->candidates = r.candidates;
-  for (uint32_t i = 0; i < FG_STAGE_COUNT; ++i) out->stage_us[i] = r.stage_us[i];
+  fill_grasp(r, *out);
   ws->message = r.message;
   return to_c(r.status);
+}
+
+fg_status fg_task_config_default(fg_task_config* cfg) {
+  if (cfg == nullptr) return FG_ERR_INVALID_ARGUMENT;
+  const fg::task::TaskConfig d;
+  *cfg = fg_task_config{};
+  cfg->struct_size = sizeof(fg_task_config);
+  const fg_pose identity = {{1, 0, 0, 0, 1, 0, 0, 0, 1}, {0, 0, 0}};
+  cfg->world_T_base = cfg->world_T_head = cfg->tool0_T_hand = identity;
+  cfg->use_head = d.use_head ? 1u : 0u;
+  cfg->use_hand = d.use_hand ? 1u : 0u;
+  cfg->tcp_offset_m = d.tcp_offset_m;
+  cfg->lift_m = d.lift_m;
+  cfg->grip_force_n = d.grip_force_n;
+  cfg->speed_fraction = d.speed_fraction;
+  cfg->joint_tolerance_rad = d.joint_tolerance_rad;
+  cfg->capture_timeout_us = d.capture_timeout_us;
+  cfg->move_timeout_us = d.move_timeout_us;
+  cfg->gripper_timeout_us = d.gripper_timeout_us;
+  return FG_OK;
+}
+
+fg_status fg_task_start(fg_workspace* ws, const fg_task_config* cfg, const fg_hal_ops* hal) {
+  if (!valid(ws)) return FG_ERR_NOT_A_WORKSPACE;
+  if (cfg == nullptr || hal == nullptr) return fail(ws, FG_ERR_INVALID_ARGUMENT, "task config or hal pointer is null");
+  if (cfg->struct_size != sizeof(fg_task_config))
+    return fail(ws, FG_ERR_CONFIG_SIZE, "fg_task_config.struct_size is not this library's");
+  if (hal->now_us == nullptr || hal->sensor_request == nullptr || hal->sensor_poll == nullptr ||
+      hal->arm_move == nullptr || hal->arm_read == nullptr || hal->arm_stop == nullptr ||
+      hal->gripper_open == nullptr || hal->gripper_close == nullptr || hal->gripper_read == nullptr)
+    return fail(ws, FG_ERR_INVALID_ARGUMENT, "a callback of fg_hal_ops is null");
+  if (cfg->use_head > 1u || cfg->use_hand > 1u)
+    return fail(ws, FG_ERR_INVALID_CONFIG, "use_head and use_hand must be 0 or 1");
+  fg::task::TaskConfig t;
+  t.world_T_base = to_pose(cfg->world_T_base);
+  t.world_T_head = to_pose(cfg->world_T_head);
+  t.tool0_T_hand = to_pose(cfg->tool0_T_hand);
+  t.use_head = cfg->use_head == 1u;
+  t.use_hand = cfg->use_hand == 1u;
+  t.tcp_offset_m = cfg->tcp_offset_m;
+  t.lift_m = cfg->lift_m;
+  t.grip_force_n = cfg->grip_force_n;
+  t.speed_fraction = cfg->speed_fraction;
+  t.joint_tolerance_rad = cfg->joint_tolerance_rad;
+  t.capture_timeout_us = cfg->capture_timeout_us;
+  t.move_timeout_us = cfg->move_timeout_us;
+  t.gripper_timeout_us = cfg->gripper_timeout_us;
+  ws->ops = *hal;  // the workspace keeps its own copy: the caller's struct may go
+  ws->clock.ops = ws->head.ops = ws->hand.ops = ws->arm.ops = ws->gripper.ops = &ws->ops;
+  ws->head.role = FG_SENSOR_HEAD;
+  ws->hand.role = FG_SENSOR_HAND;
+  const fg::Status s = ws->task.start(t);
+  ws->task_started = s == fg::Status::ok;
+  ws->message = ws->task.message();
+  return to_c(s);
+}
+
+fg_status fg_task_step(fg_workspace* ws, fg_task_status* out) {
+  if (!valid(ws)) return FG_ERR_NOT_A_WORKSPACE;
+  if (!ws->task_started) return fail(ws, FG_ERR_INVALID_SEQUENCE, "fg_task_step before fg_task_start");
+  const fg::task::TaskHal hal{ws->clock, &ws->head, &ws->hand, ws->arm, ws->gripper};
+  const fg::task::TaskState st = ws->task.step(ws->planner, hal);
+  ws->message = ws->task.message();
+  if (out != nullptr) {
+    *out = fg_task_status{};
+    out->state = static_cast<int32_t>(st);
+    out->failure = static_cast<int32_t>(ws->task.failure());
+    out->ticks = ws->task.ticks();
+    fill_grasp(ws->task.plan_result(), out->grasp);
+    if (st >= fg::task::TaskState::opening && st != fg::task::TaskState::failed) {
+      for (int i = 0; i < 6; ++i) {
+        out->q_pregrasp[i] = ws->task.pregrasp_joints()[i];
+        out->q_grasp[i] = ws->task.grasp_joints()[i];
+        out->q_lift[i] = ws->task.lift_joints()[i];
+      }
+    }
+  }
+  return FG_OK;
+}
+
+fg_status fg_task_abort(fg_workspace* ws) {
+  if (!valid(ws)) return FG_ERR_NOT_A_WORKSPACE;
+  if (!ws->task_started) return fail(ws, FG_ERR_INVALID_SEQUENCE, "fg_task_abort before fg_task_start");
+  const fg::task::TaskHal hal{ws->clock, &ws->head, &ws->hand, ws->arm, ws->gripper};
+  ws->task.abort(hal);
+  ws->message = ws->task.message();
+  return FG_OK;
 }
 
 const char* fg_last_message(const fg_workspace* ws) {

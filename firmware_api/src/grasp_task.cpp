@@ -70,6 +70,7 @@ const char* to_string(TaskFailure f) {
     case TaskFailure::gripper_fault: return "gripper_fault";
     case TaskFailure::gripper_timeout: return "gripper_timeout";
     case TaskFailure::missed: return "missed";
+    case TaskFailure::aborted: return "aborted";
   }
   return "unknown_failure";
 }
@@ -117,9 +118,9 @@ bool GraspTask::timed_out(uint64_t now_us, uint32_t timeout_us) const {
   return now_us - entered_us_ > timeout_us;
 }
 
-void GraspTask::abort(const TaskHal& hal, TaskFailure reason) {
+void GraspTask::abort(const TaskHal& hal) {
   hal.arm.stop();
-  if (state_ != TaskState::succeeded && state_ != TaskState::failed) fail(reason, "aborted by the caller");
+  if (state_ != TaskState::succeeded && state_ != TaskState::failed) fail(TaskFailure::aborted, "aborted by the caller");
 }
 
 TaskState GraspTask::step(Planner& planner, const TaskHal& hal) {

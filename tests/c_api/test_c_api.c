@@ -401,6 +401,181 @@ static void test_two_workspaces(void) {
   CHECK(same_grasp(&gb, &alone_b));
 }
 
+/* ---- the grasp task through callbacks: a head sensor replaying the ray caster, an
+ * arm that reaches each target in four ticks, a gripper that closes on a set width ---- */
+typedef struct {
+  uint64_t t_us;
+  camera head;
+  box3 box;
+  int polls, requests;
+  double q[6], target[6];
+  int arm_left, arm_moves, stops;
+  float width, contact_width;
+  int grip_left, contact;
+} fake_hw;
+
+static uint64_t hw_now(void *c) { return ((fake_hw *)c)->t_us; }
+static int32_t hw_request(void *c, int32_t role) {
+  fake_hw *h = (fake_hw *)c;
+  if (role != FG_SENSOR_HEAD) return 1;
+  render_depth(&h->head, &h->box);
+  h->polls = 0;
+  ++h->requests;
+  return 0;
+}
+static int32_t hw_poll(void *c, int32_t role, fg_depth_frame *out) {
+  fake_hw *h = (fake_hw *)c;
+  if (role != FG_SENSOR_HEAD || h->requests == 0) return FG_CAPTURE_FAILED;
+  if (++h->polls < 3) return FG_CAPTURE_BUSY;
+  out->depth_mm = g_depth;
+  out->width = h->head.width;
+  out->height = h->head.height;
+  out->k = h->head.k;
+  return FG_CAPTURE_READY;
+}
+static int32_t hw_move(void *c, const double q[6], double speed) {
+  fake_hw *h = (fake_hw *)c;
+  int i;
+  if (!(speed > 0.0 && speed <= 1.0)) return 1;
+  for (i = 0; i < 6; ++i) h->target[i] = q[i];
+  h->arm_left = 4;
+  ++h->arm_moves;
+  return 0;
+}
+static int32_t hw_arm_read(void *c, fg_arm_state *out) {
+  fake_hw *h = (fake_hw *)c;
+  int i;
+  if (h->arm_left > 0 && --h->arm_left == 0)
+    for (i = 0; i < 6; ++i) h->q[i] = h->target[i];
+  for (i = 0; i < 6; ++i) out->q[i] = h->q[i];
+  out->moving = h->arm_left > 0;
+  out->fault = 0;
+  return 0;
+}
+static void hw_stop(void *c) {
+  ((fake_hw *)c)->arm_left = 0;
+  ++((fake_hw *)c)->stops;
+}
+static int32_t hw_open(void *c, float w) {
+  fake_hw *h = (fake_hw *)c;
+  h->width = w;
+  h->contact = 0;
+  h->grip_left = 2;
+  return 0;
+}
+static int32_t hw_close(void *c, float force) {
+  fake_hw *h = (fake_hw *)c;
+  (void)force;
+  h->contact = h->contact_width > 0.f;
+  h->width = h->contact ? h->contact_width : 0.f;
+  h->grip_left = 2;
+  return 0;
+}
+static int32_t hw_grip_read(void *c, fg_gripper_state *out) {
+  fake_hw *h = (fake_hw *)c;
+  if (h->grip_left > 0) --h->grip_left;
+  out->width_m = h->width;
+  out->moving = h->grip_left > 0;
+  out->contact = h->contact && h->grip_left == 0;
+  out->fault = 0;
+  return 0;
+}
+
+static fg_hal_ops make_ops(fake_hw *hw) {
+  fg_hal_ops ops;
+  ops.ctx = hw;
+  ops.now_us = hw_now;
+  ops.sensor_request = hw_request;
+  ops.sensor_poll = hw_poll;
+  ops.arm_move = hw_move;
+  ops.arm_read = hw_arm_read;
+  ops.arm_stop = hw_stop;
+  ops.gripper_open = hw_open;
+  ops.gripper_close = hw_close;
+  ops.gripper_read = hw_grip_read;
+  return ops;
+}
+
+static void init_hw(fake_hw *hw, fg_task_config *tc) {
+  /* One sensor only: close enough that neighbouring pixels land in touching voxels. */
+  const float eye[3] = {0.5f, 0.05f, 0.6f}, target[3] = {0.5f, 0.f, 0.05f};
+  const box3 narrow_x = {{0.475f, -0.06f, 0.f}, {0.525f, 0.06f, 0.10f}};
+  memset(hw, 0, sizeof *hw);
+  hw->t_us = 1000;
+  hw->box = narrow_x;
+  hw->contact_width = 0.05f;
+  look_at(&hw->head, eye, target);
+  CHECK_STATUS(fg_task_config_default(tc), FG_OK);
+  tc->world_T_head = hw->head.pose;
+  tc->use_hand = 0;
+}
+
+/* Steps at 125 Hz until the task ends (bounded: every state has a timeout). */
+static fg_task_status run_task(fg_workspace *ws, fake_hw *hw) {
+  fg_task_status st;
+  int i;
+  memset(&st, 0, sizeof st);
+  for (i = 0; i < 100000; ++i) {
+    CHECK_STATUS(fg_task_step(ws, &st), FG_OK);
+    if (st.state == FG_TASK_SUCCEEDED || st.state == FG_TASK_FAILED) break;
+    hw->t_us += 8000;
+  }
+  return st;
+}
+
+static void test_grasp_task(void) {
+  fg_config cfg;
+  fg_workspace *ws = NULL;
+  fg_task_config tc;
+  fake_hw hw;
+  fg_hal_ops ops;
+  fg_task_status st;
+  small_config(&cfg);
+  CHECK_STATUS(fg_init(g_mem_a, sizeof g_mem_a, &cfg, &ws), FG_OK);
+  init_hw(&hw, &tc);
+  ops = make_ops(&hw);
+  /* Refusals. */
+  CHECK_STATUS(fg_task_step(ws, &st), FG_ERR_INVALID_SEQUENCE);
+  CHECK_STATUS(fg_task_abort(ws), FG_ERR_INVALID_SEQUENCE);
+  CHECK_STATUS(fg_task_start(ws, NULL, &ops), FG_ERR_INVALID_ARGUMENT);
+  CHECK_STATUS(fg_task_start(NULL, &tc, &ops), FG_ERR_NOT_A_WORKSPACE);
+  ops.arm_stop = NULL;
+  CHECK_STATUS(fg_task_start(ws, &tc, &ops), FG_ERR_INVALID_ARGUMENT);
+  ops = make_ops(&hw);
+  tc.struct_size = 8;
+  CHECK_STATUS(fg_task_start(ws, &tc, &ops), FG_ERR_CONFIG_SIZE);
+  tc.struct_size = sizeof tc;
+  tc.speed_fraction = 2.0;
+  CHECK_STATUS(fg_task_start(ws, &tc, &ops), FG_ERR_INVALID_CONFIG);
+  tc.speed_fraction = 0.25;
+
+  /* The whole grasp. */
+  CHECK_STATUS(fg_task_start(ws, &tc, &ops), FG_OK);
+  st = run_task(ws, &hw);
+  CHECK(st.state == FG_TASK_SUCCEEDED);
+  CHECK(st.failure == FG_TASK_OK);
+  CHECK(hw.requests == 1 && hw.arm_moves == 3);
+  CHECK(st.grasp.width_m > 0.04f && st.grasp.width_m < 0.06f);
+  CHECK(fabs(st.q_lift[0] - hw.q[0]) < 1e-12 && fabs(st.q_lift[5] - hw.q[5]) < 1e-12);
+  printf("task: %s after %u ticks, grasp width %.4f m, q_grasp %.3f %.3f %.3f %.3f %.3f %.3f: %s\n",
+         st.state == FG_TASK_SUCCEEDED ? "succeeded" : "failed", st.ticks, st.grasp.width_m, st.q_grasp[0],
+         st.q_grasp[1], st.q_grasp[2], st.q_grasp[3], st.q_grasp[4], st.q_grasp[5], fg_last_message(ws));
+
+  /* Closing on nothing ends in FG_TASK_MISSED; an abort ends a running task. */
+  init_hw(&hw, &tc);
+  hw.contact_width = 0.f;
+  CHECK_STATUS(fg_task_start(ws, &tc, &ops), FG_OK);
+  st = run_task(ws, &hw);
+  CHECK(st.state == FG_TASK_FAILED && st.failure == FG_TASK_MISSED);
+  CHECK(fg_last_message(ws)[0] != '\0');
+  init_hw(&hw, &tc);
+  CHECK_STATUS(fg_task_start(ws, &tc, &ops), FG_OK);
+  CHECK_STATUS(fg_task_step(ws, &st), FG_OK);
+  CHECK_STATUS(fg_task_abort(ws), FG_OK);
+  CHECK_STATUS(fg_task_step(ws, &st), FG_OK);
+  CHECK(st.state == FG_TASK_FAILED && st.failure == FG_TASK_ABORTED && hw.stops == 1);
+}
+
 int main(void) {
   test_versions_and_sizes();
   test_status_strings();
@@ -409,6 +584,7 @@ int main(void) {
   test_wrong_order_and_bad_arguments();
   test_plan_two_sensors();
   test_two_workspaces();
+  test_grasp_task();
   if (g_failures != 0) {
     fprintf(stderr, "%d check(s) failed\n", g_failures);
     return 1;

@@ -221,6 +221,98 @@ fg_status fg_plan(fg_workspace *ws, fg_grasp *out);
 /** The last call's message naming the problem (static text, never NULL). */
 const char *fg_last_message(const fg_workspace *ws);
 
+/* ---- The grasp task: capture, plan, open, pre-grasp, approach, close, lift ----------
+ * A non-blocking state machine in the workspace: fg_task_step() does one control tick
+ * of work and returns (only the planning tick takes milliseconds); every state has a
+ * timeout. The firmware's hardware comes in as callbacks on its own context; they
+ * must not block. */
+
+/** Progress of a capture (fg_hal_ops.sensor_poll). */
+enum { FG_CAPTURE_IDLE = 0, FG_CAPTURE_BUSY = 1, FG_CAPTURE_READY = 2, FG_CAPTURE_FAILED = 3 };
+
+/** A depth image the driver holds, valid until its next capture request. */
+typedef struct fg_depth_frame {
+  const uint16_t *depth_mm; /**< row-major millimetres, 0 = no return */
+  uint16_t width, height;
+  fg_intrinsics k;
+} fg_depth_frame;
+
+typedef struct fg_arm_state {
+  double q[6];     /**< joint angles (rad), base .. wrist 3 */
+  uint32_t moving; /**< 1 while a commanded motion is under way */
+  uint32_t fault;  /**< 1 on a protective stop, limit violation or lost link */
+} fg_arm_state;
+
+typedef struct fg_gripper_state {
+  float width_m;
+  uint32_t moving, contact, fault; /**< 0 or 1 each */
+} fg_gripper_state;
+
+/** The hardware, as callbacks; every one is required. Calls returning int32_t return
+ *  0 when the command was accepted (or the state read), anything else otherwise. */
+typedef struct fg_hal_ops {
+  void *ctx; /**< passed back to every callback */
+  uint64_t (*now_us)(void *ctx); /**< monotonic microseconds */
+  int32_t (*sensor_request)(void *ctx, int32_t role);                      /**< start a capture */
+  int32_t (*sensor_poll)(void *ctx, int32_t role, fg_depth_frame *out);    /**< FG_CAPTURE_* */
+  int32_t (*arm_move)(void *ctx, const double q[6], double speed_fraction); /**< joint target */
+  int32_t (*arm_read)(void *ctx, fg_arm_state *out);
+  void (*arm_stop)(void *ctx);
+  int32_t (*gripper_open)(void *ctx, float width_m);
+  int32_t (*gripper_close)(void *ctx, float force_n);
+  int32_t (*gripper_read)(void *ctx, fg_gripper_state *out);
+} fg_hal_ops;
+
+typedef struct fg_task_config {
+  uint32_t struct_size;  /**< sizeof(fg_task_config) as the caller compiled it */
+  fg_pose world_T_base;  /**< the arm's base (DH base frame) in the world */
+  fg_pose world_T_head;  /**< the head sensor's fixed mount */
+  fg_pose tool0_T_hand;  /**< the wrist sensor on the flange (hand-eye) */
+  uint32_t use_head, use_hand;     /**< 0 or 1; at least one */
+  float tcp_offset_m;    /**< flange to the pads' centre along tool0 +z */
+  float lift_m;          /**< lift straight up after closing */
+  float grip_force_n;
+  double speed_fraction; /**< (0, 1] of the arm's maximum joint speed */
+  double joint_tolerance_rad;
+  uint32_t capture_timeout_us, move_timeout_us, gripper_timeout_us;
+} fg_task_config;
+
+typedef enum fg_task_state {
+  FG_TASK_IDLE = 0, FG_TASK_CAPTURING = 1, FG_TASK_PLANNING = 2, FG_TASK_OPENING = 3,
+  FG_TASK_TO_PREGRASP = 4, FG_TASK_APPROACHING = 5, FG_TASK_CLOSING = 6, FG_TASK_LIFTING = 7,
+  FG_TASK_SUCCEEDED = 8, FG_TASK_FAILED = 9
+} fg_task_state;
+
+typedef enum fg_task_failure {
+  FG_TASK_OK = 0, FG_TASK_INVALID_CONFIG = 1, FG_TASK_SENSOR_FAILED = 2, FG_TASK_SENSOR_TIMEOUT = 3,
+  FG_TASK_NO_GRASP = 4, FG_TASK_UNREACHABLE = 5, FG_TASK_ARM_REFUSED = 6, FG_TASK_ARM_FAULT = 7,
+  FG_TASK_ARM_TIMEOUT = 8, FG_TASK_GRIPPER_REFUSED = 9, FG_TASK_GRIPPER_FAULT = 10,
+  FG_TASK_GRIPPER_TIMEOUT = 11, FG_TASK_MISSED = 12, FG_TASK_ABORTED = 13
+} fg_task_failure;
+
+typedef struct fg_task_status {
+  int32_t state;    /**< fg_task_state */
+  int32_t failure;  /**< fg_task_failure when state is FG_TASK_FAILED */
+  uint32_t ticks;   /**< fg_task_step calls since fg_task_start */
+  fg_grasp grasp;   /**< the planned grasp, from FG_TASK_OPENING on (reason on FG_TASK_NO_GRASP) */
+  double q_pregrasp[6], q_grasp[6], q_lift[6]; /**< joint targets, from FG_TASK_OPENING on */
+} fg_task_status;
+
+/** Defaults: identity poses, both sensors, tcp 0.15 m, lift 0.10 m, 40 N, speed 0.25,
+ *  tolerance 2 mrad, timeouts 2 s (capture), 20 s (each motion), 3 s (gripper). */
+fg_status fg_task_config_default(fg_task_config *cfg);
+
+/** Starts a grasp: checks cfg (struct_size and values) and hal (every callback set).
+ *  The workspace's planner does the planning: one task per workspace at a time. */
+fg_status fg_task_start(fg_workspace *ws, const fg_task_config *cfg, const fg_hal_ops *hal);
+
+/** One control tick. FG_OK while the task runs and when it has ended (out->state says
+ *  which); FG_ERR_INVALID_SEQUENCE before fg_task_start. out may be NULL. */
+fg_status fg_task_step(fg_workspace *ws, fg_task_status *out);
+
+/** Stops the arm and ends a running task as failed. */
+fg_status fg_task_abort(fg_workspace *ws);
+
 #ifdef __cplusplus
 }
 #endif

@@ -45,6 +45,7 @@ enum class TaskFailure : uint8_t {
   gripper_fault = 10,
   gripper_timeout = 11,
   missed = 12,          //!< the gripper closed without touching anything
+  aborted = 13,         //!< abort() by the caller
 };
 const char* to_string(TaskFailure f);
 
@@ -80,8 +81,8 @@ class GraspTask {
   Status start(const TaskConfig& cfg);
   //! One control tick. Blocks only in `planning` (one plan, milliseconds).
   TaskState step(Planner& planner, const TaskHal& hal);
-  //! Stops the arm and ends the task as failed(reason) (e.g. an operator stop).
-  void abort(const TaskHal& hal, TaskFailure reason);
+  //! Stops the arm and ends a running task as failed(aborted) (e.g. an operator stop).
+  void abort(const TaskHal& hal);
 
   TaskState state() const { return state_; }
   TaskFailure failure() const { return failure_; }
