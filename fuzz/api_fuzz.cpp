@@ -8,7 +8,7 @@
 // is finite, with unit vectors and a width inside the gripper's opening).
 //
 // Input: a sequence of operations until the bytes run out (at most 64), each a u8 op
-// code (modulo 9) and its arguments; bytes past the end read as 0.
+// code (modulo 10) and its arguments; bytes past the end read as 0.
 //   0 init        u8 slot, u8 memory (bits 0-3 misalignment, bits 4-5 size: whole
 //                 buffer / exactly fg_workspace_size() / one byte less / u16 * 64;
 //                 bit 6 null memory, bit 7 null out), u8 config (0 default, 1 raw
@@ -27,6 +27,12 @@
 //   7 bogus       u8 variant: a call on NULL, zeroed bytes, the inside of a workspace,
 //                 a byte copy of a workspace's header
 //   8 check       u8 count % 5 raw field overrides on the defaults
+//   9 task        u8 slot, u8 flags (bit 0 use_head, bit 1 use_hand, bit 2 null callback,
+//                 bit 3 raw struct_size, bit 4 sensors fail, bit 5 arm refuses, bit 6 arm
+//                 faults, bit 7 gripper closes on nothing), u8 steps, u8 extra: a grasp
+//                 task on callback hardware (sensors replay the last depth payload with
+//                 the last pose; the arm reaches each target in two ticks), stepped
+//                 `steps` times, aborted when bit 0 of extra is set
 // Slot 2 and 3 name no workspace (NULL), so calls on them test that path too.
 #include <cmath>
 #include <cstdint>
@@ -129,6 +135,114 @@ fg_pose read_pose(uint32_t encoding, Reader& r) {
 
 fg_workspace* slot_ws(uint8_t s) { return g_ws[s & 3u]; }
 
+// The last depth image decoded by op_add_depth: what the task's sensors replay.
+struct LastImage {
+  uint16_t width = 0, height = 0;
+  fg_intrinsics k{};
+  fg_pose pose = {{1, 0, 0, 0, 1, 0, 0, 0, 1}, {0.5f, 0.f, 0.9f}};
+} g_last;
+
+// Callback hardware for the task op: bounded, deterministic, no allocation.
+struct FakeHw {
+  uint8_t flags = 0;
+  uint64_t t_us = 0;
+  double q[6] = {}, target[6] = {};
+  int arm_left = 0, grip_left = 0;
+  bool contact = false;
+  float width = 0.f;
+} g_hw;
+
+uint64_t hw_now(void* c) { return static_cast<FakeHw*>(c)->t_us; }
+int32_t hw_request(void* c, int32_t) { return (static_cast<FakeHw*>(c)->flags & 16u) != 0 ? 1 : 0; }
+int32_t hw_poll(void*, int32_t, fg_depth_frame* out) {
+  out->depth_mm = g_depth;
+  out->width = g_last.width;
+  out->height = g_last.height;
+  out->k = g_last.k;
+  return FG_CAPTURE_READY;
+}
+int32_t hw_move(void* c, const double q[6], double) {
+  FakeHw* h = static_cast<FakeHw*>(c);
+  if ((h->flags & 32u) != 0) return 1;
+  for (int i = 0; i < 6; ++i) h->target[i] = q[i];
+  h->arm_left = 2;
+  return 0;
+}
+int32_t hw_arm_read(void* c, fg_arm_state* out) {
+  FakeHw* h = static_cast<FakeHw*>(c);
+  if (h->arm_left > 0 && --h->arm_left == 0)
+    for (int i = 0; i < 6; ++i) h->q[i] = h->target[i];
+  for (int i = 0; i < 6; ++i) out->q[i] = h->q[i];
+  out->moving = h->arm_left > 0 ? 1u : 0u;
+  out->fault = (h->flags & 64u) != 0 && h->arm_left > 0 ? 1u : 0u;
+  return 0;
+}
+void hw_stop(void* c) { static_cast<FakeHw*>(c)->arm_left = 0; }
+int32_t hw_open(void* c, float w) {
+  FakeHw* h = static_cast<FakeHw*>(c);
+  h->width = w;
+  h->grip_left = 1;
+  h->contact = false;
+  return 0;
+}
+int32_t hw_close(void* c, float) {
+  FakeHw* h = static_cast<FakeHw*>(c);
+  h->contact = (h->flags & 128u) == 0;
+  h->width = h->contact ? 0.04f : 0.f;
+  h->grip_left = 1;
+  return 0;
+}
+int32_t hw_grip_read(void* c, fg_gripper_state* out) {
+  FakeHw* h = static_cast<FakeHw*>(c);
+  if (h->grip_left > 0) --h->grip_left;
+  out->width_m = h->width;
+  out->moving = h->grip_left > 0 ? 1u : 0u;
+  out->contact = h->contact && h->grip_left == 0 ? 1u : 0u;
+  out->fault = 0;
+  return 0;
+}
+
+void op_task(Reader& r) {
+  fg_workspace* ws = slot_ws(r.u8());
+  const uint8_t flags = r.u8(), steps = r.u8(), extra = r.u8();
+  g_hw = FakeHw{};
+  g_hw.flags = flags;
+  fg_hal_ops ops = {&g_hw, hw_now, hw_request, hw_poll, hw_move, hw_arm_read, hw_stop, hw_open, hw_close, hw_grip_read};
+  if ((flags & 4u) != 0) ops.gripper_read = nullptr;
+  fg_task_config tc;
+  fg_task_config_default(&tc);
+  tc.world_T_head = g_last.pose;
+  tc.tool0_T_hand = g_last.pose;
+  tc.use_head = flags & 1u;
+  tc.use_hand = (flags >> 1) & 1u;
+  if ((flags & 8u) != 0) tc.struct_size = extra;
+  fg_fuzz::arm();
+  const fg_status s = named(fg_task_start(ws, &tc, &ops));
+  fg_fuzz::disarm();
+  for (uint32_t i = 0; i < steps; ++i) {
+    fg_task_status st;
+    fg_fuzz::arm();
+    const fg_status k = named(fg_task_step(ws, &st));
+    fg_fuzz::disarm();
+    if ((k == FG_OK) != (s == FG_OK)) breach("fg_task_step disagrees with fg_task_start", k);
+    if (k != FG_OK) break;
+    if (st.state < FG_TASK_IDLE || st.state > FG_TASK_FAILED) breach("task state out of range", st.state);
+    if (st.state == FG_TASK_SUCCEEDED)
+      for (int j = 0; j < 6; ++j)
+        if (!std::isfinite(st.q_grasp[j]) || !std::isfinite(st.q_lift[j])) breach("non-finite joint target", 0);
+    if (g_verbose && (st.state == FG_TASK_SUCCEEDED || st.state == FG_TASK_FAILED))
+      std::fprintf(stderr, "api_fuzz: task %s, failure %d after %u ticks\n",
+                   st.state == FG_TASK_SUCCEEDED ? "succeeded" : "failed", st.failure, st.ticks);
+    if (st.state == FG_TASK_SUCCEEDED || st.state == FG_TASK_FAILED) break;
+    g_hw.t_us += 8000;
+    if ((extra & 1u) != 0 && i == steps / 2u) {
+      fg_fuzz::arm();
+      named(fg_task_abort(ws));
+      fg_fuzz::disarm();
+    }
+  }
+}
+
 void op_init(Reader& r) {
   const uint8_t slot = r.u8() & 1u, mem = r.u8(), cfgv = r.u8();
   const size_t offset = mem & 15u;
@@ -212,6 +326,10 @@ void op_add_depth(Reader& r) {
   const size_t n = r.take(r.u16(), src);
   for (size_t i = 0; i < static_cast<size_t>(w) * h; ++i)
     g_depth[i] = 2 * i + 1 < n ? static_cast<uint16_t>(src[2 * i] | (src[2 * i + 1] << 8)) : 0;
+  g_last.width = w;
+  g_last.height = h;
+  g_last.k = k;
+  g_last.pose = pose;
   fg_fuzz::arm();
   named(fg_add_depth_image(ws, role, (flags & 1u) != 0 ? nullptr : g_depth, w, h,
                            (flags & 16u) != 0 ? nullptr : &k, (flags & 2u) != 0 ? nullptr : &pose));
@@ -286,11 +404,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   (void)live;
   // Each input starts without workspaces, and no stale one in the buffers either.
   for (auto& ws : g_ws) ws = nullptr;
+  g_last = LastImage{};
   for (auto& m : g_mem) std::memset(m, 0, 256);
 
   Reader r(data, size);
   for (int op = 0; op < 64 && !r.done(); ++op) {
-    switch (r.u8() % 9u) {
+    switch (r.u8() % 10u) {
       case 0: op_init(r); break;
       case 1: {
         fg_workspace* ws = slot_ws(r.u8());
@@ -317,7 +436,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         break;
       }
       case 7: op_bogus(r); break;
-      default: op_check(r); break;
+      case 8: op_check(r); break;
+      default: op_task(r); break;
     }
   }
   return 0;

@@ -511,6 +511,12 @@ def make_api():
         api_points(0, 0xFF, HEAD_EYE, TARGET, step=8) + api_points(0, 0, HEAD_EYE, TARGET, step=8, flags=1) +
         api_points(0, 0, HEAD_EYE, TARGET, step=8, flags=2) + api_points(0, 0, HEAD_EYE, TARGET, step=8, stride=4) +
         api_depth(0, 1, HAND_EYE, TARGET, 8, 6, 15.0, flags=16) + api_points(2, 0, HEAD_EYE, TARGET, step=8) + api_plan(3))
+    # the grasp task: head image then the task (use_head), a failing one, an aborted one
+    head_img = api_depth(0, 0, (0.5, 0.05, 0.45), TARGET, 64, 48, 80.0)
+    # config field 19 -> cluster_cells = 2: the 64 x 48 image's pixels are a leaf apart
+    out("api", "task.bin", api_init(0, cfg=4, extra=bytes([19]) + struct.pack("<I", 2)) + head_img + bytes([9, 0, 1, 200, 0]) +
+        bytes([9, 0, 1 | 128, 200, 0]) + bytes([9, 0, 3 | 16, 50, 0]) + bytes([9, 0, 1, 200, 1]) +
+        bytes([9, 0, 1 | 4, 5, 0]) + bytes([9, 0, 1 | 8, 5, 3]) + bytes([9, 2, 1, 5, 0]))
     out("api", "bogus_and_strings.bin",
         api_init(0) + bytes([7, 0, 7, 1, 7, 2, 7, 3]) + bytes([6]) + struct.pack("<ii", -112, 10) +
         bytes([6]) + struct.pack("<ii", 12345, -3) + bytes([8, 3, 13]) + f32(NAN) + bytes([40]) + f32(-1.0) +

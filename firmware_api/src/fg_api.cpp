@@ -439,6 +439,7 @@ fg_status fg_task_config_default(fg_task_config* cfg) {
 
 fg_status fg_task_start(fg_workspace* ws, const fg_task_config* cfg, const fg_hal_ops* hal) {
   if (!valid(ws)) return FG_ERR_NOT_A_WORKSPACE;
+  ws->task_started = false;  // a refused start leaves no task to step, old or new
   if (cfg == nullptr || hal == nullptr) return fail(ws, FG_ERR_INVALID_ARGUMENT, "task config or hal pointer is null");
   if (cfg->struct_size != sizeof(fg_task_config))
     return fail(ws, FG_ERR_CONFIG_SIZE, "fg_task_config.struct_size is not this library's");

@@ -303,7 +303,8 @@ typedef struct fg_task_status {
 fg_status fg_task_config_default(fg_task_config *cfg);
 
 /** Starts a grasp: checks cfg (struct_size and values) and hal (every callback set).
- *  The workspace's planner does the planning: one task per workspace at a time. */
+ *  The workspace's planner does the planning: one task per workspace at a time. A
+ *  refused start also ends the previous task (fg_task_step: FG_ERR_INVALID_SEQUENCE). */
 fg_status fg_task_start(fg_workspace *ws, const fg_task_config *cfg, const fg_hal_ops *hal);
 
 /** One control tick. FG_OK while the task runs and when it has ended (out->state says
