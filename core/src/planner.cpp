@@ -80,6 +80,8 @@ Status Planner::plan(PlanResult& out) {
   };
   n_views_ = 0;
   n_candidates_ = 0;
+  checks_left_ = kMaxCheckedCandidates;
+  n_near_ = 0;
   chosen_view_ = -1;
   object_.clear();
 
@@ -152,6 +154,7 @@ Status Planner::plan(PlanResult& out) {
       normal_state_[i] = 0;
     }
     counts_.object = cr.target_size;
+    build_near_list(queue);  // the queue's storage is free again
   }
 
   // B/C. object frame and the sensor arc
@@ -493,18 +496,23 @@ uint32_t Planner::rank_and_check(uint32_t first, PlanResult& out) {
   const uint32_t m = n_candidates_ - first;
   for (uint32_t i = 0; i < m; ++i) order_[i] = static_cast<uint16_t>(first + i);
   // Paper E.3: balanced candidates (beta <= beta_max) by dZ, then the rest by beta.
-  // The index breaks ties, so the order is total and the result deterministic.
+  // The index breaks ties, so the order is total and the result deterministic. A heap
+  // sort: O(m log m) at worst and no recursion.
   const Candidate* cs = candidates_;
-  std::sort(order_, order_ + m, [cs](uint16_t a, uint16_t b) {
+  const auto before = [cs](uint16_t a, uint16_t b) {
     const Candidate &ca = cs[a], &cb = cs[b];
     if (ca.balanced != cb.balanced) return ca.balanced;
     const float ka = ca.balanced ? ca.dz : ca.beta, kb = cb.balanced ? cb.dz : cb.beta;
     if (ka != kb) return ka < kb;
     return a < b;
-  });
-  for (uint32_t i = 0; i < m; ++i) {
+  };
+  std::make_heap(order_, order_ + m, before);
+  std::sort_heap(order_, order_ + m, before);
+  if (!cfg_.executability_checks) return m > 0 ? order_[0] : kMaxCandidates;
+  // At most kMaxCheckedCandidates checked per plan(): the checks dominate the worst case.
+  for (uint32_t i = 0; i < m && checks_left_ > 0; ++i, --checks_left_) {
     Candidate& c = candidates_[order_[i]];
-    if (!cfg_.executability_checks || executable(c, out)) return order_[i];
+    if (executable(c, out)) return order_[i];
   }
   return kMaxCandidates;
 }

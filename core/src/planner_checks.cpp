@@ -22,26 +22,58 @@ constexpr float kMaxHiddenShare = 0.2f;
 constexpr float kMaxClosingTurn = 0.6f;
 }  // namespace
 
+namespace {
+struct Box {
+  float x0, x1, y0, y1, z0, z1;
+};
+// Fingers open and palm, swept from the pre-grasp to the grasp (grasp frame).
+void gripper_boxes(const PlannerConfig& cfg, Box out[3]) {
+  const GripperGeometry& g = cfg.gripper;
+  const float half_open = 0.5f * g.max_opening_m, t = g.finger_thickness_m;
+  const float half_fd = 0.5f * g.finger_depth_m;
+  const float back = g.finger_depth_m + cfg.pregrasp_clearance_m;  // approach stroke
+  out[0] = {-half_open - t, -half_open, -0.5f * g.finger_width_m, 0.5f * g.finger_width_m, -half_fd - back, half_fd};
+  out[1] = {half_open, half_open + t, -0.5f * g.finger_width_m, 0.5f * g.finger_width_m, -half_fd - back, half_fd};
+  out[2] = {-half_open - t, half_open + t, -0.5f * g.palm_width_m, 0.5f * g.palm_width_m,
+            -half_fd - g.palm_depth_m - back, -half_fd};
+}
+}  // namespace
+
+// The voxels a gripper at any candidate could touch: candidates sit within the
+// object's bounding sphere (plus a finger depth, the most the depth rule puts them
+// past a surface), and no box corner lies farther than `reach` from the grasp point.
+// Stored in the lent count storage, idle after clustering: the collision check then
+// scans these instead of every voxel of the scene.
+void Planner::build_near_list(uint32_t* storage) {
+  near_ = storage;
+  n_near_ = 0;
+  Vec3 lo = object_[0], hi = object_[0];
+  for (uint32_t i = 1; i < object_.size(); ++i) {
+    lo = lo.cwiseMin(object_[i]);
+    hi = hi.cwiseMax(object_[i]);
+  }
+  near_centre_ = 0.5f * (lo + hi);
+  near_slack_ = 0.5f * (hi - lo).norm() + cfg_.gripper.finger_depth_m;
+  Box boxes[3];
+  gripper_boxes(cfg_, boxes);
+  float reach = 0.f;
+  for (const Box& b : boxes) {
+    const float x = std::max(std::fabs(b.x0), std::fabs(b.x1)), y = std::max(std::fabs(b.y0), std::fabs(b.y1));
+    const float z = std::max(std::fabs(b.z0), std::fabs(b.z1));
+    reach = std::max(reach, std::sqrt(x * x + y * y + z * z));
+  }
+  const float r = near_slack_ + reach + cfg_.collision_tolerance_m;
+  const Vec3* centroids = grid_.centroids();
+  for (uint32_t i = 0; i < grid_.size(); ++i)
+    if (state_[i] != kVoxelRemoved && (centroids[i] - near_centre_).squaredNorm() <= r * r) near_[n_near_++] = i;
+}
+
 // The checks in order; returns 0 when all pass, else the number of the first failing
 // one: 1 support plane, 2 collision, 3 local hull, 4 visibility, 5 friction.
 int Planner::first_failed_check(const Candidate& c) {
   const ViewFrame f{c.X, c.Y, c.Z};
-  const GripperGeometry& g = cfg_.gripper;
-  const float half_open = 0.5f * g.max_opening_m, t = g.finger_thickness_m;
-  const float half_fd = 0.5f * g.finger_depth_m;
-  const float back = g.finger_depth_m + cfg_.pregrasp_clearance_m;  // approach stroke
-  struct Box {
-    float x0, x1, y0, y1, z0, z1;
-  };
-  // Fingers open and palm, swept from the pre-grasp to the grasp (grasp frame).
-  const Box boxes[3] = {
-      {-half_open - t, -half_open, -0.5f * g.finger_width_m, 0.5f * g.finger_width_m,
-       -half_fd - back, half_fd},
-      {half_open, half_open + t, -0.5f * g.finger_width_m, 0.5f * g.finger_width_m,
-       -half_fd - back, half_fd},
-      {-half_open - t, half_open + t, -0.5f * g.palm_width_m, 0.5f * g.palm_width_m,
-       -half_fd - g.palm_depth_m - back, -half_fd},
-  };
+  Box boxes[3];
+  gripper_boxes(cfg_, boxes);
   // Support plane: every corner above it.
   for (const Box& b : boxes)
     for (int k = 0; k < 8; ++k) {
@@ -49,11 +81,14 @@ int Planner::first_failed_check(const Candidate& c) {
                      f.Z * ((k & 4) ? b.z1 : b.z0);
       if (plane_.height(p) < cfg_.table_clearance_m - 1e-4f) return 1;
     }
-  // Every voxel that is not table (the target and its neighbours) stays out of the boxes.
+  // Every voxel that is not table (the target and its neighbours) stays out of the
+  // boxes: those of the near list when the candidate lies where that list assumes.
   const float tol = cfg_.collision_tolerance_m;
-  const uint32_t nv = grid_.size();
+  const bool use_near = near_ != nullptr && (c.position - near_centre_).norm() <= near_slack_;
+  const uint32_t nv = use_near ? n_near_ : grid_.size();
   const Vec3* centroids = grid_.centroids();
-  for (uint32_t i = 0; i < nv; ++i) {
+  for (uint32_t k = 0; k < nv; ++k) {
+    const uint32_t i = use_near ? near_[k] : k;
     if (state_[i] == kVoxelRemoved) continue;
     const Vec3 d = centroids[i] - c.position;
     const float x = f.X.dot(d), y = f.Y.dot(d), z = f.Z.dot(d);

@@ -167,7 +167,7 @@ Status Planner::end_ingest(uint32_t offered, uint32_t finite, uint32_t kept, uin
   ingest_us_ += static_cast<uint32_t>(platform::monotonic_us() - t0);
   if (st != Status::ok) {
     overflow_ = true;
-    message_ = "more occupied voxels than the build's FG_MAX_VOXELS; shrink the crop box or enlarge the voxel leaf";
+    message_ = "more occupied voxels than the build's FG_MAX_VOXELS (or a cloud that crowds the voxel hash); shrink the crop box or enlarge the voxel leaf";
   }
   return st;
 }

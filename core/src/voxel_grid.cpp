@@ -8,26 +8,11 @@ void VoxelGrid::reset(const Vec3& origin, float leaf_m) {
   inv_leaf_ = 1.0f / leaf_m;
   slot_bits_ = kSlotBits;
   slot_mask_ = kVoxelHashSlots - 1;
-  if (!initialised_ || index_pruned_) {
-    for (uint32_t s = 0; s < kVoxelHashSlots; ++s) slots_[s] = 0u;
-  } else {
-    // Clear only the slots in use, so a reset costs O(voxels), not O(slots). Each
-    // voxel's slot holds its index + 1; probe from its home slot until found.
-    for (uint32_t i = 0; i < size_; ++i) {
-      uint32_t s = slot_of(keys_[i]);
-      for (uint32_t probe = 0; probe < kVoxelHashSlots; ++probe) {
-        if ((slots_[s] & kIndexMask) == i + 1) {
-          slots_[s] = 0;
-          break;
-        }
-        s = (s + 1) & slot_mask_;
-      }
-    }
-  }
-  initialised_ = true;
+  // One pass over the slots: bounded and cheap (a memset of the table), where clearing
+  // slot by slot costs a probe per voxel.
+  for (uint32_t s = 0; s < kVoxelHashSlots; ++s) slots_[s] = 0u;
   finalized_ = false;
   counts_lent_ = false;
-  index_pruned_ = false;
   size_ = 0;
   for (uint32_t i = 0; i < (1u << kCacheBits); ++i) {
     cache_key_[i] = 0xFFFFFFFFu;
@@ -38,7 +23,7 @@ void VoxelGrid::reset(const Vec3& origin, float leaf_m) {
 uint32_t VoxelGrid::find(uint32_t key) const {
   uint32_t s = slot_of(key);
   const uint32_t tag = tag_of(key);
-  for (uint32_t probe = 0; probe < kVoxelHashSlots; ++probe) {
+  for (uint32_t probe = 0; probe < kMaxProbe; ++probe) {
     const uint32_t slot = slots_[s];
     if (slot == 0) return kNone;
     const uint32_t index = (slot & kIndexMask) - 1;
@@ -50,9 +35,10 @@ uint32_t VoxelGrid::find(uint32_t key) const {
 
 uint32_t VoxelGrid::find_or_add(uint32_t key) {
   uint32_t s = slot_of(key);
-  // The table is never more than 3/4 full (limits.hpp), so an empty slot is near.
+  // The table is never more than 3/4 full (limits.hpp), so an empty slot is near; past
+  // kMaxProbe the cell is refused (a cloud crafted to collide).
   const uint32_t tag = tag_of(key);
-  for (uint32_t probe = 0; probe < kVoxelHashSlots; ++probe) {
+  for (uint32_t probe = 0; probe < kMaxProbe; ++probe) {
     const uint32_t slot = slots_[s];
     if (slot == 0) {
       if (size_ >= kMaxVoxels) return kNone;
@@ -84,28 +70,32 @@ void VoxelGrid::finalize() {
   finalized_ = true;
 }
 
+bool VoxelGrid::rebuild_index(const uint8_t* keep, uint32_t bits) {
+  slot_bits_ = bits;
+  slot_mask_ = (1u << bits) - 1u;
+  for (uint32_t s = 0; s <= slot_mask_; ++s) slots_[s] = 0u;
+  for (uint32_t i = 0; i < size_; ++i) {
+    if (keep[i] == 0) continue;
+    uint32_t s = slot_of(keys_[i]);
+    uint32_t probe = 0;
+    for (; probe < kMaxProbe && slots_[s] != 0; ++probe) s = (s + 1) & slot_mask_;
+    if (probe == kMaxProbe) return false;
+    slots_[s] = tag_of(keys_[i]) | (i + 1);
+  }
+  return true;
+}
+
 void VoxelGrid::keep_in_index_only(const uint8_t* keep) {
+  for (uint32_t s = 0; s < (1u << kCacheBits); ++s) cache_key_[s] = 0xFFFFFFFFu;
   // A table sized for the kept voxels (at most half full) stays in the fast caches.
   uint32_t kept = 0;
   for (uint32_t i = 0; i < size_; ++i) kept += keep[i] != 0 ? 1u : 0u;
   uint32_t bits = 6;
   while (bits < kSlotBits && (1u << bits) < 2u * kept) ++bits;
-  slot_bits_ = bits;
-  slot_mask_ = (1u << bits) - 1u;
-  for (uint32_t s = 0; s <= slot_mask_; ++s) slots_[s] = 0u;
-  for (uint32_t s = 0; s < (1u << kCacheBits); ++s) cache_key_[s] = 0xFFFFFFFFu;
-  index_pruned_ = true;
-  for (uint32_t i = 0; i < size_; ++i) {
-    if (keep[i] == 0) continue;
-    uint32_t s = slot_of(keys_[i]);
-    for (uint32_t probe = 0; probe < kVoxelHashSlots; ++probe) {  // keys are distinct
-      if (slots_[s] == 0) {
-        slots_[s] = tag_of(keys_[i]) | (i + 1);
-        break;
-      }
-      s = (s + 1) & slot_mask_;
-    }
-  }
+  // Should a crafted cloud crowd the small table, the full one takes the kept voxels
+  // back: inserted in the same order, a subset of keys never probes farther there than
+  // the whole set did, so each finds its slot within kMaxProbe again.
+  if (!rebuild_index(keep, bits)) (void)rebuild_index(keep, kSlotBits);
 }
 
 uint32_t* VoxelGrid::lend_count_storage() {

@@ -362,6 +362,43 @@ TEST(VoxelGrid, IndexPrunedToKeptVoxels) {
   for (uint32_t i = 0; i < n; ++i) EXPECT_EQ(g->find(g->key(i)), i);
 }
 
+// A cloud crafted so that every cell hashes to the same slot: the probe walk is capped
+// (the insert is refused as capacity_exceeded) instead of growing with the cloud, and
+// every cell that went in is still found.
+TEST(VoxelGrid, CellsCraftedToCollideAreCapped) {
+  auto fmix = [](uint32_t k) {  // the grid's mixer, written out here
+    k ^= k >> 16;
+    k *= 0x85EBCA6Bu;
+    k ^= k >> 13;
+    k *= 0xC2B2AE35u;
+    return k ^ (k >> 16);
+  };
+  const uint32_t slot_bits = static_cast<uint32_t>(std::log2(static_cast<double>(fg::kVoxelHashSlots)));
+  const uint32_t home = fmix(VoxelGrid::pack(10, 10, 10)) >> (32 - slot_bits);
+  std::vector<uint32_t> keys;
+  for (uint32_t z = 3; z < 1000 && keys.size() < 300; ++z)
+    for (uint32_t y = 3; y < 2000 && keys.size() < 300; ++y)
+      for (uint32_t x = 3; x < 2000 && keys.size() < 300; x += 1) {
+        const uint32_t k = VoxelGrid::pack(x, y, z);
+        if ((fmix(k) >> (32 - slot_bits)) == home) keys.push_back(k);
+      }
+  ASSERT_EQ(keys.size(), 300u);
+  auto g = make_grid(Vec3::Zero(), 0.01f);
+  uint32_t accepted = 0, refused = 0;
+  for (uint32_t k : keys) {
+    const float fx = static_cast<float>(VoxelGrid::key_x(k)) + 0.5f, fy = static_cast<float>(VoxelGrid::key_y(k)) + 0.5f,
+                fz = static_cast<float>(VoxelGrid::key_z(k)) + 0.5f;
+    if (g->insert_cell(fx, fy, fz)) {
+      ++accepted;
+    } else {
+      ++refused;
+    }
+  }
+  EXPECT_EQ(accepted, 128u);  // VoxelGrid::kMaxProbe
+  EXPECT_EQ(refused, 300u - 128u);
+  for (uint32_t i = 0; i < g->size(); ++i) EXPECT_EQ(g->find(g->key(i)), i);
+}
+
 TEST(VoxelGrid, CapacityExceededBeyondMaxVoxels) {
   const Vec3 origin(0.f, 0.f, 0.f);
   const float leaf = 0.01f;

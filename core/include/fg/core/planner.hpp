@@ -161,6 +161,7 @@ class Planner {
   bool seen_from_a_sensor(const Vec3& approach) const;
   bool xoz(const ViewFrame& f, const SideFit& w, Candidate& c);
   bool executable(Candidate& c, PlanResult& out);
+  void build_near_list(uint32_t* storage);
   int first_failed_check(const Candidate& c);
   bool refine_closing(Candidate& c);
   struct ContactNormalStats {
@@ -216,6 +217,13 @@ class Planner {
   SideFit windows_[16];
   Candidate candidates_[kMaxCandidates];
   uint32_t n_candidates_ = 0;
+  uint32_t checks_left_ = 0;  // candidates the checks may still examine in this plan()
+  // Voxels within the gripper's reach of the object (build_near_list), in the lent
+  // count storage of the grid.
+  uint32_t* near_ = nullptr;
+  uint32_t n_near_ = 0;
+  Vec3 near_centre_ = Vec3::Zero();
+  float near_slack_ = 0.f;
   uint16_t order_[kMaxCandidates];
 
   // Normals of object points, computed on demand for the friction test.

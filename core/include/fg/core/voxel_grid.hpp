@@ -48,7 +48,7 @@ class VoxelGrid {
 
   //! The hot path of insert(): (fx, fy, fz) are coordinates in cell units from the
   //! origin, already checked to lie in [2, kMax - 2), before finalize(). False when
-  //! the grid is full.
+  //! the grid is full (or the cell's hash neighbourhood is: kMaxProbe).
   bool insert_cell(float fx, float fy, float fz) {
     const uint32_t ix = static_cast<uint32_t>(fx), iy = static_cast<uint32_t>(fy),
                    iz = static_cast<uint32_t>(fz);
@@ -102,28 +102,39 @@ class VoxelGrid {
 
  private:
   uint32_t find_or_add(uint32_t key);
-  uint32_t slot_of(uint32_t key) const {
-    return (key * 0x9E3779B1u) >> (32 - slot_bits_);
+  bool rebuild_index(const uint8_t* keep, uint32_t bits);
+  // A full avalanche of the key (murmur3's finaliser): neighbouring cells land far
+  // apart, so runs of occupied slots stay short for any cloud.
+  static uint32_t mix(uint32_t key) {
+    key ^= key >> 16;
+    key *= 0x85EBCA6Bu;
+    key ^= key >> 13;
+    key *= 0xC2B2AE35u;
+    return key ^ (key >> 16);
   }
+  uint32_t slot_of(uint32_t key) const { return mix(key) >> (32 - slot_bits_); }
   static constexpr uint32_t kSlotBits = detail_log2u(kVoxelHashSlots);
   // A slot: index + 1 (0 = empty) in the low kIndexBits, the key's tag above.
   static constexpr uint32_t kIndexBits = detail_log2u(kMaxVoxels) + 1;
   static constexpr uint32_t kIndexMask = (1u << kIndexBits) - 1u;
   static_assert(kIndexBits <= 24, "the slot word keeps at least 8 tag bits");
-  static uint32_t tag_of(uint32_t key) { return ((key * 0x85EBCA6Bu) >> kIndexBits) << kIndexBits; }
+  // The tag: low bits of the mixed key, which the slot (its high bits) does not use.
+  static uint32_t tag_of(uint32_t key) { return mix(key) << kIndexBits; }
 
   Vec3 origin_ = Vec3::Zero();
   float leaf_ = 0.005f;
   float inv_leaf_ = 200.f;
   uint32_t size_ = 0;
   static constexpr uint32_t kCacheBits = kVoxelCacheBits;
+  // No key sits more than kMaxProbe slots past its home slot: an insert that would is
+  // refused (capacity_exceeded), so every probe loop is short even for a cloud crafted
+  // to collide, and find() stops there too.
+  static constexpr uint32_t kMaxProbe = 128;
   // Empty entries hold 0xFFFFFFFF: no real key has all bits set (z < kMaxZ - 2).
   uint32_t cache_key_[1u << kCacheBits];
   uint32_t cache_index_[1u << kCacheBits];
-  bool initialised_ = false;
   bool finalized_ = false;
   bool counts_lent_ = false;
-  bool index_pruned_ = false;  // some voxels are not in the hash (reset clears it all)
   uint32_t slot_bits_ = kSlotBits;  // slots in use: 2^slot_bits_ (fewer once pruned)
   uint32_t slot_mask_ = kVoxelHashSlots - 1;
   uint32_t slots_[kVoxelHashSlots];  // tag | (voxel index + 1); 0 = empty
