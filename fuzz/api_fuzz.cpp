@@ -41,6 +41,7 @@
 #include <cstring>
 
 #include "forcegrasp/forcegrasp.h"
+#include "byte_reader.hpp"
 #include "no_heap_guard.hpp"
 
 namespace {
@@ -56,39 +57,7 @@ uint16_t g_depth[kMaxDepthSide * kMaxDepthSide];
 alignas(16) unsigned char g_junk[256];
 const bool g_verbose = std::getenv("FG_FUZZ_API_VERBOSE") != nullptr;
 
-class Reader {
- public:
-  Reader(const uint8_t* data, size_t size) : p_(data), n_(size) {}
-  bool done() const { return i_ >= n_; }
-  uint8_t u8() { return i_ < n_ ? p_[i_++] : 0; }
-  uint16_t u16() {
-    const uint16_t lo = u8();
-    return static_cast<uint16_t>(lo | (u8() << 8));
-  }
-  uint32_t u32() {
-    uint32_t v = 0;
-    for (int k = 0; k < 4; ++k) v |= static_cast<uint32_t>(u8()) << (8 * k);
-    return v;
-  }
-  float f32() {
-    const uint32_t b = u32();
-    float f;
-    std::memcpy(&f, &b, 4);
-    return f;
-  }
-  size_t take(size_t want, const uint8_t*& out) {
-    const size_t left = i_ < n_ ? n_ - i_ : 0;
-    const size_t k = want < left ? want : left;
-    out = p_ + i_;
-    i_ += k;
-    return k;
-  }
-
- private:
-  const uint8_t* p_;
-  size_t n_;
-  size_t i_ = 0;
-};
+using Reader = fg_fuzz::ByteReader;
 
 [[noreturn]] void breach(const char* what, int status) {
   fg_fuzz::disarm();

@@ -31,6 +31,7 @@
 #include <limits>
 
 #include "fg/core/planner.hpp"
+#include "byte_reader.hpp"
 #include "no_heap_guard.hpp"
 
 namespace {
@@ -46,42 +47,7 @@ alignas(16) unsigned char g_points[kMaxPointBytes + 16];
 uint16_t g_depth[kMaxDepthSide * kMaxDepthSide];
 const bool g_verbose = std::getenv("FG_FUZZ_PLAN_VERBOSE") != nullptr;
 
-class Reader {
- public:
-  Reader(const uint8_t* data, size_t size) : p_(data), n_(size) {}
-  uint8_t u8() {
-    if (i_ >= n_) return 0;
-    return p_[i_++];
-  }
-  uint16_t u16() {
-    const uint16_t lo = u8();
-    return static_cast<uint16_t>(lo | (u8() << 8));
-  }
-  uint32_t u32() {
-    uint32_t v = 0;
-    for (int k = 0; k < 4; ++k) v |= static_cast<uint32_t>(u8()) << (8 * k);
-    return v;
-  }
-  float f32() {
-    const uint32_t b = u32();
-    float f;
-    std::memcpy(&f, &b, 4);
-    return f;
-  }
-  //! Up to `want` bytes of the rest of the input.
-  size_t take(size_t want, const uint8_t*& out) {
-    const size_t left = i_ < n_ ? n_ - i_ : 0;
-    const size_t k = want < left ? want : left;
-    out = p_ + i_;
-    i_ += k;
-    return k;
-  }
-
- private:
-  const uint8_t* p_;
-  size_t n_;
-  size_t i_ = 0;
-};
+using Reader = fg_fuzz::ByteReader;
 
 void apply_preset(fg::PlannerConfig& c, uint32_t preset) {
   switch (preset) {

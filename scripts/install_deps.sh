@@ -1,12 +1,15 @@
 #!/usr/bin/env bash
-# Installs the Debian packages forcegrasp builds and tests with (Debian 12), only
+# Installs the Debian packages forcegrasp builds and tests with (Debian 12), plus any
+# named as arguments (the extra tools of scripts/fuzz.sh, cross.sh, wcet.sh), only
 # those missing. Run as root (or with sudo available).
+#   bash scripts/install_deps.sh [PACKAGE...]
 set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libccd-dev liburdfdom-dev
   nlohmann-json3-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  "$@"
 )
 missing=()
 for p in "${packages[@]}"; do
