@@ -375,14 +375,15 @@ TEST(VoxelGrid, CellsCraftedToCollideAreCapped) {
   };
   const uint32_t slot_bits = static_cast<uint32_t>(std::log2(static_cast<double>(fg::kVoxelHashSlots)));
   const uint32_t home = fmix(VoxelGrid::pack(10, 10, 10)) >> (32 - slot_bits);
+  const uint32_t want = VoxelGrid::max_probe() + 100;
   std::vector<uint32_t> keys;
-  for (uint32_t z = 3; z < 1000 && keys.size() < 300; ++z)
-    for (uint32_t y = 3; y < 2000 && keys.size() < 300; ++y)
-      for (uint32_t x = 3; x < 2000 && keys.size() < 300; x += 1) {
+  for (uint32_t z = 3; z < 1000 && keys.size() < want; ++z)
+    for (uint32_t y = 3; y < 2000 && keys.size() < want; ++y)
+      for (uint32_t x = 3; x < 2000 && keys.size() < want; x += 1) {
         const uint32_t k = VoxelGrid::pack(x, y, z);
         if ((fmix(k) >> (32 - slot_bits)) == home) keys.push_back(k);
       }
-  ASSERT_EQ(keys.size(), 300u);
+  ASSERT_EQ(keys.size(), want);
   auto g = make_grid(Vec3::Zero(), 0.01f);
   uint32_t accepted = 0, refused = 0;
   for (uint32_t k : keys) {
@@ -394,8 +395,8 @@ TEST(VoxelGrid, CellsCraftedToCollideAreCapped) {
       ++refused;
     }
   }
-  EXPECT_EQ(accepted, 128u);  // VoxelGrid::kMaxProbe
-  EXPECT_EQ(refused, 300u - 128u);
+  EXPECT_EQ(accepted, VoxelGrid::max_probe());
+  EXPECT_EQ(refused, 100u);
   for (uint32_t i = 0; i < g->size(); ++i) EXPECT_EQ(g->find(g->key(i)), i);
 }
 
