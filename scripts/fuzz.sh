@@ -26,20 +26,7 @@ fi
 t_start=$(date +%s)
 
 # ---- packages --------------------------------------------------------------------------
-bash scripts/install_deps.sh
-fuzz_packages=(clang libclang-rt-14-dev)
-missing=()
-for p in "${fuzz_packages[@]}"; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-done
-if [ ${#missing[@]} -gt 0 ]; then
-  echo "fuzz: installing ${missing[*]}"
-  SUDO=""
-  [ "$(id -u)" -eq 0 ] || SUDO="sudo"
-  export DEBIAN_FRONTEND=noninteractive
-  $SUDO apt-get update -qq
-  $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
-fi
+bash scripts/install_deps.sh clang libclang-rt-14-dev  # clang and its fuzzer runtime: this script only
 
 # ---- build -----------------------------------------------------------------------------
 cmake --preset fuzz >/dev/null
