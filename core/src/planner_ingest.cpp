@@ -74,7 +74,7 @@ Status Planner::ingest_begin(SensorRole role, const Pose& world_T_sensor) {
     return Status::invalid_sensor;
   }
   if (grid_.finalized()) {
-    message_ = "sensor data added after plan(): call reset() to start a new capture";
+    message_ = "sensor data added after plan(): call reset() before the next capture";
     return Status::invalid_sequence;
   }
   const Status s = check_pose(world_T_sensor);

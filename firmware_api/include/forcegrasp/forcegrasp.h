@@ -198,7 +198,7 @@ fg_status fg_config_check(const fg_config *cfg, const char **field);
  *  On failure *out is NULL (when out is not NULL). */
 fg_status fg_init(void *memory, size_t size, const fg_config *cfg, fg_workspace **out);
 
-/** Starts a new capture: forgets the sensor data of the previous one. */
+/** Starts the next capture: forgets the sensor data of the previous one. */
 fg_status fg_reset(fg_workspace *ws);
 
 /** Adds one sensor's depth image (uint16 millimetres, 0 = no return, row-major,

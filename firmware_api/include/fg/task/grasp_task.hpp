@@ -77,7 +77,7 @@ struct TaskHal {
 
 class GraspTask {
  public:
-  //! Checks the configuration and starts a new grasp (state capturing).
+  //! Checks the configuration and starts a grasp (state capturing).
   Status start(const TaskConfig& cfg);
   //! One control tick. Blocks only in `planning` (one plan, milliseconds).
   TaskState step(Planner& planner, const TaskHal& hal);
