@@ -51,11 +51,7 @@ bool load(const std::string& path, Loaded& out) {
       std::fprintf(stderr, "%s\n", r.error.c_str());
       return false;
     }
-    fg::Pose p;
-    for (int i = 0; i < 3; ++i) {
-      p.t(i) = static_cast<float>(s.pose->position[i]);
-      for (int j = 0; j < 3; ++j) p.R(i, j) = static_cast<float>(s.pose->rotation[i][j]);
-    }
+    const fg::Pose p = fg::host::to_pose(*s.pose);
     out.raw_points += static_cast<uint32_t>(c.size());
     out.clouds.push_back(std::move(c));
     out.poses.push_back(p);

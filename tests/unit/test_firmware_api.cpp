@@ -29,13 +29,8 @@ bool load(const std::string& path, SceneData& out) {
     if (!s.pose) return false;
     fg::host::PointCloud c;
     if (!fg::host::read_cloud(s.cloud_path, c).ok) return false;
-    fg::Pose p;
-    for (int i = 0; i < 3; ++i) {
-      p.t(i) = static_cast<float>(s.pose->position[i]);
-      for (int j = 0; j < 3; ++j) p.R(i, j) = static_cast<float>(s.pose->rotation[i][j]);
-    }
     out.clouds.push_back(std::move(c));
-    out.poses.push_back(p);
+    out.poses.push_back(fg::host::to_pose(*s.pose));
     out.roles.push_back(s.name == "head" ? fg::SensorRole::head : fg::SensorRole::hand);
   }
   return true;

@@ -157,11 +157,7 @@ TEST(RealCaptures, ShippedManifestsGraspTheirTarget) {
     const auto r = fg::host::read_scene(kShared + "/data/scenes/" + c.scene + "/scene.json", scene);
     ASSERT_TRUE(r.ok) << r.error;
     ASSERT_EQ(scene.sensors.size(), 1u);
-    fg::Pose pose;
-    for (int i = 0; i < 3; ++i) {
-      pose.t(i) = static_cast<float>(scene.sensors[0].pose->position[i]);
-      for (int j = 0; j < 3; ++j) pose.R(i, j) = static_cast<float>(scene.sensors[0].pose->rotation[i][j]);
-    }
+    const fg::Pose pose = fg::host::to_pose(*scene.sensors[0].pose);
     // The pose built here from the labels is the manifest's (a check of this test's oracle).
     const Capture& cap = capture(c.capture);
     const fg::Pose mine = scene_pose(cap, c.object);

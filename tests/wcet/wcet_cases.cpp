@@ -276,10 +276,7 @@ bool load_example(CaseInput& out, std::string& err) {
     }
     SensorInput in;
     in.role = s.name == "head" ? SensorRole::head : SensorRole::hand;
-    for (int i = 0; i < 3; ++i) {
-      in.pose.t(i) = static_cast<float>(s.pose->position[i]);
-      for (int j = 0; j < 3; ++j) in.pose.R(i, j) = static_cast<float>(s.pose->rotation[i][j]);
-    }
+    in.pose = host::to_pose(*s.pose);
     in.xyz = std::move(c.xyz);
     out.sensors.push_back(std::move(in));
   }

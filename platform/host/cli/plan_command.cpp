@@ -16,15 +16,6 @@ namespace fg::host {
 namespace {
 using nlohmann::json;
 
-Pose to_pose(const PoseD& p) {
-  Pose out;
-  for (int i = 0; i < 3; ++i) {
-    out.t(i) = static_cast<float>(p.position[i]);
-    for (int j = 0; j < 3; ++j) out.R(i, j) = static_cast<float>(p.rotation[i][j]);
-  }
-  return out;
-}
-
 json vec(const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
 
 PlanOutcome invalid(const std::string& error) {

@@ -8,6 +8,16 @@
 #include <nlohmann/json.hpp>
 
 namespace fg::host {
+
+Pose to_pose(const PoseD& p) {
+  Pose out;
+  for (int i = 0; i < 3; ++i) {
+    out.t(i) = static_cast<float>(p.position[i]);
+    for (int j = 0; j < 3; ++j) out.R(i, j) = static_cast<float>(p.rotation[i][j]);
+  }
+  return out;
+}
+
 namespace {
 using nlohmann::json;
 

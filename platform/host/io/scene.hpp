@@ -4,6 +4,7 @@
 #include <optional>
 #include <string>
 #include <vector>
+#include "fg/core/types.hpp"
 #include "point_cloud.hpp"
 
 namespace fg::host {
@@ -38,6 +39,9 @@ struct Scene {
 //! gripper ranges. Errors name the file and the problem.
 ReadResult read_scene(const std::string& path, Scene& out);
 ReadResult parse_scene(const std::string& text, const std::string& manifest_path, Scene& out);
+
+//! A manifest pose as the planner takes it (float).
+Pose to_pose(const PoseD& p);
 
 //! Writes a manifest (used by exporters and tests).
 ReadResult write_scene(const std::string& path, const Scene& scene);
