@@ -366,13 +366,7 @@ TEST(VoxelGrid, IndexPrunedToKeptVoxels) {
 // (the insert is refused as capacity_exceeded) instead of growing with the cloud, and
 // every cell that went in is still found.
 TEST(VoxelGrid, CellsCraftedToCollideAreCapped) {
-  auto fmix = [](uint32_t k) {  // the grid's mixer, written out here
-    k ^= k >> 16;
-    k *= 0x85EBCA6Bu;
-    k ^= k >> 13;
-    k *= 0xC2B2AE35u;
-    return k ^ (k >> 16);
-  };
+  auto fmix = [](uint32_t k) { return VoxelGrid::mix(k); };
   const uint32_t slot_bits = static_cast<uint32_t>(std::log2(static_cast<double>(fg::kVoxelHashSlots)));
   const uint32_t home = fmix(VoxelGrid::pack(10, 10, 10)) >> (32 - slot_bits);
   const uint32_t want = VoxelGrid::max_probe() + 100;

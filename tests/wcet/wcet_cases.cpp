@@ -623,7 +623,7 @@ bool candidates_max(CaseInput& out, uint32_t points, std::string& err) {
 }
 
 // Pathological hashing: kMaxVoxels cells chosen so their home slots in the voxel hash
-// (the mixer of voxel_grid.hpp, mirrored here) fall in one narrow window. Without a
+// (VoxelGrid::mix) fall in one narrow window. Without a
 // bound, linear probing would walk one run growing to kMaxVoxels slots (O(n^2)
 // probes); the grid refuses a cell past VoxelGrid::kMaxProbe, so this case measures
 // that cap (the planner ends in capacity_exceeded). Cells are isolated from each
@@ -636,13 +636,7 @@ bool hash_collide(CaseInput& out, uint32_t points, uint32_t cells, std::string& 
     while ((1u << bits) < kVoxelHashSlots) ++bits;
     return bits;
   }();
-  auto slot_of = [](uint32_t key) {
-    key ^= key >> 16;
-    key *= 0x85EBCA6Bu;
-    key ^= key >> 13;
-    key *= 0xC2B2AE35u;
-    return (key ^ (key >> 16)) >> (32 - kSlotBits);
-  };
+  auto slot_of = [](uint32_t key) { return VoxelGrid::mix(key) >> (32 - kSlotBits); };
   // Candidate cells with their home slot in [0, W): grow W until enough isolated ones.
   uint32_t window = 64;
   for (;;) {

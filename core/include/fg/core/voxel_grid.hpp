@@ -95,6 +95,16 @@ class VoxelGrid {
   //! Index of the voxel with `key`, or kNone.
   uint32_t find(uint32_t key) const;
 
+  // A full avalanche of the key (murmur3's finaliser): neighbouring cells land far
+  // apart, so runs of occupied slots stay short for any cloud.
+  //! The key hash: a slot is its top bits (tests craft colliding clouds with it).
+  static uint32_t mix(uint32_t key) {
+    key ^= key >> 16;
+    key *= 0x85EBCA6Bu;
+    key ^= key >> 13;
+    key *= 0xC2B2AE35u;
+    return key ^ (key >> 16);
+  }
   static uint32_t pack(uint32_t ix, uint32_t iy, uint32_t iz) { return ix | (iy << 11) | (iz << 22); }
   static uint32_t key_x(uint32_t k) { return k & 0x7FFu; }
   static uint32_t key_y(uint32_t k) { return (k >> 11) & 0x7FFu; }
@@ -103,15 +113,6 @@ class VoxelGrid {
  private:
   uint32_t find_or_add(uint32_t key);
   bool rebuild_index(const uint8_t* keep, uint32_t bits);
-  // A full avalanche of the key (murmur3's finaliser): neighbouring cells land far
-  // apart, so runs of occupied slots stay short for any cloud.
-  static uint32_t mix(uint32_t key) {
-    key ^= key >> 16;
-    key *= 0x85EBCA6Bu;
-    key ^= key >> 13;
-    key *= 0xC2B2AE35u;
-    return key ^ (key >> 16);
-  }
   uint32_t slot_of(uint32_t key) const { return mix(key) >> (32 - slot_bits_); }
   static constexpr uint32_t kSlotBits = detail_log2u(kVoxelHashSlots);
   // A slot: index + 1 (0 = empty) in the low kIndexBits, the key's tag above.
