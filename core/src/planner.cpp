@@ -216,6 +216,10 @@ Status Planner::plan(PlanResult& out) {
                     "the object is wider than the gripper opening from every viewpoint searched");
     }
     const RejectCounts& rj = out.rejected;
+    if (rj.unreachable > 0 && rj.unreachable >= rj.friction && rj.unreachable >= rj.collision + rj.table &&
+        rj.unreachable >= rj.occluded)
+      return finish(Status::no_grasp, NoGraspReason::unreachable,
+                    "the arm reaches none of the candidates that pass the gripper's checks");
     if (rj.friction >= rj.collision + rj.table && rj.friction >= rj.occluded)
       return finish(Status::no_grasp, NoGraspReason::friction,
                     "every candidate's contact normals lie outside the friction cone");

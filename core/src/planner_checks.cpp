@@ -111,8 +111,7 @@ int Planner::first_failed_check(const Candidate& c) {
 }
 
 bool Planner::executable(Candidate& c, PlanResult& out) {
-  const int failed = first_failed_check(c);
-  if (failed == 0) return true;
+  int failed = first_failed_check(c);
   // A contact a little outside the cone (closing across a prism's diagonal, a tilted
   // handle): turn the closing direction about the approach towards the contact
   // normals, and check the turned grasp from the start.
@@ -120,14 +119,27 @@ bool Planner::executable(Candidate& c, PlanResult& out) {
     Candidate turned = c;
     if (refine_closing(turned) && first_failed_check(turned) == 0) {
       c = turned;
-      return true;
+      failed = 0;
     }
   }
+  // Then the check of the layers above (robot: inverse kinematics, the whole tool).
+  if (failed == 0 && grasp_check_ != nullptr) {
+    const Vec3 z = c.Z.normalized();
+    const GraspQuery q{c.position, z, c.X.normalized(),
+                       c.position - z * (cfg_.gripper.finger_depth_m + cfg_.pregrasp_clearance_m),
+                       c.width, plane_found_ ? &plane_ : nullptr, &object_[0], object_.size()};
+    const GraspVerdict v = grasp_check_->check(q);
+    if (v == GraspVerdict::collision) failed = 2;
+    else if (v == GraspVerdict::unreachable) failed = 6;
+    else if (v != GraspVerdict::pass) failed = 6;  // an unknown verdict never passes
+  }
+  if (failed == 0) return true;
   switch (failed) {
     case 1: ++out.rejected.table; break;
     case 2:
     case 3: ++out.rejected.collision; break;
     case 4: ++out.rejected.occluded; break;
+    case 6: ++out.rejected.unreachable; break;
     default: ++out.rejected.friction; break;
   }
   return false;

@@ -7,33 +7,9 @@
 namespace fg::task {
 namespace {
 
-robot::PoseD to_d(const Pose& p) {
-  robot::PoseD d;
-  d.R = p.R.cast<double>();
-  d.t = p.t.cast<double>();
-  return d;
-}
-
-Pose to_f(const robot::PoseD& d) {
-  Pose p;
-  p.R = d.R.cast<float>();
-  p.t = d.t.cast<float>();
-  return p;
-}
-
-robot::PoseD compose(const robot::PoseD& a, const robot::PoseD& b) {
-  robot::PoseD c;
-  c.R = a.R * b.R;
-  c.t = a.R * b.t + a.t;
-  return c;
-}
-
-robot::PoseD inverse(const robot::PoseD& a) {
-  robot::PoseD c;
-  c.R = a.R.transpose();
-  c.t = -(c.R * a.t);
-  return c;
-}
+using robot::compose;
+using robot::to_d;
+using robot::to_f;
 
 bool all_finite(const Pose& p) { return p.R.allFinite() && p.t.allFinite(); }
 
@@ -93,6 +69,15 @@ Status GraspTask::start(const TaskConfig& cfg) {
     return Status::invalid_config;
   }
   cfg_ = cfg;
+  robot::GraspCheckConfig check;
+  check.motion.robot = cfg.robot;
+  check.motion.world_T_base = cfg.world_T_base;
+  check.motion.tcp_offset_m = cfg.tcp_offset_m;
+  check.motion.lift_m = cfg.lift_m;
+  check.motion.ik = cfg.ik;
+  check.tool.body_half_width_m = cfg.tool_body_half_width_m;
+  check.check_tool = cfg.check_tool_collision;
+  check_.configure(check);
   failure_ = TaskFailure::none;
   message_ = "";
   state_ = TaskState::capturing;
@@ -217,44 +202,32 @@ TaskState GraspTask::step_capture(Planner& planner, const TaskHal& hal, uint64_t
   return state_;
 }
 
-bool GraspTask::solve(const robot::PoseD& base_T_tool0, const double* near, double* out) const {
-  robot::IkSolutions sols;
-  if (!robot::ik_has_solution(robot::ur5_inverse(cfg_.robot, base_T_tool0, sols, cfg_.ik))) return false;
-  const robot::IkChoice c = robot::choose_nearest(near, sols, cfg_.ik.limits);
-  if (c.status != robot::IkStatus::ok) return false;
-  for (int i = 0; i < 6; ++i) out[i] = c.q[i];
-  return true;
-}
-
 TaskState GraspTask::step_plan(Planner& planner, const TaskHal&, uint64_t now) {
+  // The robot's check makes the planner move on to the next candidate when the arm
+  // cannot reach one or the tool would hit something; it keeps the joints of the one
+  // it accepts.
+  robot::GraspCheckConfig check = check_.config();
+  check.tool.gripper = planner.config().gripper;
+  check_.configure(check);
+  check_.set_current_joints(q_capture_);
+  GraspCheck* const callers_check = planner.grasp_check();
+  planner.set_grasp_check(&check_);
   planner.plan(plan_);
-  if (plan_.status != Status::ok) return fail(TaskFailure::no_grasp, plan_.message);
-  const Grasp& g = plan_.grasp;
-  const robot::PoseD base_T_world = inverse(to_d(cfg_.world_T_base));
-  // Tool0 frame at the grasp: z along the approach, x along the closing direction, the
-  // flange tcp_offset behind the pads' centre. A parallel gripper grasps the same way
-  // turned half a turn about the approach: tried when the first way is out of reach.
-  for (int turn = 0; turn < 2; ++turn) {
-    const double sign = turn == 0 ? 1.0 : -1.0;
-    robot::PoseD w;
-    const Eigen::Vector3d z = g.approach.cast<double>().normalized();
-    const Eigen::Vector3d x = (sign * g.closing.cast<double>()).normalized();
-    w.R.col(0) = x;
-    w.R.col(1) = z.cross(x);
-    w.R.col(2) = z;
-    const Eigen::Vector3d back = z * static_cast<double>(cfg_.tcp_offset_m);
-    w.t = g.pregrasp.cast<double>() - back;
-    const robot::PoseD pre = compose(base_T_world, w);
-    w.t = g.position.cast<double>() - back;
-    const robot::PoseD at = compose(base_T_world, w);
-    w.t.z() += static_cast<double>(cfg_.lift_m);
-    const robot::PoseD lift = compose(base_T_world, w);
-    if (solve(pre, q_capture_, q_pre_) && solve(at, q_pre_, q_grasp_) && solve(lift, q_grasp_, q_lift_)) {
-      enter(TaskState::opening, now);
-      return state_;
-    }
+  planner.set_grasp_check(callers_check);
+  if (plan_.status != Status::ok) {
+    if (plan_.reason == NoGraspReason::unreachable) return fail(TaskFailure::unreachable, plan_.message);
+    return fail(TaskFailure::no_grasp, plan_.message);
   }
-  return fail(TaskFailure::unreachable, "no joint solution inside the limits for the pre-grasp, grasp or lift pose");
+  if (!check_.has_motion())
+    return fail(TaskFailure::unreachable, "no joint solution inside the limits for the pre-grasp, grasp or lift pose");
+  const robot::GraspMotion& m = check_.motion();
+  for (int i = 0; i < 6; ++i) {
+    q_pre_[i] = m.pregrasp[i];
+    q_grasp_[i] = m.grasp[i];
+    q_lift_[i] = m.lift[i];
+  }
+  enter(TaskState::opening, now);
+  return state_;
 }
 
 TaskState GraspTask::step_move(const TaskHal& hal, uint64_t now, const double* target, TaskState next) {

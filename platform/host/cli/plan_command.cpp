@@ -7,6 +7,7 @@
 #include "io/config_options.hpp"
 #include "fg/platform/platform.hpp"
 #include "fg/robot/ur5.hpp"
+#include "fg/robot/ur5_grasp_check.hpp"
 #include "io/pcd.hpp"
 #include "io/ply.hpp"
 #include "io/scene.hpp"
@@ -83,8 +84,20 @@ PlanOutcome run_plan(const PlanOptions& opts) {
       if (st != Status::ok)
         return invalid(s.cloud_path + ": " + planner.last_message() + " (" + to_string(st) + ")");
     }
+    // The robot's check (robot/ur5_grasp_check.hpp): the whole tool against the plane and
+    // the target always; inverse kinematics when the scene names the arm's joints.
+    static robot::Ur5GraspCheck check;  // 64 KiB of scratch: one per process
+    robot::GraspCheckConfig check_cfg;
+    check_cfg.tool.gripper = cfg.gripper;
+    check_cfg.check_reach = false;
+    for (const SceneSensor& s : scene.sensors) check_cfg.check_reach = check_cfg.check_reach || s.joints.has_value();
+    check.configure(check_cfg);
+    for (const SceneSensor& s : scene.sensors)
+      if (s.joints) check.set_current_joints(s.joints->data());
+    planner.set_grasp_check(cfg.executability_checks ? &check : nullptr);
     PlanResult res;
     const Status st = planner.plan(res);
+    planner.set_grasp_check(nullptr);
     const uint64_t t_done = platform::monotonic_us();
 
     PlanOutcome o;
@@ -105,6 +118,11 @@ PlanOutcome run_plan(const PlanOptions& opts) {
                                    : g.family == ViewFamily::middle_axis ? "middle_axis"
                                                                          : "minor_axis"},
                         {"pregrasp", vec(g.pregrasp)}};
+      if (check_cfg.check_reach && check.has_motion()) {
+        const robot::GraspMotion& m = check.motion();
+        const auto q = [](const double* v) { return json(std::vector<double>(v, v + 6)); };
+        j["joints"] = json{{"pregrasp", q(m.pregrasp)}, {"grasp", q(m.grasp)}, {"lift", q(m.lift)}};
+      }
     } else if (st == Status::no_grasp) {
       o.exit_code = kExitNoGrasp;
       j["status"] = "no_grasp";
@@ -133,6 +151,7 @@ PlanOutcome run_plan(const PlanOptions& opts) {
                        {"candidates", res.candidates},
                        {"rejected", {{"table", res.rejected.table},
                                      {"collision", res.rejected.collision},
+                                     {"unreachable", res.rejected.unreachable},
                                      {"friction", res.rejected.friction},
                                      {"occluded", res.rejected.occluded}}}};
     if (planner.plane_found())

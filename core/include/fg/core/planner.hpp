@@ -8,6 +8,7 @@
 #include "fg/core/cluster.hpp"
 #include "fg/core/config.hpp"
 #include "fg/core/force_balance.hpp"
+#include "fg/core/grasp_check.hpp"
 #include "fg/core/hull.hpp"
 #include "fg/core/limits.hpp"
 #include "fg/core/plane.hpp"
@@ -55,7 +56,7 @@ struct PointCounts {
 
 //! Why candidates were turned down during the checks (counts).
 struct RejectCounts {
-  uint32_t table = 0, collision = 0, friction = 0, occluded = 0;
+  uint32_t table = 0, collision = 0, friction = 0, occluded = 0, unreachable = 0;
 };
 
 struct PlanResult {
@@ -101,6 +102,12 @@ class Planner {
   //! Validates and installs cfg (invalid_config names the field via *field), and resets.
   Status configure(const PlannerConfig& cfg, const char** field = nullptr);
   const PlannerConfig& config() const { return cfg_; }
+
+  //! A check of the layers above (robot: IK, the whole tool) asked about every
+  //! candidate that passes the core's checks; null (the default) for none. Not owned;
+  //! it must outlive the plan() calls made while it is set.
+  void set_grasp_check(GraspCheck* check) { grasp_check_ = check; }
+  GraspCheck* grasp_check() const { return grasp_check_; }
 
   //! Forgets all sensor data.
   void reset();
@@ -179,6 +186,7 @@ class Planner {
   void fill_grasp(const Candidate& c, PlanResult& out);
 
   PlannerConfig cfg_;
+  GraspCheck* grasp_check_ = nullptr;
   const char* message_ = "";
 
   // Sensors

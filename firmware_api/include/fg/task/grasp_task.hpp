@@ -12,6 +12,7 @@
 #include "fg/hal/depth_sensor.hpp"
 #include "fg/hal/gripper.hpp"
 #include "fg/robot/ur5.hpp"
+#include "fg/robot/ur5_grasp_check.hpp"
 #include "fg/robot/ur5_ik.hpp"
 
 namespace fg::task {
@@ -64,6 +65,10 @@ struct TaskConfig {
   uint32_t gripper_timeout_us = 3000000;
   robot::Ur5Params robot = robot::ur5_nominal();
   robot::IkOptions ik;
+  //! The tool (fingers, palm, and the body behind them up to the flange) checked against
+  //! the support plane and the target with libccd, where the build has it.
+  bool check_tool_collision = true;
+  float tool_body_half_width_m = 0.032f;
 };
 
 //! The hardware the task drives; a sensor pointer may be null when it is not used.
@@ -103,7 +108,6 @@ class GraspTask {
   TaskState step_capture(Planner& planner, const TaskHal& hal, uint64_t now_us);
   TaskState step_plan(Planner& planner, const TaskHal& hal, uint64_t now_us);
   TaskState step_move(const TaskHal& hal, uint64_t now_us, const double* target, TaskState next);
-  bool solve(const robot::PoseD& base_T_tool0, const double* near, double* out) const;
 
   TaskConfig cfg_;
   TaskState state_ = TaskState::idle;
@@ -116,6 +120,7 @@ class GraspTask {
   double q_capture_[6] = {};          // the arm's joints when the images were taken
   double q_pre_[6] = {}, q_grasp_[6] = {}, q_lift_[6] = {};
   PlanResult plan_;
+  robot::Ur5GraspCheck check_;
 };
 
 }  // namespace fg::task
