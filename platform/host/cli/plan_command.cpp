@@ -26,12 +26,26 @@ PlanOutcome invalid(const std::string& error) {
   return o;
 }
 
-// The planner is large (a few MiB): one instance per process, created on first use.
+}  // namespace
+
 Planner& planner_instance() {
   static std::unique_ptr<Planner> p(new Planner());
   return *p;
 }
-}  // namespace
+
+bool apply_options(PlannerConfig& cfg, const std::string& config_path, const std::vector<std::string>& sets,
+                   std::string& err) {
+  if (!config_path.empty() && !load_config_file(cfg, config_path, err)) return false;
+  for (const std::string& s : sets) {
+    const size_t eq = s.find('=');
+    if (eq == std::string::npos) {
+      err = "--set " + s + ": expected name=value";
+      return false;
+    }
+    if (!set_config_option(cfg, s.substr(0, eq), s.substr(eq + 1), err)) return false;
+  }
+  return true;
+}
 
 PlanOutcome run_plan(const PlanOptions& opts) {
   try {
@@ -43,12 +57,7 @@ PlanOutcome run_plan(const PlanOptions& opts) {
     cfg.gripper.finger_width_m = static_cast<float>(scene.gripper.finger_width);
     cfg.gripper.finger_depth_m = static_cast<float>(scene.gripper.finger_depth);
     std::string err;
-    if (!opts.config_path.empty() && !load_config_file(cfg, opts.config_path, err)) return invalid(err);
-    for (const std::string& s : opts.sets) {
-      const size_t eq = s.find('=');
-      if (eq == std::string::npos) return invalid("--set " + s + ": expected name=value");
-      if (!set_config_option(cfg, s.substr(0, eq), s.substr(eq + 1), err)) return invalid(err);
-    }
+    if (!apply_options(cfg, opts.config_path, opts.sets, err)) return invalid(err);
     Planner& planner = planner_instance();
     const char* field = nullptr;
     if (planner.configure(cfg, &field) != Status::ok)

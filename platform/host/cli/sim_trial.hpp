@@ -1,0 +1,56 @@
+// `forcegrasp sim`: the whole grasp task (firmware_api's GraspTask) on the simulated
+// hardware of hal/sim: a seeded scene, the head camera on its mount, the wrist camera
+// on a UR5 that follows joint commands, a 2F-85-class gripper closing on the true
+// geometry. Each trial is judged on the TRUE geometry. Host only.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "fg/core/config.hpp"
+#include "fg/core/planner.hpp"
+
+namespace fg::host {
+
+struct SimOptions {
+  std::vector<std::string> kinds;     //!< object kinds (hal/sim scene_gen names)
+  uint32_t trials = 0;                //!< 0: 20 per kind
+  uint64_t seed = 1;                  //!< trial i: kind i % kinds, seed + i
+  double mu = 0.5;                    //!< friction coefficient of the judge
+  std::string pictures_dir;           //!< per trial: SVG pictures of the plan
+  std::string export_dir;             //!< per trial: scene.json + PCD + truth.json
+  std::string json_path;              //!< per trial records and the table, as JSON
+  bool progress = true;               //!< a progress line on stderr
+  double second_object_rate = 0.3;
+};
+
+//! One trial's outcome.
+struct SimTrial {
+  std::string kind;
+  uint64_t seed = 0;
+  bool fits = false;         //!< the target fits the gripper in some direction (truth)
+  bool success = false;      //!< a fitting target lifted with a grasp the judge passes, or
+                             //!< no_grasp on a target that fits in no direction
+  std::string verdict;       //!< "success", the judge's reason, or the task's failure
+  std::string task_state;    //!< the task's final state and failure
+  std::string plan_reason;   //!< the planner's no_grasp reason, when it gave one
+  bool wrist_view = false;   //!< the arm put the wrist camera at the scene's viewpoint
+                             //!< (else it looked from its home pose)
+  double plan_ms = 0.0;      //!< the planner's own time (the plan() call)
+  double width_error_m = -1.0;  //!< |reported - true width| of a judged grasp, else -1
+  double task_s = 0.0;       //!< simulated time from start to the end of the task
+  uint32_t ticks = 0;
+};
+
+//! Runs one trial with the planner configuration `cfg`. `planner` is reused between
+//! trials (it is large). Pictures and export go to subfolders <kind>-<seed>.
+SimTrial run_sim_trial(const std::string& kind, uint64_t seed, const SimOptions& opt, const PlannerConfig& cfg,
+                       Planner& planner);
+
+//! Runs every trial, prints the table on stdout; returns the per-trial records and the
+//! table as JSON.
+nlohmann::json run_sim(const SimOptions& opt, const PlannerConfig& cfg, Planner& planner);
+
+}  // namespace fg::host
