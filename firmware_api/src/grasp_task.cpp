@@ -144,7 +144,14 @@ TaskState GraspTask::step(Planner& planner, const TaskHal& hal) {
       return state_;
     }
     case TaskState::to_pregrasp: return step_move(hal, now, q_pre_, TaskState::approaching);
-    case TaskState::approaching: return step_move(hal, now, q_grasp_, TaskState::closing);
+    case TaskState::approaching: {
+      // One waypoint after the other; each has the move timeout.
+      const bool last = waypoint_ + 1 >= robot::GraspMotion::kApproachSteps;
+      const bool moving = entry_done_;
+      const TaskState s = step_move(hal, now, q_approach_[waypoint_], last ? TaskState::closing : TaskState::approaching);
+      if (s == TaskState::approaching && moving && !entry_done_) ++waypoint_;  // arrived at a waypoint
+      return s;
+    }
     case TaskState::lifting: return step_move(hal, now, q_lift_, TaskState::succeeded);
     default: return state_;
   }
@@ -225,7 +232,9 @@ TaskState GraspTask::step_plan(Planner& planner, const TaskHal&, uint64_t now) {
     q_pre_[i] = m.pregrasp[i];
     q_grasp_[i] = m.grasp[i];
     q_lift_[i] = m.lift[i];
+    for (int k = 0; k < robot::GraspMotion::kApproachSteps; ++k) q_approach_[k][i] = m.approach[k][i];
   }
+  waypoint_ = 0;
   enter(TaskState::opening, now);
   return state_;
 }

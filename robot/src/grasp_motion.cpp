@@ -67,13 +67,22 @@ IkStatus plan_grasp_motion(const MotionConfig& cfg, const Vec3& position, const 
   const PoseD base_T_world = inverse(to_d(cfg.world_T_base));
   for (int turn = 0; turn < 2; ++turn) {
     const bool turned = turn == 1;
-    const PoseD pre = compose(base_T_world, tool0_pose(cfg, pregrasp, approach, closing, turned));
-    PoseD at_w = tool0_pose(cfg, position, approach, closing, turned);
-    const PoseD at = compose(base_T_world, at_w);
-    at_w.t.z() += static_cast<double>(cfg.lift_m);
-    const PoseD lift = compose(base_T_world, at_w);
-    if (solve(cfg, pre, q_now, out.pregrasp) && solve(cfg, at, out.pregrasp, out.grasp) &&
-        solve(cfg, lift, out.grasp, out.lift)) {
+    const Vec3 start = pregrasp - approach.normalized() * cfg.standoff_m;
+    const PoseD pre = compose(base_T_world, tool0_pose(cfg, start, approach, closing, turned));
+    bool ok = solve(cfg, pre, q_now, out.pregrasp);
+    const double* previous = out.pregrasp;
+    for (int k = 1; k <= GraspMotion::kApproachSteps && ok; ++k) {
+      const float f = static_cast<float>(k) / static_cast<float>(GraspMotion::kApproachSteps);
+      const Vec3 centre = k == GraspMotion::kApproachSteps ? position : Vec3(start + (position - start) * f);
+      const PoseD step = compose(base_T_world, tool0_pose(cfg, centre, approach, closing, turned));
+      ok = solve(cfg, step, previous, out.approach[k - 1]);
+      previous = out.approach[k - 1];
+    }
+    if (!ok) continue;
+    for (int i = 0; i < 6; ++i) out.grasp[i] = previous[i];
+    PoseD lift_w = tool0_pose(cfg, position, approach, closing, turned);
+    lift_w.t.z() += static_cast<double>(cfg.lift_m);
+    if (solve(cfg, compose(base_T_world, lift_w), out.grasp, out.lift)) {
       out.turned = turned;
       return IkStatus::ok;
     }

@@ -25,7 +25,10 @@ GraspVerdict Ur5GraspCheck::do_check(const GraspQuery& q) {
   ++asked_;
 #if FG_ROBOT_WITH_LIBCCD
   if (cfg_.check_tool) {
-    last_hit_ = collision_.check(cfg_.tool, q);
+    // The tool swept over the whole approach line the motion follows.
+    GraspQuery swept = q;
+    swept.pregrasp = q.pregrasp - q.approach.normalized() * (cfg_.check_reach ? cfg_.motion.standoff_m : 0.f);
+    last_hit_ = collision_.check(cfg_.tool, swept);
     if (last_hit_ != ToolHit::none) {
       ++collisions_;
       return GraspVerdict::collision;

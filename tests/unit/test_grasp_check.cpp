@@ -166,8 +166,8 @@ TEST(Ur5GraspCheck, JointsOfTheAcceptedGraspPutThePadsOnIt) {
       EXPECT_LT((c - r.grasp.position).norm(), 1e-4f);
       EXPECT_GT(z.dot(r.grasp.approach), 0.9999f);
       EXPECT_GT(std::fabs(x.dot(r.grasp.closing)), 0.9999f);
-      pads(m.pregrasp, c, z, x);
-      EXPECT_LT((c - r.grasp.pregrasp).norm(), 1e-4f);
+      pads(m.pregrasp, c, z, x);  // the free move ends standoff behind the pre-grasp
+      EXPECT_LT((c - (r.grasp.pregrasp - r.grasp.approach * mc.standoff_m)).norm(), 1e-4f);
       pads(m.lift, c, z, x);
       EXPECT_LT((c - (r.grasp.position + Vec3(0.f, 0.f, mc.lift_m))).norm(), 1e-4f);
       for (int i = 0; i < 6; ++i) {

@@ -200,16 +200,26 @@ TEST_P(GraspTaskScenes, GraspsAnUprightBox) {
   EXPECT_EQ(task.failure(), TaskFailure::none);
   EXPECT_EQ(rig.head.requests, 1);
   EXPECT_EQ(rig.hand.requests, 1);
-  // Three motions, in order: pre-grasp, grasp, lift; the arm ends at the lift target.
-  ASSERT_EQ(rig.arm.targets.size(), 3u);
+  // The motions, in order: the start of the approach line (standoff behind the
+  // pre-grasp), the steps along it (the last one the grasp), the lift.
+  constexpr int kSteps = fg::robot::GraspMotion::kApproachSteps;
+  ASSERT_EQ(rig.arm.targets.size(), static_cast<size_t>(kSteps + 2));
   for (int i = 0; i < 6; ++i) {
     EXPECT_EQ(rig.arm.targets[0][static_cast<size_t>(i)], task.pregrasp_joints()[i]);
-    EXPECT_EQ(rig.arm.targets[1][static_cast<size_t>(i)], task.grasp_joints()[i]);
+    EXPECT_EQ(rig.arm.targets[kSteps][static_cast<size_t>(i)], task.grasp_joints()[i]);
     EXPECT_EQ(rig.arm.q[i], task.lift_joints()[i]);
   }
   const fg::Grasp& g = task.plan_result().grasp;
+  const float standoff = fg::robot::MotionConfig{}.standoff_m;
+  const fg::Vec3 start = g.pregrasp - g.approach * standoff;
   expect_tool_at(task.grasp_joints(), g.position, g.approach, rig.cfg.tcp_offset_m);
-  expect_tool_at(task.pregrasp_joints(), g.pregrasp, g.approach, rig.cfg.tcp_offset_m);
+  expect_tool_at(task.pregrasp_joints(), start, g.approach, rig.cfg.tcp_offset_m);
+  for (int k = 1; k <= kSteps; ++k) {  // equal steps on the line (an oracle of its own)
+    const fg::Vec3 on_line = start + (g.position - start) * (static_cast<float>(k) / kSteps);
+    double q[6];
+    for (int i = 0; i < 6; ++i) q[i] = rig.arm.targets[static_cast<size_t>(k)][static_cast<size_t>(i)];
+    expect_tool_at(q, on_line, g.approach, rig.cfg.tcp_offset_m);
+  }
   fg::Vec3 lifted = g.position;
   lifted.z() += rig.cfg.lift_m;
   expect_tool_at(task.lift_joints(), lifted, g.approach, rig.cfg.tcp_offset_m);

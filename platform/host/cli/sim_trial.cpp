@@ -135,7 +135,10 @@ SimTrial run_sim_trial(const std::string& kind_name, uint64_t seed, const SimOpt
     gripper.tick(kTickUs * 1e-6);
     const bool way_in = s == task::TaskState::to_pregrasp || s == task::TaskState::approaching;
     if (way_in && way_in_hit.empty() && tick % kPathSampleTicks == 0)
+    {
       way_in_hit = open_pose_hit(scene.world, scene.target, arm.world_T_tool0(), tc.tcp_offset_m, cfg.gripper);
+      if (!way_in_hit.empty()) way_in_hit = std::string(task::to_string(s)) + ":" + way_in_hit;
+    }
   }
   out.ticks = tick;
   out.task_s = static_cast<double>(clock.time_us()) * 1e-6;

@@ -23,7 +23,7 @@ enum class TaskState : uint8_t {
   planning,     //!< one tick: plan, then inverse kinematics of the motion
   opening,      //!< gripper to its full opening
   to_pregrasp,  //!< arm to the pre-grasp pose (backed off along the approach)
-  approaching,  //!< arm to the grasp pose
+  approaching,  //!< arm to the grasp pose, along the approach line in short steps
   closing,      //!< gripper closes until contact
   lifting,      //!< arm lifts the object straight up
   succeeded,
@@ -119,6 +119,8 @@ class GraspTask {
   bool pending_[2] = {false, false};  // head, hand captures still awaited
   double q_capture_[6] = {};          // the arm's joints when the images were taken
   double q_pre_[6] = {}, q_grasp_[6] = {}, q_lift_[6] = {};
+  double q_approach_[robot::GraspMotion::kApproachSteps][6] = {};  // the last one is q_grasp_
+  int waypoint_ = 0;  // of the approach
   PlanResult plan_;
   robot::Ur5GraspCheck check_;
 };

@@ -19,11 +19,19 @@ struct MotionConfig {
                                //!< world = base_link, as in the scene contract)
   float tcp_offset_m = 0.15f;  //!< flange (tool0) to the pads' centre along tool0 +z
   float lift_m = 0.10f;        //!< straight up (world z) after closing
+  //! The arm's free move (joint space, from wherever it is) ends this far behind the
+  //! planner's pre-grasp along the approach; the rest is the approach line in steps.
+  float standoff_m = 0.06f;
   IkOptions ik;                //!< with the joint limits (ik.limits)
 };
 
 struct GraspMotion {
-  double pregrasp[6];
+  //! The approach from the pre-grasp to the grasp as a straight line of the pads: joint
+  //! targets at equal steps along it, the last one the grasp (a joint-space move between
+  //! two poses leaves the line in between; short steps keep it close).
+  static constexpr int kApproachSteps = 6;
+  double pregrasp[6];  //!< standoff_m behind the planner's pre-grasp
+  double approach[kApproachSteps][6];
   double grasp[6];
   double lift[6];
   bool turned;  //!< the closing direction was reversed (the gripper half a turn about
@@ -35,7 +43,8 @@ struct GraspMotion {
 PoseD tool0_pose(const MotionConfig& cfg, const Vec3& centre, const Vec3& approach, const Vec3& closing,
                  bool turned);
 
-//! Joint targets for the grasp (position, approach, closing, pre-grasp in world) from
+//! Joint targets for the grasp (position, approach, closing, pre-grasp in world; the
+//! motion starts standoff_m behind that pre-grasp) from
 //! the current joints `q_now`: ok, unreachable (no solution inside the limits for one
 //! of the three poses, both ways round) or invalid_argument (non-finite input).
 IkStatus plan_grasp_motion(const MotionConfig& cfg, const Vec3& position, const Vec3& approach,
