@@ -28,6 +28,7 @@
 
 #include "fg/core/types.hpp"
 #include "fg/robot/ur5.hpp"
+#include "fg/robot/ur5_ik.hpp"
 #include "io/pcd.hpp"
 #include "io/ply.hpp"
 
@@ -919,6 +920,22 @@ TEST_F(CliContract, HandSensorGivenByJoints) {
   }
   EXPECT_GT(std::fabs(cdot), std::cos(10.0 * 3.14159265358979 / 180.0)) << "closing directions differ";
   EXPECT_LT(std::sqrt(d2), 0.05) << "grasp positions more than 5 cm apart";
+
+  // With the arm's joints known, the report carries the joints of the motion; the
+  // forward kinematics of the grasp joints put the pads (0.15 m ahead of tool0 along
+  // its z) on the grasp. Without them, no joints.
+  EXPECT_FALSE(gc.contains("joints"));
+  ASSERT_TRUE(gj.contains("joints")) << gj.dump();
+  for (const char* key : {"pregrasp", "grasp", "lift"}) ASSERT_EQ(gj["joints"][key].size(), 6u) << key;
+  double qg[6];
+  for (int i = 0; i < 6; ++i) qg[i] = gj["joints"]["grasp"][i].get<double>();
+  fg::robot::PoseD tool0_at_grasp;
+  ASSERT_TRUE(fg::robot::ur5_forward_d(fg::robot::ur5_nominal(), qg, tool0_at_grasp));
+  const Eigen::Vector3d pads = tool0_at_grasp.t + tool0_at_grasp.R.col(2) * 0.15;
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_NEAR(pads(i), b["position"][i].get<double>(), 1e-4);
+    EXPECT_NEAR(tool0_at_grasp.R(i, 2), b["approach"][i].get<double>(), 1e-3);
+  }
 }
 
 TEST_F(CliContract, GraspUnderTinyPosePerturbation) {
