@@ -31,7 +31,6 @@ class TriangleMesh {
   const std::vector<Triangle>& triangles() const { return triangles_; }
   const std::vector<int>& groups() const { return groups_; }  //!< group id of each triangle
   const std::vector<std::string>& group_names() const { return group_names_; }
-  const V3& face_normal(int triangle) const { return face_normals_[static_cast<size_t>(triangle)]; }
 
   const Aabb& bounds() const { return bounds_; }
   //! [lo, hi] of the vertices projected on u.

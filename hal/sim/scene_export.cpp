@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "io/scene.hpp"
+#include "sim/obj_mesh.hpp"
 
 namespace fg::sim {
 
@@ -68,6 +69,7 @@ json part_json(const Part& p) {
       break;
     case Shape::sphere: j["radius"] = p.radius(); break;
     case Shape::ellipsoid: j["semi_axes"] = vec_json(p.size); break;
+    case Shape::mesh: j["mesh"] = p.triangle_mesh ? p.triangle_mesh->source() : std::string(); break;
   }
   return j;
 }
@@ -88,6 +90,15 @@ Part read_part(const json& j) {
     }
     case Shape::sphere: p.size = V3::Constant(j.at("radius").get<double>()); break;
     case Shape::ellipsoid: p.size = read_vec(j.at("semi_axes")); break;
+    case Shape::mesh: {
+      // The OBJ file is read again (once per process); a flat mesh may have a zero size.
+      std::string error;
+      std::shared_ptr<const TriangleMesh> mesh = load_obj_cached(j.at("mesh").get<std::string>(), error);
+      if (!mesh) throw std::runtime_error("part " + p.name + ": " + error);
+      Part m = Part::mesh(p.name, std::move(mesh), p.world_T_shape);
+      m.graspable = p.graspable;
+      return m;
+    }
   }
   if (!(p.size.array() > 0.0).all() || !p.size.allFinite())
     throw std::runtime_error("part " + p.name + " has a non-positive size");

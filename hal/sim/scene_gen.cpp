@@ -2,8 +2,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <mutex>
+#include <stdexcept>
+
+#include <Eigen/Geometry>
 
 #include "sim/grasp_judge.hpp"
+#include "sim/obj_mesh.hpp"
 #include "sim/sim_rng.hpp"
 
 namespace fg::sim {
@@ -63,6 +71,67 @@ double xy_gap(const Aabb& a, const Aabb& b) {
 
 uint64_t kind_salt(ObjectKind k) { return 0xA24BAED4963EE407ull * (static_cast<uint64_t>(k) + 1); }
 
+// How a mesh kind rests on the table: on the stable face of its convex hull nearest the
+// file's bottom (-z; the upright objects), or on its largest stable face (flat objects).
+enum class Rest { upright, largest_face };
+
+struct MeshKind {
+  ObjectKind kind;
+  const char* name;
+  const char* file;
+  Rest rest;
+};
+
+const MeshKind kMeshKinds[] = {
+    {ObjectKind::ycb_mustard_bottle, "ycb_mustard_bottle", "YcbMustardBottle.obj", Rest::upright},
+    {ObjectKind::ycb_master_chef_can, "ycb_master_chef_can", "YcbMasterChefCan.obj", Rest::upright},
+    {ObjectKind::ycb_tomato_soup_can, "ycb_tomato_soup_can", "YcbTomatoSoupCan.obj", Rest::upright},
+    {ObjectKind::ycb_cracker_box, "ycb_cracker_box", "YcbCrackerBox.obj", Rest::upright},
+    {ObjectKind::ycb_banana, "ycb_banana", "YcbBanana.obj", Rest::largest_face},
+    {ObjectKind::ycb_power_drill, "ycb_power_drill", "YcbPowerDrill.obj", Rest::upright},
+    {ObjectKind::ycb_scissors, "ycb_scissors", "YcbScissors.obj", Rest::largest_face},
+    {ObjectKind::ycb_chips_can, "ycb_chips_can", "YcbChipsCan_collision_vhacd.obj", Rest::upright},
+};
+
+const MeshKind* find_mesh_kind(ObjectKind k) {
+  for (const MeshKind& m : kMeshKinds)
+    if (m.kind == k) return &m;
+  return nullptr;
+}
+
+// Rotation that puts the mesh on its resting face (face normal to -z); identity when the
+// hull is flat. Cached per file: the hull is the costly part.
+M3 resting_rotation(const TriangleMesh& mesh, Rest rest) {
+  static std::mutex mutex;
+  static std::map<std::string, M3> cache;
+  const std::lock_guard<std::mutex> lock(mutex);
+  const auto it = cache.find(mesh.source());
+  if (it != cache.end()) return it->second;
+  const std::vector<RestingFace> faces = resting_faces(mesh);
+  M3 R = M3::Identity();
+  if (!faces.empty()) {
+    const auto better = [rest](const RestingFace& a, const RestingFace& b) {
+      return rest == Rest::upright ? a.down.z() < b.down.z() : a.area > b.area;
+    };
+    const RestingFace& best = *std::min_element(faces.begin(), faces.end(), better);
+    R = Eigen::Quaterniond::FromTwoVectors(best.down, -V3::UnitZ()).toRotationMatrix();
+  }
+  cache.emplace(mesh.source(), R);
+  return R;
+}
+
+Part mesh_part(const MeshKind& kind, const std::string& mesh_dir) {
+  const std::string path = (std::filesystem::path(mesh_dir) / kind.file).lexically_normal().string();
+  std::string error;
+  std::shared_ptr<const TriangleMesh> mesh = load_obj_cached(path, error);
+  if (!mesh)
+    throw std::runtime_error(std::string(kind.name) + ": " + error +
+                             " (the mesh folder is SceneOptions::mesh_dir or $FG_MESH_DIR)");
+  Rigid pose;
+  pose.R = resting_rotation(*mesh, kind.rest);
+  return Part::mesh("body", mesh, pose);
+}
+
 }  // namespace
 
 const std::vector<ObjectKind>& all_kinds() {
@@ -72,6 +141,26 @@ const std::vector<ObjectKind>& all_kinds() {
       ObjectKind::ellipsoid,  ObjectKind::lying_cylinder, ObjectKind::bat_standing,
       ObjectKind::bat_lying,  ObjectKind::wide_box};
   return kinds;
+}
+
+const std::vector<ObjectKind>& mesh_kinds() {
+  static const std::vector<ObjectKind> kinds = [] {
+    std::vector<ObjectKind> k;
+    for (const MeshKind& m : kMeshKinds) k.push_back(m.kind);
+    return k;
+  }();
+  return kinds;
+}
+
+const char* mesh_file(ObjectKind k) {
+  const MeshKind* m = find_mesh_kind(k);
+  return m ? m->file : nullptr;
+}
+
+std::string default_mesh_dir() {
+  const char* env = std::getenv("FG_MESH_DIR");
+  if (env && *env) return env;
+  return FG_DEFAULT_MESH_DIR;
 }
 
 const char* kind_name(ObjectKind k) {
@@ -87,21 +176,31 @@ const char* kind_name(ObjectKind k) {
     case ObjectKind::bat_standing: return "bat_standing";
     case ObjectKind::bat_lying: return "bat_lying";
     case ObjectKind::wide_box: return "wide_box";
+    case ObjectKind::ycb_mustard_bottle:
+    case ObjectKind::ycb_master_chef_can:
+    case ObjectKind::ycb_tomato_soup_can:
+    case ObjectKind::ycb_cracker_box:
+    case ObjectKind::ycb_banana:
+    case ObjectKind::ycb_power_drill:
+    case ObjectKind::ycb_scissors:
+    case ObjectKind::ycb_chips_can: return find_mesh_kind(k)->name;
   }
   return "box";
 }
 
 bool kind_from_name(const std::string& name, ObjectKind& out) {
-  for (ObjectKind k : all_kinds()) {
-    if (name == kind_name(k)) {
-      out = k;
-      return true;
+  for (const std::vector<ObjectKind>* kinds : {&all_kinds(), &mesh_kinds()}) {
+    for (ObjectKind k : *kinds) {
+      if (name == kind_name(k)) {
+        out = k;
+        return true;
+      }
     }
   }
   return false;
 }
 
-Object make_object(ObjectKind kind, uint64_t rng_seed) {
+Object make_object(ObjectKind kind, uint64_t rng_seed, const std::string& mesh_dir) {
   Rng rng(rng_seed);
   Object o;
   o.name = "target";
@@ -195,6 +294,16 @@ Object make_object(ObjectKind kind, uint64_t rng_seed) {
       o.parts.push_back(Part::box("body", V3(0.5 * a, 0.5 * b, 0.5 * h), at(0, 0, 0.5 * h)));
       break;
     }
+    case ObjectKind::ycb_mustard_bottle:
+    case ObjectKind::ycb_master_chef_can:
+    case ObjectKind::ycb_tomato_soup_can:
+    case ObjectKind::ycb_cracker_box:
+    case ObjectKind::ycb_banana:
+    case ObjectKind::ycb_power_drill:
+    case ObjectKind::ycb_scissors:
+    case ObjectKind::ycb_chips_can:
+      o.parts.push_back(mesh_part(*find_mesh_kind(kind), mesh_dir));
+      break;
   }
   recentre(o);
   return o;
@@ -226,7 +335,7 @@ GeneratedScene make_scene(ObjectKind kind, uint64_t seed, const SceneOptions& op
   const double z0 = opt.table.height;
 
   // Target.
-  Object target = make_object(kind, rng.bits());
+  Object target = make_object(kind, rng.bits(), opt.mesh_dir);
   const double tx = rng.uniform(0.4, 0.6), ty = rng.uniform(-0.15, 0.15);
   const double yaw = rng.uniform(0.0, 2.0 * kPi);
   transform(target, Rigid::translation(V3(tx, ty, z0)) * Rigid::rot_z(yaw));

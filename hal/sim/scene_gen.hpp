@@ -1,5 +1,7 @@
 // Host-only simulation: seeded, deterministic generation of test scenes (a table, a target
 // object of a given kind, maybe a second object, and the head and hand cameras).
+// The ycb_* kinds are triangle meshes read from OBJ files (sim/obj_mesh.hpp), each loaded
+// once per process from SceneOptions::mesh_dir.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -23,11 +25,30 @@ enum class ObjectKind {
   bat_standing,    //!< table-tennis bat on the edge of its disc, in a small stand
   bat_lying,       //!< table-tennis bat lying flat
   wide_box,        //!< too wide in every horizontal direction
+  // YCB meshes (data/meshes/ycb), fixed sizes, each on a stable face of its convex hull.
+  // Smallest horizontal widths in brackets (the opening is 0.085 m, fit margin 5 mm).
+  ycb_mustard_bottle,   //!< upright (0.058)
+  ycb_master_chef_can,  //!< upright; too wide (0.102)
+  ycb_tomato_soup_can,  //!< upright (0.067)
+  ycb_cracker_box,      //!< upright, fits by its thickness (0.072)
+  ycb_banana,           //!< lying on its largest stable face (0.069)
+  ycb_power_drill,      //!< upright on its battery (0.057)
+  ycb_scissors,         //!< lying flat; too wide (0.087)
+  ycb_chips_can,        //!< upright (0.078; the V-HACD collision hull: one closed cylinder)
 };
 
+//! The 11 analytic kinds (box .. wide_box).
 const std::vector<ObjectKind>& all_kinds();
+//! The ycb_* kinds, which need the mesh files.
+const std::vector<ObjectKind>& mesh_kinds();
 const char* kind_name(ObjectKind k);
+//! Knows every kind, analytic and mesh.
 bool kind_from_name(const std::string& name, ObjectKind& out);
+//! The OBJ file name of a mesh kind (nullptr for an analytic kind).
+const char* mesh_file(ObjectKind k);
+//! $FG_MESH_DIR when set and not empty, else the build's FG_DEFAULT_MESH_DIR
+//! (<source>/../shared/data/meshes/ycb).
+std::string default_mesh_dir();
 
 struct SceneOptions {
   double second_object_rate = 0.3;    //!< probability of a second, smaller object
@@ -37,6 +58,7 @@ struct SceneOptions {
   Table table;
   double fit_margin = 0.005;          //!< "fits" means min width <= max_opening - margin
   V3 workspace_centre = V3(0.5, 0.0, 0.0);  //!< a second object is kept farther from it
+  std::string mesh_dir = default_mesh_dir();  //!< folder of the ycb_* OBJ files
 };
 
 //! Facts about the target that a judge needs.
@@ -63,11 +85,13 @@ struct GeneratedScene {
 };
 
 //! Same kind, seed and options -> identical scene (and identical rendered images).
+//! Throws std::runtime_error naming the file when a mesh kind's OBJ file is missing or bad.
 GeneratedScene make_scene(ObjectKind kind, uint64_t seed, const SceneOptions& options = {});
 
 //! Builds an object of the kind in its own frame (bottom on z = 0, centred on the origin in
-//! x and y), with sizes drawn from `rng_seed`. The name is "target".
-Object make_object(ObjectKind kind, uint64_t rng_seed);
+//! x and y), with sizes drawn from `rng_seed` (mesh kinds: fixed size, read from mesh_dir;
+//! throws std::runtime_error as make_scene). The name is "target".
+Object make_object(ObjectKind kind, uint64_t rng_seed, const std::string& mesh_dir = default_mesh_dir());
 
 //! Recomputes the ground-truth facts of scene.world.objects[scene.target].
 GroundTruth compute_truth(const World& world, int target, const fg::GripperGeometry& gripper,

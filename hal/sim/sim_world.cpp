@@ -3,9 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 #include <utility>
 
 #include <Eigen/Geometry>
+
+#include "sim/obj_mesh.hpp"
 
 namespace fg::sim {
 
@@ -151,12 +154,13 @@ const char* shape_name(Shape s) {
     case Shape::cylinder: return "cylinder";
     case Shape::sphere: return "sphere";
     case Shape::ellipsoid: return "ellipsoid";
+    case Shape::mesh: return "mesh";
   }
   return "box";
 }
 
 bool shape_from_name(const std::string& name, Shape& out) {
-  for (Shape s : {Shape::box, Shape::cylinder, Shape::sphere, Shape::ellipsoid}) {
+  for (Shape s : {Shape::box, Shape::cylinder, Shape::sphere, Shape::ellipsoid, Shape::mesh}) {
     if (name == shape_name(s)) {
       out = s;
       return true;
@@ -203,6 +207,17 @@ Part Part::ellipsoid(std::string name, const V3& semi_axes, const Rigid& pose) {
   return p;
 }
 
+Part Part::mesh(std::string name, std::shared_ptr<const TriangleMesh> mesh, const Rigid& pose) {
+  if (!mesh) throw std::invalid_argument("Part::mesh: no mesh for part " + name);
+  Part p;
+  p.name = std::move(name);
+  p.shape = Shape::mesh;
+  p.size = 0.5 * mesh->bounds().size();
+  p.world_T_shape = pose;
+  p.triangle_mesh = std::move(mesh);
+  return p;
+}
+
 double Part::width_along(const V3& u) const {
   const V3 l = world_T_shape.R.transpose() * u;
   switch (shape) {
@@ -219,16 +234,33 @@ double Part::width_along(const V3& u) const {
       return 2.0 * radius() * l.norm();
     case Shape::ellipsoid:
       return 2.0 * l.cwiseProduct(size).norm();
+    case Shape::mesh:
+      return triangle_mesh ? triangle_mesh->extent_along(l) : 0.0;
   }
   return 0.0;
 }
 
+void Part::project(const V3& u, double& lo, double& hi) const {
+  const double c = u.dot(world_T_shape.t);
+  if (shape == Shape::mesh) {
+    // Not symmetric about the shape origin: project the vertices.
+    if (!triangle_mesh) {
+      lo = hi = c;
+      return;
+    }
+    triangle_mesh->project(world_T_shape.R.transpose() * u, lo, hi);
+    lo += c;
+    hi += c;
+    return;
+  }
+  const double half = 0.5 * width_along(u);
+  lo = c - half;
+  hi = c + half;
+}
+
 Aabb Part::aabb() const {
-  V3 half;
-  for (int i = 0; i < 3; ++i) half[i] = 0.5 * width_along(V3::Unit(i));
   Aabb b;
-  b.lo = world_T_shape.t - half;
-  b.hi = world_T_shape.t + half;
+  for (int i = 0; i < 3; ++i) project(V3::Unit(i), b.lo[i], b.hi[i]);
   return b;
 }
 
@@ -256,6 +288,8 @@ double Part::sdf(const V3& pw) const {
       const double k0 = p.cwiseQuotient(size).norm();
       return (k0 - 1.0) * size.minCoeff();
     }
+    case Shape::mesh:
+      return triangle_mesh ? triangle_mesh->signed_distance(p) : kInf;
   }
   return kInf;
 }
@@ -326,6 +360,20 @@ bool Part::intersect(const V3& ow, const V3& dw, double tmin, double tmax, doubl
       if (nn > 0.0) n_local /= nn;
       break;
     }
+    case Shape::mesh: {
+      if (!triangle_mesh || tmin > tmax) return false;
+      // Inside-ness costs a distance query: only asked where it can be true.
+      const V3 start = o + tmin * d;
+      const Aabb& box = triangle_mesh->bounds();
+      if ((start.array() >= box.lo.array()).all() && (start.array() <= box.hi.array()).all() &&
+          triangle_mesh->inside(start)) {
+        t = tmin;
+        inside = true;
+      } else if (!triangle_mesh->intersect(o, d, tmin, tmax, t, n_local)) {
+        return false;
+      }
+      break;
+    }
   }
   normal = R * n_local;
   if (inside_out) *inside_out = inside;
@@ -382,10 +430,10 @@ bool Object::intersect(const V3& o, const V3& d, double tmin, double tmax, doubl
 double Object::width_along(const V3& u) const {
   double hi = -kInf, lo = kInf;
   for (const Part& p : parts) {
-    const double c = u.dot(p.world_T_shape.t);
-    const double w = 0.5 * p.width_along(u);
-    hi = std::max(hi, c + w);
-    lo = std::min(lo, c - w);
+    double part_lo, part_hi;
+    p.project(u, part_lo, part_hi);
+    hi = std::max(hi, part_hi);
+    lo = std::min(lo, part_lo);
   }
   return parts.empty() ? 0.0 : hi - lo;
 }

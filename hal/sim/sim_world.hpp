@@ -1,8 +1,9 @@
 // Host-only simulation: the true geometry of a simulated world (a table and objects made
-// of analytic primitives). Used to render depth images and to judge grasps.
+// of analytic primitives and triangle meshes). Used to render depth images and to judge grasps.
 // Internally double precision; fg::Pose / fg::Vec3 (float) convert at the interfaces.
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -47,13 +48,16 @@ struct Aabb {
   bool ray_overlap(const V3& o, const V3& inv_d, double& t0, double& t1) const;
 };
 
-enum class Shape { box, cylinder, sphere, ellipsoid };
+class TriangleMesh;  // sim/obj_mesh.hpp
+
+enum class Shape { box, cylinder, sphere, ellipsoid, mesh };
 const char* shape_name(Shape s);
 bool shape_from_name(const std::string& name, Shape& out);
 
-//! One primitive solid with its world_T_shape pose.
+//! One primitive solid or triangle mesh with its world_T_shape pose.
 //! size: box = half extents; cylinder = (radius, radius, half height), axis = shape z;
-//! sphere = (radius, radius, radius); ellipsoid = semi-axes along shape x, y, z.
+//! sphere = (radius, radius, radius); ellipsoid = semi-axes along shape x, y, z;
+//! mesh = half the size of the mesh's own bounding box (for information only).
 struct Part {
   std::string name;
   Shape shape = Shape::box;
@@ -61,18 +65,23 @@ struct Part {
   Rigid world_T_shape;
   //! Can be gripped on its own (false for small features such as nozzles and stands).
   bool graspable = true;
+  //! Shape::mesh: the mesh in shape coordinates (shared, never modified).
+  std::shared_ptr<const TriangleMesh> triangle_mesh;
 
   static Part box(std::string name, const V3& half_extents, const Rigid& pose);
   static Part cylinder(std::string name, double radius, double half_height, const Rigid& pose);
   static Part sphere(std::string name, double radius, const V3& centre);
   static Part ellipsoid(std::string name, const V3& semi_axes, const Rigid& pose);
+  //! Throws std::invalid_argument when mesh is null.
+  static Part mesh(std::string name, std::shared_ptr<const TriangleMesh> mesh, const Rigid& pose);
 
   double radius() const { return size.x(); }       //!< cylinder, sphere
   double half_height() const { return size.z(); }  //!< cylinder
 
   Aabb aabb() const;
   //! Signed distance (negative inside). Exact for box, cylinder and sphere; for an
-  //! ellipsoid a 1-Lipschitz lower bound of |distance| with the exact sign.
+  //! ellipsoid a 1-Lipschitz lower bound of |distance| with the exact sign; for a mesh
+  //! TriangleMesh::signed_distance (exact outside; a union of groups: min over them).
   double sdf(const V3& p) const;
   //! First point of the solid along o + t d (d need not be unit) with t in [tmin, tmax]:
   //! the entry point, or tmin when o + tmin d is already inside (then *inside = true).
@@ -81,6 +90,8 @@ struct Part {
                  bool* inside = nullptr) const;
   //! Extent of the part along the unit direction u (its width between two planes normal to u).
   double width_along(const V3& u) const;
+  //! [lo, hi] of the part's points projected on the unit direction u.
+  void project(const V3& u, double& lo, double& hi) const;
 };
 
 //! A named object: a union of parts.

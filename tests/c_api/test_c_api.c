@@ -554,7 +554,7 @@ static void test_grasp_task(void) {
   st = run_task(ws, &hw);
   CHECK(st.state == FG_TASK_SUCCEEDED);
   CHECK(st.failure == FG_TASK_OK);
-  CHECK(hw.requests == 1 && hw.arm_moves == 3);
+  CHECK(hw.requests == 1 && hw.arm_moves == 8); /* start of the approach line, 6 steps along it, lift */
   CHECK(st.grasp.width_m > 0.04f && st.grasp.width_m < 0.06f);
   CHECK(fabs(st.q_lift[0] - hw.q[0]) < 1e-12 && fabs(st.q_lift[5] - hw.q[5]) < 1e-12);
   printf("task: %s after %u ticks, grasp width %.4f m, q_grasp %.3f %.3f %.3f %.3f %.3f %.3f: %s\n",

@@ -32,6 +32,8 @@ Part random_part(Shape s, Rng& rng) {
       return Part::sphere("s", rng.uniform(0.01, 0.08), pose.t);
     case Shape::ellipsoid:
       return Part::ellipsoid("e", V3(rng.uniform(0.01, 0.08), rng.uniform(0.01, 0.08), rng.uniform(0.01, 0.08)), pose);
+    case Shape::mesh:  // tested in test_sim_mesh.cpp
+      break;
   }
   return Part{};
 }

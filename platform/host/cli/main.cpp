@@ -34,9 +34,10 @@ int main(int argc, char** argv) {
     double min_rate = -1.0;
     bool quiet = false;
     sim_cmd->add_option("--objects", kinds_arg,
-                    "comma-separated object kinds, or all (" + [] {
+                    "comma-separated object kinds, or all, primitives, meshes (" + [] {
                       std::string k;
-                      for (const fg::sim::ObjectKind kind : fg::sim::all_kinds()) k += (k.empty() ? "" : ",") + std::string(fg::sim::kind_name(kind));
+                      for (const auto* list : {&fg::sim::all_kinds(), &fg::sim::mesh_kinds()})
+                        for (const fg::sim::ObjectKind kind : *list) k += (k.empty() ? "" : ",") + std::string(fg::sim::kind_name(kind));
                       return k;
                     }() + ")");
     sim_cmd->add_option("--trials", so.trials, "number of trials (default 20 per object kind); trial i: kind i % kinds");
@@ -83,7 +84,11 @@ int main(int argc, char** argv) {
         return kExitInvalid;
       }
       if (kinds_arg == "all") {
-        for (const fg::sim::ObjectKind kind : fg::sim::all_kinds()) so.kinds.push_back(fg::sim::kind_name(kind));
+        for (const auto* list : {&fg::sim::all_kinds(), &fg::sim::mesh_kinds()})
+          for (const fg::sim::ObjectKind kind : *list) so.kinds.push_back(fg::sim::kind_name(kind));
+      } else if (kinds_arg == "primitives" || kinds_arg == "meshes") {
+        for (const fg::sim::ObjectKind kind : kinds_arg == "meshes" ? fg::sim::mesh_kinds() : fg::sim::all_kinds())
+          so.kinds.push_back(fg::sim::kind_name(kind));
       } else {
         std::string k;
         std::istringstream in(kinds_arg);

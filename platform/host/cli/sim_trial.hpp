@@ -31,7 +31,7 @@ struct SimTrial {
   std::string kind;
   uint64_t seed = 0;
   bool fits = false;         //!< the target fits the gripper in some direction (truth)
-  bool success = false;      //!< a fitting target lifted with a grasp the judge passes, or
+  bool success = false;      //!< lifted with a grasp the judge passes on the true geometry, or
                              //!< no_grasp on a target that fits in no direction
   std::string verdict;       //!< "success", the judge's reason, or the task's failure
   std::string task_state;    //!< the task's final state and failure
