@@ -131,6 +131,17 @@ robot::Ur5GraspCheck& ur5_check() {
   return c;
 }
 const double kHome[6] = {0.0, -1.9, 1.9, -1.57, -1.57, 0.0};
+
+// Plans the scene added last with the UR5 check (cfg, the planner's gripper, from home).
+Status plan_with_ur5_check(robot::GraspCheckConfig cfg, PlanResult& r) {
+  cfg.tool.gripper = planner().config().gripper;
+  ur5_check().configure(cfg);
+  ur5_check().set_current_joints(kHome);
+  planner().set_grasp_check(&ur5_check());
+  const Status st = planner().plan(r);
+  planner().set_grasp_check(nullptr);
+  return st;
+}
 }  // namespace
 
 TEST(Ur5GraspCheck, JointsOfTheAcceptedGraspPutThePadsOnIt) {
@@ -139,15 +150,8 @@ TEST(Ur5GraspCheck, JointsOfTheAcceptedGraspPutThePadsOnIt) {
                                      sim::ObjectKind::lying_cylinder, sim::ObjectKind::ellipsoid}) {
     for (uint64_t seed = 1; seed <= 3; ++seed) {
       add_scene(sim::make_scene(kind, seed));
-      robot::GraspCheckConfig cfg;
-      cfg.tool.gripper = planner().config().gripper;
-      ur5_check().configure(cfg);
-      ur5_check().set_current_joints(kHome);
-      planner().set_grasp_check(&ur5_check());
       PlanResult r;
-      const Status st = planner().plan(r);
-      planner().set_grasp_check(nullptr);
-      if (st != Status::ok) continue;
+      if (plan_with_ur5_check(robot::GraspCheckConfig{}, r) != Status::ok) continue;
       ++planned;
       ASSERT_TRUE(ur5_check().has_motion());
       const robot::GraspMotion& m = ur5_check().motion();
@@ -182,14 +186,9 @@ TEST(Ur5GraspCheck, JointsOfTheAcceptedGraspPutThePadsOnIt) {
 TEST(Ur5GraspCheck, AnArmOutOfReachGivesUnreachable) {
   add_scene(sim::make_scene(sim::ObjectKind::box, 2));
   robot::GraspCheckConfig cfg;
-  cfg.tool.gripper = planner().config().gripper;
   cfg.motion.world_T_base.t = Vec3(3.f, 0.f, 0.f);  // the arm stands 3 m away (reach ~0.85 m)
-  ur5_check().configure(cfg);
-  ur5_check().set_current_joints(kHome);
-  planner().set_grasp_check(&ur5_check());
   PlanResult r;
-  EXPECT_EQ(planner().plan(r), Status::no_grasp);
-  planner().set_grasp_check(nullptr);
+  EXPECT_EQ(plan_with_ur5_check(cfg, r), Status::no_grasp);
   EXPECT_EQ(r.reason, NoGraspReason::unreachable);
   EXPECT_GT(ur5_check().unreachable(), 0u);
   EXPECT_FALSE(ur5_check().has_motion());
@@ -200,15 +199,10 @@ TEST(Ur5GraspCheck, TightJointLimitsSendThePlannerToAnotherCandidateOrNone) {
   // arm can turn to with that wrist survive; the check never returns joints outside.
   add_scene(sim::make_scene(sim::ObjectKind::box, 4));
   robot::GraspCheckConfig cfg;
-  cfg.tool.gripper = planner().config().gripper;
   cfg.motion.ik.limits.lower[5] = -0.05;
   cfg.motion.ik.limits.upper[5] = 0.05;
-  ur5_check().configure(cfg);
-  ur5_check().set_current_joints(kHome);
-  planner().set_grasp_check(&ur5_check());
   PlanResult r;
-  const Status st = planner().plan(r);
-  planner().set_grasp_check(nullptr);
+  const Status st = plan_with_ur5_check(cfg, r);
   if (st == Status::ok) {
     const robot::GraspMotion& m = ur5_check().motion();
     for (const double* q : {m.pregrasp, m.grasp, m.lift}) {
