@@ -9,19 +9,7 @@
 # Run as root (or with sudo available) on Debian 12.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-# libccd for the aarch64 target: Debian's multiarch package (libccd-dev:arm64).
-SUDO=""
-[ "$(id -u)" -eq 0 ] || SUDO="sudo"
-if ! dpkg-query -W -f='${Status}' libccd-dev:arm64 2>/dev/null | grep -q "install ok installed"; then
-  if ! dpkg --print-foreign-architectures | grep -qx arm64; then
-    $SUDO dpkg --add-architecture arm64
-    $SUDO apt-get update -qq
-  fi
-  extra_arm64=(libccd-dev:arm64)
-else
-  extra_arm64=()
-fi
-bash scripts/install_deps.sh "${extra_arm64[@]}" \
+bash scripts/install_deps.sh \
   g++-aarch64-linux-gnu qemu-user googletest \
   gcc-arm-none-eabi binutils-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib \
   qemu-system-arm
