@@ -130,8 +130,7 @@ bool Planner::executable(Candidate& c, PlanResult& out) {
                        c.width, plane_found_ ? &plane_ : nullptr, &object_[0], object_.size()};
     const GraspVerdict v = grasp_check_->check(q);
     if (v == GraspVerdict::collision) failed = 2;
-    else if (v == GraspVerdict::unreachable) failed = 6;
-    else if (v != GraspVerdict::pass) failed = 6;  // an unknown verdict never passes
+    else if (v != GraspVerdict::pass) failed = 6;  // unreachable (an unknown verdict never passes)
   }
   if (failed == 0) return true;
   switch (failed) {

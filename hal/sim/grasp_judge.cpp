@@ -62,6 +62,61 @@ bool box_hits_object(const Rigid& G, const GBox& box, const Object& obj, double 
   return false;
 }
 
+// (a): the open gripper in frame G against the table and every object (the target
+// first); "" when clear, else the reason.
+std::string open_pose_hit(const World& world, int target, const Rigid& G, const fg::GripperGeometry& gripper,
+                          double tolerance, float& depth_out) {
+  const double m = gripper.max_opening_m;
+  const double th = gripper.finger_thickness_m;
+  const double fw = gripper.finger_width_m;
+  const double fd = gripper.finger_depth_m;
+  const double pd = gripper.palm_depth_m;
+  const double pw = gripper.palm_width_m;
+  const GBox boxes[3] = {
+      {V3(-(0.5 * m + 0.5 * th), 0, 0), V3(0.5 * th, 0.5 * fw, 0.5 * fd), "left_finger"},
+      {V3(+(0.5 * m + 0.5 * th), 0, 0), V3(0.5 * th, 0.5 * fw, 0.5 * fd), "right_finger"},
+      {V3(0, 0, -0.5 * fd - 0.5 * pd), V3(0.5 * m + th, 0.5 * pw, 0.5 * pd), "palm"},
+  };
+  if (world.has_table) {
+    for (const GBox& b : boxes) {
+      double zmin = std::numeric_limits<double>::infinity();
+      for (int k = 0; k < 8; ++k) {
+        const V3 corner = b.c + V3((k & 1) ? b.h.x() : -b.h.x(), (k & 2) ? b.h.y() : -b.h.y(),
+                                   (k & 4) ? b.h.z() : -b.h.z());
+        zmin = std::min(zmin, G.apply(corner).z());
+      }
+      const double depth = world.table.height - zmin;
+      if (depth > tolerance) {
+        depth_out = static_cast<float>(depth);
+        return std::string("collision_open_pose:table ") + b.name + fmt(" %.3f", depth);
+      }
+    }
+  }
+  // Target first, then the other objects.
+  std::vector<int> order{target};
+  for (int i = 0; i < static_cast<int>(world.objects.size()); ++i)
+    if (i != target) order.push_back(i);
+  for (int oi : order) {
+    const Object& obj = world.objects[static_cast<size_t>(oi)];
+    const Aabb ob = obj.aabb();
+    for (const GBox& b : boxes) {
+      // Early out: the box's world AABB against the object's.
+      Aabb bb;
+      for (int k = 0; k < 8; ++k)
+        bb.extend(G.apply(b.c + V3((k & 1) ? b.h.x() : -b.h.x(), (k & 2) ? b.h.y() : -b.h.y(),
+                                   (k & 4) ? b.h.z() : -b.h.z())));
+      if ((bb.lo.array() > ob.hi.array()).any() || (bb.hi.array() < ob.lo.array()).any()) continue;
+      double depth = 0.0;
+      if (box_hits_object(G, b, obj, tolerance, depth)) {
+        depth_out = static_cast<float>(depth);
+        const std::string what = oi == target ? std::string("target") : obj.name;
+        return "collision_open_pose:" + what + " " + b.name + fmt(" %.3f", depth);
+      }
+    }
+  }
+  return std::string();
+}
+
 bool finite(const fg::Vec3& v) { return v.allFinite(); }
 
 // Friction angle of a contact at p (on the surface of obj) pushed along `force`: the angle
@@ -146,11 +201,8 @@ JudgeResult judge_grasp(const World& world, int target, const Grasp& grasp,
   G.t = to_v3(grasp.position);
 
   const double m = gripper.max_opening_m;
-  const double th = gripper.finger_thickness_m;
   const double fw = gripper.finger_width_m;
   const double fd = gripper.finger_depth_m;
-  const double pd = gripper.palm_depth_m;
-  const double pw = gripper.palm_width_m;
   if (grasp.width < 0.0f) {
     res.reason = "invalid_grasp negative_width";
     return res;
@@ -161,49 +213,11 @@ JudgeResult judge_grasp(const World& world, int target, const Grasp& grasp,
   }
 
   // ---- (a) collisions at the open pose.
-  const GBox boxes[3] = {
-      {V3(-(0.5 * m + 0.5 * th), 0, 0), V3(0.5 * th, 0.5 * fw, 0.5 * fd), "left_finger"},
-      {V3(+(0.5 * m + 0.5 * th), 0, 0), V3(0.5 * th, 0.5 * fw, 0.5 * fd), "right_finger"},
-      {V3(0, 0, -0.5 * fd - 0.5 * pd), V3(0.5 * m + th, 0.5 * pw, 0.5 * pd), "palm"},
-  };
-  if (world.has_table) {
-    for (const GBox& b : boxes) {
-      double zmin = std::numeric_limits<double>::infinity();
-      for (int k = 0; k < 8; ++k) {
-        const V3 corner = b.c + V3((k & 1) ? b.h.x() : -b.h.x(), (k & 2) ? b.h.y() : -b.h.y(),
-                                   (k & 4) ? b.h.z() : -b.h.z());
-        zmin = std::min(zmin, G.apply(corner).z());
-      }
-      const double depth = world.table.height - zmin;
-      if (depth > opt.collision_tolerance) {
-        res.max_penetration = static_cast<float>(depth);
-        res.reason = std::string("collision_open_pose:table ") + b.name + fmt(" %.3f", depth);
-        return res;
-      }
-    }
-  }
-  // Target first, then the other objects.
-  std::vector<int> order{target};
-  for (int i = 0; i < static_cast<int>(world.objects.size()); ++i)
-    if (i != target) order.push_back(i);
-  for (int oi : order) {
-    const Object& obj = world.objects[static_cast<size_t>(oi)];
-    const Aabb ob = obj.aabb();
-    for (const GBox& b : boxes) {
-      // Early out: the box's world AABB against the object's.
-      Aabb bb;
-      for (int k = 0; k < 8; ++k)
-        bb.extend(G.apply(b.c + V3((k & 1) ? b.h.x() : -b.h.x(), (k & 2) ? b.h.y() : -b.h.y(),
-                                   (k & 4) ? b.h.z() : -b.h.z())));
-      if ((bb.lo.array() > ob.hi.array()).any() || (bb.hi.array() < ob.lo.array()).any()) continue;
-      double depth = 0.0;
-      if (box_hits_object(G, b, obj, opt.collision_tolerance, depth)) {
-        res.max_penetration = static_cast<float>(depth);
-        const std::string what = oi == target ? std::string("target") : obj.name;
-        res.reason = "collision_open_pose:" + what + " " + b.name + fmt(" %.3f", depth);
-        return res;
-      }
-    }
+  float depth = 0.f;
+  res.reason = open_pose_hit(world, target, G, gripper, opt.collision_tolerance, depth);
+  if (!res.reason.empty()) {
+    res.max_penetration = depth;
+    return res;
   }
 
   // ---- (b) closing: rays from each open pad face inwards. The table is left out: both
@@ -318,6 +332,23 @@ JudgeResult judge_grasp(const World& world, int target, const Grasp& grasp,
   res.success = true;
   res.reason = "success";
   return res;
+}
+
+std::string open_pose_collision(const World& world, int target, const Grasp& grasp,
+                                const fg::GripperGeometry& gripper, double tolerance) {
+  V3 z = to_v3(grasp.approach), x = to_v3(grasp.closing);
+  if (!finite(grasp.position) || !(z.norm() > 1e-6) || !(x.norm() > 1e-6)) return "invalid_grasp";
+  z.normalize();
+  x = x - x.dot(z) * z;
+  if (!(x.norm() > 1e-6)) return "invalid_grasp";
+  x.normalize();
+  Rigid G;
+  G.R.col(0) = x;
+  G.R.col(1) = z.cross(x);
+  G.R.col(2) = z;
+  G.t = to_v3(grasp.position);
+  float depth = 0.f;
+  return open_pose_hit(world, target, G, gripper, tolerance, depth);
 }
 
 FitReport target_fit(const Object& object, const fg::GripperGeometry& gripper, double margin) {

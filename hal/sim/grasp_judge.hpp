@@ -64,6 +64,12 @@ JudgeResult judge_grasp(const World& world, int target, const Grasp& grasp,
 JudgeResult judge_grasp(const World& world, int target, const Grasp& grasp,
                         const fg::GripperGeometry& gripper, double mu);
 
+//! Criterion (a) alone: the open gripper at grasp's pose (width ignored) against the
+//! table and every object. "" when clear, else judge_grasp's reason
+//! ("collision_open_pose:<what> <part> DEPTH"; "invalid_grasp" for a degenerate frame).
+std::string open_pose_collision(const World& world, int target, const Grasp& grasp,
+                                const fg::GripperGeometry& gripper, double tolerance = 0.001);
+
 //! Does the object fit the gripper in some direction? Minimum width over horizontal
 //! closing directions of its graspable parts (and of the whole object).
 //! Vertical closing is not counted: it needs a finger under the object, which is impossible

@@ -171,21 +171,22 @@ ToolHit ToolCollision::check(const ToolGeometry& tool, const GraspQuery& q) {
                                 std::max(0.5f * g.palm_width_m, tool.body_half_width_m) + 0.005f};
   const Eigen::Matrix3f Rt = R.transpose().cast<float>();
   const Vec3 pos = q.position;
-  // Piece of a point in a band, or kMaxPieces when it is out of reach.
-  const auto piece_of = [&](const Vec3& p, uint32_t band, Vec3& local) -> uint32_t {
+  // The point in the grasp frame and its slab, or false when it is out of reach in x
+  // or z; the band test (y) is per band.
+  const auto locate = [&](const Vec3& p, Vec3& local, uint32_t& slab) {
     local = Rt * (p - pos);
-    if (!(std::fabs(local.x()) <= x_reach && std::fabs(local.y()) <= y_band[band] && local.z() >= z_min &&
-          local.z() < z_max))
-      return kMaxPieces;
-    const uint32_t s = std::min(n_slabs - 1, static_cast<uint32_t>((local.z() - z_min) / slab_h));
-    return band * kMaxSlabs + s;
+    if (!(std::fabs(local.x()) <= x_reach && local.z() >= z_min && local.z() < z_max)) return false;
+    slab = std::min(n_slabs - 1, static_cast<uint32_t>((local.z() - z_min) / slab_h));
+    return true;
   };
   uint32_t count[kMaxPieces + 1] = {};
-  for (uint32_t i = 0; i < n; ++i)
-    for (uint32_t band = 0; band < kBands; ++band) {
-      Vec3 l;
-      ++count[piece_of(q.object_points[i], band, l)];
-    }
+  for (uint32_t i = 0; i < n; ++i) {
+    Vec3 l;
+    uint32_t s;
+    if (!locate(q.object_points[i], l, s)) continue;
+    for (uint32_t band = 0; band < kBands; ++band)
+      if (std::fabs(l.y()) <= y_band[band]) ++count[band * kMaxSlabs + s];
+  }
   begin_[0] = 0;
   for (uint32_t p = 0; p < kMaxPieces; ++p) {
     begin_[p + 1] = begin_[p] + count[p];
@@ -195,17 +196,20 @@ ToolHit ToolCollision::check(const ToolGeometry& tool, const GraspQuery& q) {
       hi_[p][k] = -1e30f;
     }
   }
-  for (uint32_t i = 0; i < n; ++i)
+  for (uint32_t i = 0; i < n; ++i) {
+    Vec3 l;
+    uint32_t s;
+    if (!locate(q.object_points[i], l, s)) continue;
     for (uint32_t band = 0; band < kBands; ++band) {
-      Vec3 l;
-      const uint32_t p = piece_of(q.object_points[i], band, l);
-      if (p == kMaxPieces) continue;
+      if (!(std::fabs(l.y()) <= y_band[band])) continue;
+      const uint32_t p = band * kMaxSlabs + s;
       index_[count[p]++] = static_cast<uint16_t>(i);
       for (int k = 0; k < 3; ++k) {
         lo_[p][k] = std::min(lo_[p][k], l[k]);
         hi_[p][k] = std::max(hi_[p][k], l[k]);
       }
     }
+  }
   for (uint32_t p = 0; p < kMaxPieces; ++p) n_pieces_ += begin_[p + 1] > begin_[p] ? 1u : 0u;
 
   for (uint32_t b = 0; b < n_boxes; ++b) {

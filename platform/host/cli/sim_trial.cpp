@@ -57,16 +57,14 @@ bool capture_joints(const Rigid& world_T_camera, const Rigid& tool0_T_camera, do
   return false;
 }
 
-// The open gripper at tool0 (pads tcp_offset ahead), judged for collisions only.
+// The open gripper at tool0 (pads tcp_offset ahead): "" when clear of table and objects.
 std::string open_pose_hit(const sim::World& world, int target, const Rigid& world_T_tool0, float tcp_offset,
                           const GripperGeometry& g) {
   sim::Grasp probe;
   probe.position = sim::to_vec3(world_T_tool0.apply(V3(0, 0, tcp_offset)));
   probe.approach = sim::to_vec3(world_T_tool0.R.col(2));
   probe.closing = sim::to_vec3(world_T_tool0.R.col(0));
-  probe.width = 0.f;
-  const sim::JudgeResult j = sim::judge_grasp(world, target, probe, g, 0.5);
-  return j.reason.rfind("collision_open_pose", 0) == 0 ? j.reason : std::string();
+  return sim::open_pose_collision(world, target, probe, g);
 }
 
 std::string fmt_ms(double ms) {
