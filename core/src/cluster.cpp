@@ -59,7 +59,7 @@ ClusterResult cluster_and_pick(const VoxelGrid& grid, uint8_t* state, uint32_t* 
   const uint32_t n_off = make_offsets(prm.cells > 2 ? 2u : prm.cells, off);
   ClusterResult res;
   const uint32_t n = grid.size();
-  uint32_t best_seed = VoxelGrid::kNone;
+  uint32_t best_seed = VoxelGrid::kNone, best_size = 0;
   float best_score = 0.f;
   uint32_t free_total = 0;
   for (uint32_t i = 0; i < n; ++i) {
@@ -79,24 +79,33 @@ ClusterResult cluster_and_pick(const VoxelGrid& grid, uint8_t* state, uint32_t* 
     }
     if (best_seed == VoxelGrid::kNone || score < best_score) {
       best_seed = i;
+      best_size = size;
       best_score = score;
+      // Keep the leader's voxels (its walk is in the queue until the next flood), so
+      // the winner need not be walked again. Each component is copied at most once.
+      if (size <= target_capacity)
+        for (uint32_t k = 0; k < size; ++k) target[k] = queue[k];
     }
   }
   if (best_seed == VoxelGrid::kNone) {
     res.other_points = free_total;
     return res;
   }
-  // Walk the winner again, turning it from visited into target.
+  res.target_size = best_size;
+  res.other_points = free_total - best_size;
+  if (best_size <= target_capacity) {
+    for (uint32_t k = 0; k < best_size; ++k) state[target[k]] = kVoxelTarget;
+    return res;
+  }
+  // Larger than the caller's list (the caller reports capacity_exceeded): walk the
+  // winner again to mark it, turning it from visited into target.
   for (uint32_t i = 0; i < n; ++i)
     if (state[i] == kVoxelVisited) state[i] = kVoxelFree;
   float sx = 0.f, sy = 0.f;
-  const uint32_t size = flood(grid, state, queue, best_seed, off, n_off, kVoxelTarget, sx, sy);
+  (void)flood(grid, state, queue, best_seed, off, n_off, kVoxelTarget, sx, sy);
   for (uint32_t i = 0; i < n; ++i)
     if (state[i] == kVoxelFree) state[i] = kVoxelVisited;
-  res.target_size = size;
-  res.other_points = free_total - size;
-  const uint32_t m = size < target_capacity ? size : target_capacity;
-  for (uint32_t i = 0; i < m; ++i) target[i] = queue[i];
+  for (uint32_t i = 0; i < target_capacity; ++i) target[i] = queue[i];
   return res;
 }
 

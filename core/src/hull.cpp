@@ -55,6 +55,7 @@ struct Raster {
   double origin_x;
   double origin_y;
   double cell;
+  double inv_cell;  // 1 / cell: the first guess of a point's cell multiplies
   uint32_t w;
   uint32_t h;
 
@@ -64,8 +65,10 @@ struct Raster {
   //! The cell of a finite point, decided against the same float corner coordinates
   //! the polygon is written with, so a point is never outside its own cell.
   uint32_t index_of(const Vec2& p) const {
-    int64_t i = static_cast<int64_t>(std::floor((static_cast<double>(p.x) - origin_x) / cell));
-    int64_t j = static_cast<int64_t>(std::floor((static_cast<double>(p.y) - origin_y) / cell));
+    // A first guess, truncated (points lie above the origin, and the clamp and the
+    // corrections below absorb any rounding); the loop makes it exact.
+    int64_t i = static_cast<int64_t>((static_cast<double>(p.x) - origin_x) * inv_cell);
+    int64_t j = static_cast<int64_t>((static_cast<double>(p.y) - origin_y) * inv_cell);
     i = std::min<int64_t>(std::max<int64_t>(i, 0), static_cast<int64_t>(w) - 1);
     j = std::min<int64_t>(std::max<int64_t>(j, 0), static_cast<int64_t>(h) - 1);
     for (int it = 0; it < 2; ++it) {  // correct the division's rounding (at most one cell)
@@ -122,9 +125,8 @@ DfsResult flood(uint8_t* g, const uint8_t* counts, uint32_t w, uint32_t h, uint3
     res.saturated = res.saturated || counts[cur] == 255;
   }
   int dir_from = 0;
+  int64_t ci = static_cast<int64_t>(cur % w), cj = static_cast<int64_t>(cur / w);  // cur's column, row
   for (uint64_t step = 0; step < max_steps; ++step) {
-    const int64_t ci = static_cast<int64_t>(cur % w);
-    const int64_t cj = static_cast<int64_t>(cur / w);
     bool moved = false;
     for (int d = dir_from; d < 8; d += dir_step) {
       const int64_t ni = ci + kDx8[d];
@@ -139,6 +141,8 @@ DfsResult flood(uint8_t* g, const uint8_t* counts, uint32_t w, uint32_t h, uint3
         res.saturated = res.saturated || counts[nb] == 255;
       }
       cur = nb;
+      ci = ni;
+      cj = nj;
       dir_from = 0;
       moved = true;
       break;
@@ -149,6 +153,8 @@ DfsResult flood(uint8_t* g, const uint8_t* counts, uint32_t w, uint32_t h, uint3
     const int64_t pi = ci + kDx8[back];
     const int64_t pj = cj + kDy8[back];
     cur = static_cast<uint32_t>(pj) * w + static_cast<uint32_t>(pi);
+    ci = pi;
+    cj = pj;
     dir_from = ((back + 4) & 7) + dir_step;  // resume after the child just finished
   }
   res.ok = false;
@@ -285,6 +291,7 @@ Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& 
   const uint32_t margin = r + 1;
   Raster ras{};
   ras.cell = cell;
+  ras.inv_cell = 1.0 / cell;
   ras.w = mx + 2 * margin;
   ras.h = my + 2 * margin;
   if (ras.w > kDim || ras.h > kDim) return Status::internal_error;

@@ -2,6 +2,11 @@
 // voxel grid (algorithm.md A.1-A.4).
 #include <cmath>
 #include <cstring>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#elif defined(__aarch64__)
+#include <arm_neon.h>
+#endif
 
 #include "fg/core/planner.hpp"
 #include "fg/platform/platform.hpp"
@@ -87,16 +92,34 @@ Status Planner::ingest_begin(SensorRole role, const Pose& world_T_sensor) {
 }
 
 namespace {
+// Four floats handled as one value: GCC's vector extensions, SSE on x86-64, NEON on
+// aarch64, plain scalar code on targets without a vector unit (Cortex-M7). Each lane
+// is ordinary IEEE arithmetic in the order of the scalar formula, so every target
+// computes the same cells (the aarch64 plan stays bit-identical to the host's).
+typedef float V4f __attribute__((vector_size(16)));
+typedef int32_t V4i __attribute__((vector_size(16)));
+
+// True when every lane of a comparison result is set.
+inline bool all_lanes(V4i m) {
+#if defined(__SSE2__)
+  return _mm_movemask_ps(_mm_castsi128_ps(reinterpret_cast<__m128i>(m))) == 0xF;
+#elif defined(__aarch64__)
+  return vminvq_u32(vreinterpretq_u32_s32(m)) != 0u;
+#else
+  return (m[0] & m[1] & m[2] & m[3]) != 0;
+#endif
+}
+
 // The filter-transform-insert step shared by both kinds of input (hot loop). The
 // rigid transform and the voxel scaling are folded into one affine map from the
 // sensor frame to grid cell units, and the crop box is a box in cell units.
 struct Ingest {
-  float m[9], c[3];    // cell = m * p + c
+  V4f col[3], c;      // cell = col[0] * x + col[1] * y + col[2] * z + c (lane 3: 0)
+  V4f lo, hi;         // crop box in cell units (lane 3: -1 and 1, so it passes)
+  V4f leaf;           // the voxel leaf in every lane
   float zmin, zmax;
-  float lo[3], hi[3];  // crop box in cell units
-  uint16_t* sight;     // kSightBins^2 nearest returns of this sensor
-  uint32_t bins;
-  uint32_t finite = 0, kept = 0;
+  uint16_t* sight;    // kSightBins^2 nearest returns of this sensor
+  uint32_t offered = 0, nonfinite = 0, kept = 0;
   uint32_t run_bin = 0xFFFFFFFFu, run_min = 0xFFFFu;
   uint32_t parity = 0;
 
@@ -104,22 +127,30 @@ struct Ingest {
     if (run_bin != 0xFFFFFFFFu && run_min < sight[run_bin]) sight[run_bin] = static_cast<uint16_t>(run_min);
   }
 
+  // A point the range or the crop box refused: NaN and Inf points always end here
+  // (every comparison with NaN fails, and an Inf coordinate makes the cell NaN or
+  // Inf), so only here is finiteness tested. x * 0 is 0 for finite x, else NaN.
+  bool refuse(float x, float y, float z) {
+    if (!(x * 0.f + y * 0.f + z * 0.f == 0.f)) ++nonfinite;
+    return true;
+  }
+
   // Returns false when the grid is full.
   bool add(VoxelGrid& grid, float x, float y, float z) {
-    // x * 0 is 0 for finite x and NaN for NaN or Inf: one compare tests all three.
-    if (!(x * 0.f + y * 0.f + z * 0.f == 0.f)) return true;
-    ++finite;
-    // Every other point feeds the direction bins: a bin spans several pixels, and the
-    // division below is a third of the per-point cost.
-    if (z > 0.f && (++parity & 1u) != 0u) {
+    ++offered;
+    // Every other point with a finite depth in front of the sensor feeds the direction
+    // bins (a NaN or Inf x or y fails the bin test): a bin spans several pixels, and
+    // the division is a large part of the per-point cost.
+    if (z > 0.f && z <= 3.0e38f && (++parity & 1u) != 0u) {
       // Nearest return per direction bin; consecutive points mostly share a bin, so
       // the minimum is kept in a register and stored when the bin changes.
-      const float inv = 1.f / z, half = 0.5f * static_cast<float>(bins);
+      constexpr float half = 0.5f * static_cast<float>(kSightBins);
+      const float inv = 1.f / z;
       const float bu = (x * inv + 1.f) * half, bv = (y * inv + 1.f) * half;
       if (bu >= 0.f && bv >= 0.f && bu < 2.f * half && bv < 2.f * half) {
         const float mm = z * 1000.f;
         const uint32_t d = mm < 65534.f ? static_cast<uint32_t>(mm) : 65534u;
-        const uint32_t bin = static_cast<uint32_t>(bv) * bins + static_cast<uint32_t>(bu);
+        const uint32_t bin = static_cast<uint32_t>(bv) * kSightBins + static_cast<uint32_t>(bu);
         if (bin != run_bin) {
           flush_sight();
           run_bin = bin;
@@ -129,32 +160,35 @@ struct Ingest {
         }
       }
     }
-    if (!(z >= zmin && z <= zmax)) return true;
-    const float fx = m[0] * x + m[1] * y + m[2] * z + c[0];
-    const float fy = m[3] * x + m[4] * y + m[5] * z + c[1];
-    const float fz = m[6] * x + m[7] * y + m[8] * z + c[2];
-    if (!(fx >= lo[0] && fx <= hi[0] && fy >= lo[1] && fy <= hi[1] && fz >= lo[2] && fz <= hi[2]))
-      return true;
-    if (!grid.insert_cell(fx, fy, fz)) return false;
+    if (!(z >= zmin && z <= zmax)) return refuse(x, y, z);
+    const V4f f = col[0] * x + col[1] * y + col[2] * z + c;
+    if (!all_lanes((f >= lo) & (f <= hi))) return refuse(x, y, z);
+    // In the crop box, so at least 2 cells inside the key range (reset()).
+    const V4i i = __builtin_convertvector(f, V4i);
+    const V4f o = (f - __builtin_convertvector(i, V4f)) * leaf;
+    const uint32_t key = VoxelGrid::pack(static_cast<uint32_t>(i[0]), static_cast<uint32_t>(i[1]),
+                                         static_cast<uint32_t>(i[2]));
+    if (!grid.add_to_cell(key, o[0], o[1], o[2])) return false;
     ++kept;
     return true;
   }
 };
 
 Ingest make_ingest(const Pose& p, const PlannerConfig& cfg, const VoxelGrid& grid,
-                   const Vec3& crop_lo, const Vec3& crop_hi, uint16_t* sight, uint32_t bins) {
+                   const Vec3& crop_lo, const Vec3& crop_hi, uint16_t* sight) {
   Ingest in;
   const float inv = 1.f / grid.leaf();
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) in.m[i * 3 + j] = p.R(i, j) * inv;
-    in.c[i] = (p.t(i) - grid.origin()(i)) * inv;
-    in.lo[i] = (crop_lo(i) - grid.origin()(i)) * inv;
-    in.hi[i] = (crop_hi(i) - grid.origin()(i)) * inv;
-  }
+  for (int j = 0; j < 3; ++j) in.col[j] = V4f{p.R(0, j) * inv, p.R(1, j) * inv, p.R(2, j) * inv, 0.f};
+  const Vec3 c = (p.t - grid.origin()) * inv, lo = (crop_lo - grid.origin()) * inv,
+             hi = (crop_hi - grid.origin()) * inv;
+  in.c = V4f{c.x(), c.y(), c.z(), 0.f};
+  in.lo = V4f{lo.x(), lo.y(), lo.z(), -1.f};
+  in.hi = V4f{hi.x(), hi.y(), hi.z(), 1.f};
+  const float leaf = grid.leaf();
+  in.leaf = V4f{leaf, leaf, leaf, leaf};
   in.zmin = cfg.range_min_m;
   in.zmax = cfg.range_max_m;
   in.sight = sight;
-  in.bins = bins;
   return in;
 }
 }  // namespace
@@ -186,7 +220,7 @@ Status Planner::add_points(SensorRole role, const float* xyz, uint32_t count,
   if (s != Status::ok) return s;
   const uint64_t t0 = platform::monotonic_us();
   Ingest in = make_ingest(world_T_sensor, cfg_, grid_, crop_min_, crop_max_,
-                          sight_mm_[static_cast<uint32_t>(role)], kSightBins);
+                          sight_mm_[static_cast<uint32_t>(role)]);
   Status st = Status::ok;
   const uint8_t* base = reinterpret_cast<const uint8_t*>(xyz);
   for (uint32_t i = 0; i < count; ++i) {
@@ -198,7 +232,7 @@ Status Planner::add_points(SensorRole role, const float* xyz, uint32_t count,
     }
   }
   in.flush_sight();
-  return end_ingest(count, in.finite, in.kept, t0, st);
+  return end_ingest(count, in.offered - in.nonfinite, in.kept, t0, st);
 }
 
 Status Planner::add_depth_image(SensorRole role, const uint16_t* depth_mm, uint16_t width,
@@ -221,7 +255,7 @@ Status Planner::add_depth_image(SensorRole role, const uint16_t* depth_mm, uint1
   if (s != Status::ok) return s;
   const uint64_t t0 = platform::monotonic_us();
   Ingest in = make_ingest(world_T_sensor, cfg_, grid_, crop_min_, crop_max_,
-                          sight_mm_[static_cast<uint32_t>(role)], kSightBins);
+                          sight_mm_[static_cast<uint32_t>(role)]);
   Status st = Status::ok;
   const float ifx = 1.f / k.fx, ify = 1.f / k.fy;
   bool full = false;
@@ -240,7 +274,7 @@ Status Planner::add_depth_image(SensorRole role, const uint16_t* depth_mm, uint1
     }
   }
   in.flush_sight();
-  return end_ingest(static_cast<uint32_t>(width) * height, in.finite, in.kept, t0, st);
+  return end_ingest(static_cast<uint32_t>(width) * height, in.offered - in.nonfinite, in.kept, t0, st);
 }
 
 }  // namespace fg

@@ -46,13 +46,21 @@ class VoxelGrid {
     return insert_cell(fx, fy, fz) ? Status::ok : Status::capacity_exceeded;
   }
 
-  //! The hot path of insert(): (fx, fy, fz) are coordinates in cell units from the
+  //! One point in cell units: (fx, fy, fz) are coordinates in cell units from the
   //! origin, already checked to lie in [2, kMax - 2), before finalize(). False when
   //! the grid is full (or the cell's hash neighbourhood is: kMaxProbe).
   bool insert_cell(float fx, float fy, float fz) {
     const uint32_t ix = static_cast<uint32_t>(fx), iy = static_cast<uint32_t>(fy),
                    iz = static_cast<uint32_t>(fz);
-    const uint32_t key = ix | (iy << 11) | (iz << 22);
+    return add_to_cell(pack(ix, iy, iz), (fx - static_cast<float>(ix)) * leaf_,
+                       (fy - static_cast<float>(iy)) * leaf_, (fz - static_cast<float>(iz)) * leaf_);
+  }
+
+  //! The hot path of the ingest: one point of the cell `key` (the packed key of a cell
+  //! at least 2 inside the key range) at (ox, oy, oz) metres from the cell corner.
+  //! Before finalize(). False when the grid is full (or the cell's hash neighbourhood
+  //! is: kMaxProbe).
+  bool add_to_cell(uint32_t key, float ox, float oy, float oz) {
     // A small direct-mapped cache of recent cells: neighbouring pixels of a depth
     // image (in this row and the rows above) mostly fall in the same few hundred cells.
     const uint32_t h = (key * 0x9E3779B1u) >> (32 - kCacheBits);
@@ -65,9 +73,9 @@ class VoxelGrid {
     }
     counts_[idx] += 1;
     float* sum = sums_[idx].data();
-    sum[0] += (fx - static_cast<float>(ix)) * leaf_;
-    sum[1] += (fy - static_cast<float>(iy)) * leaf_;
-    sum[2] += (fz - static_cast<float>(iz)) * leaf_;
+    sum[0] += ox;
+    sum[1] += oy;
+    sum[2] += oz;
     return true;
   }
 
