@@ -26,6 +26,8 @@ constexpr int kSlopeBins = 3;  // the deepest seen bins that give its last slope
 constexpr float kHiddenBulge = 0.005f;
 // The largest turn of the closing direction towards the contact normals (rad).
 constexpr float kMaxClosingTurn = 0.6f;
+// Smaller turns are not worth a second check of a grasp that passes (rad).
+constexpr float kMarginTurn = 0.05f;
 }  // namespace
 
 namespace {
@@ -142,6 +144,13 @@ bool Planner::executable(Candidate& c, PlanResult& out) {
         failed = t;
       }
     }
+  }
+  // A grasp that passes with its contact normals off the closing line: closing along
+  // them gives friction margin, when the turned grasp passes too.
+  if (failed == 0 && cfg_.friction_mu > 0.f) {
+    Candidate turned = c;
+    if (refine_closing(turned) && turned.X.dot(c.X) < std::cos(kMarginTurn) && first_failed_check(turned) == 0)
+      c = turned;
   }
   // Partly hidden fingers: not a rejection, the candidate waits for the second pass.
   if (failed == 7) {
