@@ -81,6 +81,7 @@ Status Planner::plan(PlanResult& out) {
   n_views_ = 0;
   n_candidates_ = 0;
   checks_left_ = kMaxCheckedCandidates;
+  n_deferred_ = 0;
   n_near_ = 0;
   chosen_view_ = -1;
   object_.clear();
@@ -203,6 +204,7 @@ Status Planner::plan(PlanResult& out) {
     analyse_views(first_view, n_views_, out);
     found = rank_and_check(first_cand, out);
   }
+  if (found == kMaxCandidates && cfg_.executability_checks) found = check_deferred(out);
 
   if (found == kMaxCandidates) {
     bool any_kept = false;
@@ -215,9 +217,10 @@ Status Planner::plan(PlanResult& out) {
       return finish(Status::no_grasp, NoGraspReason::too_wide,
                     "the object is wider than the gripper opening from every viewpoint searched");
     }
+    // A candidate that passed every check of the gripper but the arm's: a grasp exists
+    // where the arm cannot go, which says more than the other candidates' rejections.
     const RejectCounts& rj = out.rejected;
-    if (rj.unreachable > 0 && rj.unreachable >= rj.friction && rj.unreachable >= rj.collision + rj.table &&
-        rj.unreachable >= rj.occluded)
+    if (rj.unreachable > 0)
       return finish(Status::no_grasp, NoGraspReason::unreachable,
                     "the arm reaches none of the candidates that pass the gripper's checks");
     if (rj.friction >= rj.collision + rj.table && rj.friction >= rj.occluded)
@@ -514,9 +517,25 @@ uint32_t Planner::rank_and_check(uint32_t first, PlanResult& out) {
   std::sort_heap(order_, order_ + m, before);
   if (!cfg_.executability_checks) return m > 0 ? order_[0] : kMaxCandidates;
   // At most kMaxCheckedCandidates checked per plan(): the checks dominate the worst case.
+  // Grasps with a finger partly in hidden space wait, in rank order, for
+  // check_deferred(): every family is searched for one whose fingers lie in seen space.
+  strict_sight_ = true;
   for (uint32_t i = 0; i < m && checks_left_ > 0; ++i, --checks_left_) {
     Candidate& c = candidates_[order_[i]];
     if (executable(c, out)) return order_[i];
+    if (deferred_) deferred_list_[n_deferred_++] = order_[i];
+  }
+  return kMaxCandidates;
+}
+
+// The grasps rank_and_check deferred, in the order they were met, with the hidden
+// samples the visibility check allows.
+uint32_t Planner::check_deferred(PlanResult& out) {
+  StageTimer t(stage(out, Stage::select));
+  strict_sight_ = false;
+  for (uint32_t i = 0; i < n_deferred_ && checks_left_ > 0; ++i, --checks_left_) {
+    Candidate& c = candidates_[deferred_list_[i]];
+    if (executable(c, out)) return deferred_list_[i];
   }
   return kMaxCandidates;
 }

@@ -18,8 +18,16 @@ constexpr float kHullNeighbourhood = 0.01f;
 // finger may have this share of its samples hidden (edges of silhouettes blur).
 constexpr float kSightMargin = 0.01f;
 constexpr float kMaxHiddenShare = 0.2f;
+// A finger with at most this many hidden samples (of 30) counts as in seen space.
+constexpr uint32_t kSeenFingerHidden = 2;
+// The seen side's profile beside a partly hidden finger: bins along the approach.
+constexpr int kProfileBins = 8;
+constexpr int kSlopeBins = 3;  // the deepest seen bins that give its last slope
+constexpr float kHiddenBulge = 0.005f;
 // The largest turn of the closing direction towards the contact normals (rad).
 constexpr float kMaxClosingTurn = 0.6f;
+// Smaller turns are not worth a second check of a grasp that passes (rad).
+constexpr float kMarginTurn = 0.05f;
 }  // namespace
 
 namespace {
@@ -69,7 +77,8 @@ void Planner::build_near_list(uint32_t* storage) {
 }
 
 // The checks in order; returns 0 when all pass, else the number of the first failing
-// one: 1 support plane, 2 collision, 3 local hull, 4 visibility, 5 friction.
+// one: 1 support plane, 2 collision, 3 local hull, 4 visibility, 5 friction, 7 a finger
+// partly in hidden space (only while strict_sight_ is set).
 int Planner::first_failed_check(const Candidate& c) {
   const ViewFrame f{c.X, c.Y, c.Z};
   Box boxes[3];
@@ -102,8 +111,18 @@ int Planner::first_failed_check(const Candidate& c) {
   // points alone miss a finger that would sit inside the solid (a cap grasp on a big
   // sphere), and the hull of the points around the hand fills in the unseen interior.
   if (!fingers_clear_of_hull(c.position, f)) return 3;
-  // The open fingers must not sit in space the sensors saw only from behind a surface.
-  if (!fingers_in_seen_space(c.position, f)) return 4;
+  // The open fingers must not sit in space the sensors saw only from behind a surface;
+  // while strict_sight_ is set, a finger with a few hidden samples waits too (7).
+  uint32_t hidden_sides = 0;
+  const int sight = fingers_in_seen_space(c.position, f, hidden_sides);
+  if (sight == 2) return 4;
+  if (sight == 1 && strict_sight_) return 7;
+  // Such a finger may meet the object's unseen side, which bulges past what was seen
+  // (rounded objects, tilted approaches): only a balanced grasp whose seen side,
+  // extended along its last slope, stays clear of the open finger.
+  if (sight == 1 && !c.balanced) return 4;
+  for (int side = 0; side < 2; ++side)
+    if ((hidden_sides >> side & 1u) != 0u && !unseen_side_clear(c.position, f, side)) return 4;
   // Each fitted side's normal within the cone in XOY (beta alone only compares the two
   // sides), and the contact normals in 3D.
   if (cfg_.friction_mu > 0.f && (!c.sides_in_cone || !friction_ok(c.position, f, c.width))) return 5;
@@ -111,16 +130,32 @@ int Planner::first_failed_check(const Candidate& c) {
 }
 
 bool Planner::executable(Candidate& c, PlanResult& out) {
+  deferred_ = false;
   int failed = first_failed_check(c);
   // A contact a little outside the cone (closing across a prism's diagonal, a tilted
   // handle): turn the closing direction about the approach towards the contact
   // normals, and check the turned grasp from the start.
   if (failed == 5) {
     Candidate turned = c;
-    if (refine_closing(turned) && first_failed_check(turned) == 0) {
-      c = turned;
-      failed = 0;
+    if (refine_closing(turned)) {
+      const int t = first_failed_check(turned);
+      if (t == 0 || t == 7) {
+        c = turned;
+        failed = t;
+      }
     }
+  }
+  // A grasp that passes with its contact normals off the closing line: closing along
+  // them gives friction margin, when the turned grasp passes too.
+  if (failed == 0 && cfg_.friction_mu > 0.f) {
+    Candidate turned = c;
+    if (refine_closing(turned) && turned.X.dot(c.X) < std::cos(kMarginTurn) && first_failed_check(turned) == 0)
+      c = turned;
+  }
+  // Partly hidden fingers: not a rejection, the candidate waits for the second pass.
+  if (failed == 7) {
+    deferred_ = true;
+    return false;
   }
   // Then the check of the layers above (robot: inverse kinematics, the whole tool).
   if (failed == 0 && grasp_check_ != nullptr) {
@@ -256,12 +291,16 @@ int Planner::visibility(const Vec3& q) const {
 }
 
 // Samples of each open finger box: too many hidden ones (behind the object as every
-// sensor saw it, and free to none) mean the finger would sit inside unseen matter.
-bool Planner::fingers_in_seen_space(const Vec3& pos, const ViewFrame& f) {
+// sensor saw it, and free to none) mean the finger would sit inside unseen matter (2).
+// A few (1) are allowed, but the unseen side of a rounded object bulges past what was
+// seen there, so such grasps come after those whose fingers lie in seen space (0).
+int Planner::fingers_in_seen_space(const Vec3& pos, const ViewFrame& f, uint32_t& partly_hidden) {
   const GripperGeometry& g = cfg_.gripper;
   const float half_open = 0.5f * g.max_opening_m, t = g.finger_thickness_m;
   uint32_t hidden = 0, total = 0;
+  partly_hidden = 0;
   for (int side = 0; side < 2; ++side) {
+    const uint32_t before = hidden;
     const float x0 = side == 0 ? -half_open - t : half_open;
     for (int ix = 0; ix < 2; ++ix)
       for (int iy = 0; iy < 3; ++iy)
@@ -272,8 +311,54 @@ bool Planner::fingers_in_seen_space(const Vec3& pos, const ViewFrame& f) {
           ++total;
           hidden += visibility(pos + f.X * x + f.Y * y + f.Z * z) < 0 ? 1u : 0u;
         }
+    if (hidden - before > kSeenFingerHidden) partly_hidden |= 1u << side;
   }
-  return static_cast<float>(hidden) <= kMaxHiddenShare * static_cast<float>(total);
+  if (static_cast<float>(hidden) > kMaxHiddenShare * static_cast<float>(total)) return 2;
+  return partly_hidden != 0 ? 1 : 0;
+}
+
+// The object's side under a partly hidden finger (0 left, 1 right), as far as it was
+// seen: per bin along the approach within the pad's reach, the outermost point in the
+// pad's footprint. A convex side bends back, so the line along its last seen slope
+// bounds what lies unseen deeper down; it must stay clear of the open finger there.
+// A flat side (a box's face) has no slope; a side seen in one bin only counts as flat.
+bool Planner::unseen_side_clear(const Vec3& pos, const ViewFrame& f, int side) {
+  const GripperGeometry& g = cfg_.gripper;
+  const float half_fd = 0.5f * g.finger_depth_m, bin = g.finger_depth_m / kProfileBins;
+  const float sign = side == 0 ? -1.f : 1.f;
+  float out[kProfileBins];
+  for (int b = 0; b < kProfileBins; ++b) out[b] = -1e9f;
+  const uint32_t n = object_.size();
+  for (uint32_t i = 0; i < n; ++i) {
+    const Vec3 d = object_[i] - pos;
+    const float y = f.Y.dot(d), z = f.Z.dot(d);
+    if (std::fabs(y) > 0.5f * g.finger_width_m || std::fabs(z) > half_fd) continue;
+    const int b = std::min(kProfileBins - 1, static_cast<int>((z + half_fd) / bin));
+    out[b] = std::max(out[b], sign * f.X.dot(d));
+  }
+  // Least squares over the deepest seen bins: outward extent against depth.
+  float sz = 0.f, sx = 0.f, szz = 0.f, szx = 0.f, x_last = 0.f, z_last = 0.f, x_max = -1e9f;
+  int m = 0;
+  for (int b = 0; b < kProfileBins; ++b) x_max = std::max(x_max, out[b]);
+  for (int b = kProfileBins - 1; b >= 0 && m < kSlopeBins; --b) {
+    if (out[b] < -1e8f) continue;
+    const float z = -half_fd + (static_cast<float>(b) + 0.5f) * bin;
+    if (m == 0) {
+      x_last = out[b];
+      z_last = z;
+    }
+    sz += z;
+    sx += out[b];
+    szz += z * z;
+    szx += z * out[b];
+    ++m;
+  }
+  if (m == 0) return true;
+  float slope = 0.f;
+  const float den = static_cast<float>(m) * szz - sz * sz;
+  if (m >= 2 && den > 1e-12f) slope = std::max(0.f, (static_cast<float>(m) * szx - sz * sx) / den);
+  const float reach = std::max(x_max, x_last + slope * (half_fd - z_last));
+  return reach + kHiddenBulge <= 0.5f * g.max_opening_m - cfg_.collision_tolerance_m;
 }
 
 bool Planner::normal_at(uint32_t oi, Vec3& nrm) {

@@ -171,6 +171,11 @@ SimTrial run_sim_trial(const std::string& kind_name, uint64_t seed, const SimOpt
     jo.width_tolerance = std::numeric_limits<double>::infinity();
     const sim::JudgeResult j = sim::judge_grasp(scene.world, scene.target, g, cfg.gripper, jo);
     if (j.true_width >= 0.f) out.width_error_m = std::fabs(j.true_width - pr.grasp.width);
+    out.has_grasp = true;
+    out.grasp = pr.grasp;
+    out.angle_left = j.angle_left;
+    out.angle_right = j.angle_right;
+    out.true_width = j.true_width;
     if (!j.success) {
       out.verdict = out.fits ? j.reason : "grasp_on_target_that_fits_nowhere:" + j.reason;
     } else if (!way_in_hit.empty()) {
@@ -274,10 +279,19 @@ nlohmann::json run_sim(const SimOptions& opt, const PlannerConfig& cfg, Planner&
   for (const std::string& k : order) print_row(k, rows[k]);
   print_row("all", all);
   json records = json::array();
-  for (const SimTrial& t : trials)
-    records.push_back(json{{"kind", t.kind}, {"seed", t.seed}, {"fits", t.fits}, {"success", t.success},
-                           {"verdict", t.verdict}, {"task", t.task_state}, {"plan_reason", t.plan_reason},
-                           {"plan_ms", t.plan_ms}, {"width_error_m", t.width_error_m}, {"wrist_view", t.wrist_view}, {"task_s", t.task_s}, {"ticks", t.ticks}});
+  const auto vec = [](const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); };
+  for (const SimTrial& t : trials) {
+    json r{{"kind", t.kind}, {"seed", t.seed}, {"fits", t.fits}, {"success", t.success},
+           {"verdict", t.verdict}, {"task", t.task_state}, {"plan_reason", t.plan_reason},
+           {"plan_ms", t.plan_ms}, {"width_error_m", t.width_error_m}, {"wrist_view", t.wrist_view}, {"task_s", t.task_s}, {"ticks", t.ticks}};
+    if (t.has_grasp) {
+      r["grasp"] = json{{"position", vec(t.grasp.position)}, {"approach", vec(t.grasp.approach)},
+                        {"closing", vec(t.grasp.closing)}, {"width", t.grasp.width}, {"beta", t.grasp.beta},
+                        {"dz", t.grasp.dz}, {"family", static_cast<int>(t.grasp.family)}};
+      r["judge"] = json{{"angle_left", t.angle_left}, {"angle_right", t.angle_right}, {"true_width", t.true_width}};
+    }
+    records.push_back(r);
+  }
   return json{{"trials", records}, {"table", table}};
 }
 

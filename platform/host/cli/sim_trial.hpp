@@ -42,6 +42,11 @@ struct SimTrial {
   double width_error_m = -1.0;  //!< |reported - true width| of a judged grasp, else -1
   double task_s = 0.0;       //!< simulated time from start to the end of the task
   uint32_t ticks = 0;
+  // The planned grasp (when the plan gave one) and what the judge measured on it.
+  bool has_grasp = false;
+  Grasp grasp;
+  float angle_left = -1.f, angle_right = -1.f;  //!< friction angles at the contacts (rad), -1 unknown
+  float true_width = -1.f;                      //!< pad-to-pad width on the true geometry (m), -1 unknown
 };
 
 //! Runs one trial with the planner configuration `cfg`. `planner` is reused between

@@ -179,10 +179,12 @@ class Planner {
   void contact_normal_stats(const Vec3& pos, const ViewFrame& f, float width, ContactNormalStats& st);
   bool friction_ok(const Vec3& pos, const ViewFrame& f, float width);
   bool fingers_clear_of_hull(const Vec3& pos, const ViewFrame& f);
-  bool fingers_in_seen_space(const Vec3& pos, const ViewFrame& f);
+  int fingers_in_seen_space(const Vec3& pos, const ViewFrame& f, uint32_t& partly_hidden);
+  bool unseen_side_clear(const Vec3& pos, const ViewFrame& f, int side);
   int visibility(const Vec3& q) const;
   bool normal_at(uint32_t object_index, Vec3& n);
   uint32_t rank_and_check(uint32_t first_candidate, PlanResult& out);
+  uint32_t check_deferred(PlanResult& out);
   void fill_grasp(const Candidate& c, PlanResult& out);
 
   PlannerConfig cfg_;
@@ -226,6 +228,10 @@ class Planner {
   Candidate candidates_[kMaxCandidates];
   uint32_t n_candidates_ = 0;
   uint32_t checks_left_ = 0;  // candidates the checks may still examine in this plan()
+  bool strict_sight_ = false;  // first pass: partly hidden fingers wait (check 7)
+  bool deferred_ = false;      // the last executable() call deferred its candidate
+  uint16_t deferred_list_[kMaxCandidates];  // candidates deferred by rank_and_check
+  uint32_t n_deferred_ = 0;
   // Voxels within the gripper's reach of the object (build_near_list), in the lent
   // count storage of the grid.
   uint32_t* near_ = nullptr;
