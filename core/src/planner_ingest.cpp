@@ -2,11 +2,6 @@
 // voxel grid (algorithm.md A.1-A.4).
 #include <cmath>
 #include <cstring>
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#elif defined(__aarch64__)
-#include <arm_neon.h>
-#endif
 
 #include "fg/core/planner.hpp"
 #include "fg/platform/platform.hpp"
@@ -92,24 +87,6 @@ Status Planner::ingest_begin(SensorRole role, const Pose& world_T_sensor) {
 }
 
 namespace {
-// Four floats handled as one value: GCC's vector extensions, SSE on x86-64, NEON on
-// aarch64, plain scalar code on targets without a vector unit (Cortex-M7). Each lane
-// is ordinary IEEE arithmetic in the order of the scalar formula, so every target
-// computes the same cells (the aarch64 plan stays bit-identical to the host's).
-typedef float V4f __attribute__((vector_size(16)));
-typedef int32_t V4i __attribute__((vector_size(16)));
-
-// True when every lane of a comparison result is set.
-inline bool all_lanes(V4i m) {
-#if defined(__SSE2__)
-  return _mm_movemask_ps(_mm_castsi128_ps(reinterpret_cast<__m128i>(m))) == 0xF;
-#elif defined(__aarch64__)
-  return vminvq_u32(vreinterpretq_u32_s32(m)) != 0u;
-#else
-  return (m[0] & m[1] & m[2] & m[3]) != 0;
-#endif
-}
-
 // The filter-transform-insert step shared by both kinds of input (hot loop). The
 // rigid transform and the voxel scaling are folded into one affine map from the
 // sensor frame to grid cell units, and the crop box is a box in cell units.
@@ -168,7 +145,7 @@ struct Ingest {
     const V4f o = (f - __builtin_convertvector(i, V4f)) * leaf;
     const uint32_t key = VoxelGrid::pack(static_cast<uint32_t>(i[0]), static_cast<uint32_t>(i[1]),
                                          static_cast<uint32_t>(i[2]));
-    if (!grid.add_to_cell(key, o[0], o[1], o[2])) return false;
+    if (!grid.add_to_cell(key, o)) return false;
     ++kept;
     return true;
   }

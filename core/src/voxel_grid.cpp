@@ -12,12 +12,8 @@ void VoxelGrid::reset(const Vec3& origin, float leaf_m) {
   // slot by slot costs a probe per voxel.
   for (uint32_t s = 0; s < kVoxelHashSlots; ++s) slots_[s] = 0u;
   finalized_ = false;
-  counts_lent_ = false;
   size_ = 0;
-  for (uint32_t i = 0; i < (1u << kCacheBits); ++i) {
-    cache_key_[i] = 0xFFFFFFFFu;
-    cache_index_[i] = 0;
-  }
+  for (uint32_t i = 0; i < (1u << kCacheBits); ++i) cache_[i] = CacheEntry{0xFFFFFFFFu, 0u};
 }
 
 uint32_t VoxelGrid::find(uint32_t key) const {
@@ -43,8 +39,8 @@ uint32_t VoxelGrid::find_or_add(uint32_t key) {
     if (slot == 0) {
       if (size_ >= kMaxVoxels) return kNone;
       keys_[size_] = key;
-      counts_[size_] = 0;
-      sums_[size_] = Vec3::Zero();
+      float* acc = store_ + 4 * size_;
+      acc[0] = acc[1] = acc[2] = acc[3] = 0.f;
       slots_[s] = tag | ++size_;
       return size_ - 1;
     }
@@ -55,18 +51,31 @@ uint32_t VoxelGrid::find_or_add(uint32_t key) {
   return kNone;
 }
 
+uint32_t VoxelGrid::count(uint32_t i) const {
+  return finalized_ ? 0u : static_cast<uint32_t>(store_[4 * i + 3]);
+}
+
 Vec3 VoxelGrid::centroid(uint32_t i) const {
-  if (finalized_) return sums_[i];
-  const float inv = 1.0f / static_cast<float>(counts_[i]);
+  if (finalized_) return centroids()[i];
+  const float* acc = store_ + 4 * i;
+  const float inv = 1.0f / acc[3];
   const uint32_t k = keys_[i];
-  return Vec3(origin_.x() + static_cast<float>(key_x(k)) * leaf_ + sums_[i].x() * inv,
-              origin_.y() + static_cast<float>(key_y(k)) * leaf_ + sums_[i].y() * inv,
-              origin_.z() + static_cast<float>(key_z(k)) * leaf_ + sums_[i].z() * inv);
+  return Vec3(origin_.x() + static_cast<float>(key_x(k)) * leaf_ + acc[0] * inv,
+              origin_.y() + static_cast<float>(key_y(k)) * leaf_ + acc[1] * inv,
+              origin_.z() + static_cast<float>(key_z(k)) * leaf_ + acc[2] * inv);
 }
 
 void VoxelGrid::finalize() {
   if (finalized_) return;
-  for (uint32_t i = 0; i < size_; ++i) sums_[i] = centroid(i);
+  // In place, front to back: centroid i (floats 3i..3i+2) lands at or before the sums
+  // of voxel i (floats 4i..4i+3), which are read first.
+  for (uint32_t i = 0; i < size_; ++i) {
+    const Vec3 c = centroid(i);
+    float* out = store_ + 3 * i;
+    out[0] = c.x();
+    out[1] = c.y();
+    out[2] = c.z();
+  }
   finalized_ = true;
 }
 
@@ -86,7 +95,7 @@ bool VoxelGrid::rebuild_index(const uint8_t* keep, uint32_t bits) {
 }
 
 void VoxelGrid::keep_in_index_only(const uint8_t* keep) {
-  for (uint32_t s = 0; s < (1u << kCacheBits); ++s) cache_key_[s] = 0xFFFFFFFFu;
+  for (uint32_t s = 0; s < (1u << kCacheBits); ++s) cache_[s].key = 0xFFFFFFFFu;
   // A table sized for the kept voxels (at most half full) stays in the fast caches.
   uint32_t kept = 0;
   for (uint32_t i = 0; i < size_; ++i) kept += keep[i] != 0 ? 1u : 0u;
@@ -100,8 +109,8 @@ void VoxelGrid::keep_in_index_only(const uint8_t* keep) {
 
 uint32_t* VoxelGrid::lend_count_storage() {
   if (!finalized_) return nullptr;
-  counts_lent_ = true;
-  return counts_;
+  // The storage past the packed centroids: 4 * kMaxVoxels - 3 * size() >= size() words.
+  return reinterpret_cast<uint32_t*>(store_ + 3 * size_);
 }
 
 }  // namespace fg

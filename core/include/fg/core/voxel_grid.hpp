@@ -3,16 +3,18 @@
 // order (deterministic). Each voxel keeps the sum of its points relative to its cell
 // corner, so centroids stay precise (micrometres for typical counts, 0.1 mm for a
 // million points in one cell) wherever the cell lies.
-// Memory is arranged by use, to keep the host workspace small: a hash slot is one
-// word, the voxel index + 1 with a tag of the key in the spare high bits (so most
-// probes of other keys are rejected without reading the key array), finalize() turns the sums into
-// centroids in place, and the count array, no longer needed then, is lent to the
-// clustering as its queue.
+// Memory is arranged by use, to keep the host workspace small and the ingest's random
+// accesses few: a hash slot is one word, the voxel index + 1 with a tag of the key in
+// the spare high bits (so most probes of other keys are rejected without reading the
+// key array); a voxel's running sum and count share one 16-byte slot (one cache line
+// per point); finalize() packs the centroids into the front of that storage, and the
+// rest, no longer needed, is lent to the clustering as its queue.
 #pragma once
 #include <cstdint>
 #include "fg/core/limits.hpp"
 #include "fg/core/status.hpp"
 #include "fg/core/types.hpp"
+#include "fg/core/vec4.hpp"
 
 namespace fg {
 
@@ -21,7 +23,7 @@ constexpr uint32_t detail_log2u(uint32_t v) { return v <= 1 ? 0 : 1 + detail_log
 //! What a voxel holds besides its centroid.
 struct Voxel {
   uint32_t key;    //!< x | y << 11 | z << 22 (cell indices relative to the grid origin)
-  uint32_t count;  //!< points that fell in the cell (0 once the count storage is lent)
+  uint32_t count;  //!< points that fell in the cell (before finalize(); 0 after)
 };
 
 class VoxelGrid {
@@ -52,30 +54,30 @@ class VoxelGrid {
   bool insert_cell(float fx, float fy, float fz) {
     const uint32_t ix = static_cast<uint32_t>(fx), iy = static_cast<uint32_t>(fy),
                    iz = static_cast<uint32_t>(fz);
-    return add_to_cell(pack(ix, iy, iz), (fx - static_cast<float>(ix)) * leaf_,
-                       (fy - static_cast<float>(iy)) * leaf_, (fz - static_cast<float>(iz)) * leaf_);
+    return add_to_cell(pack(ix, iy, iz), V4f{(fx - static_cast<float>(ix)) * leaf_,
+                                             (fy - static_cast<float>(iy)) * leaf_,
+                                             (fz - static_cast<float>(iz)) * leaf_, 0.f});
   }
 
   //! The hot path of the ingest: one point of the cell `key` (the packed key of a cell
-  //! at least 2 inside the key range) at (ox, oy, oz) metres from the cell corner.
-  //! Before finalize(). False when the grid is full (or the cell's hash neighbourhood
-  //! is: kMaxProbe).
-  bool add_to_cell(uint32_t key, float ox, float oy, float oz) {
+  //! at least 2 inside the key range) at (o[0], o[1], o[2]) metres from the cell
+  //! corner (o[3] is ignored). Before finalize(). False when the grid is full (or the
+  //! cell's hash neighbourhood is: kMaxProbe).
+  bool add_to_cell(uint32_t key, V4f o) {
     // A small direct-mapped cache of recent cells: neighbouring pixels of a depth
     // image (in this row and the rows above) mostly fall in the same few hundred cells.
-    const uint32_t h = (key * 0x9E3779B1u) >> (32 - kCacheBits);
-    uint32_t idx = cache_index_[h];
-    if (cache_key_[h] != key) {
-      idx = find_or_add(key);
+    CacheEntry& e = cache_[(key * 0x9E3779B1u) >> (32 - kCacheBits)];
+    if (e.key != key) {
+      const uint32_t idx = find_or_add(key);
       if (idx == kNone) return false;
-      cache_key_[h] = key;
-      cache_index_[h] = idx;
+      e.key = key;
+      e.index = idx;
     }
-    counts_[idx] += 1;
-    float* sum = sums_[idx].data();
-    sum[0] += ox;
-    sum[1] += oy;
-    sum[2] += oz;
+    // Sum and count in one vector add: the count is lane 3, a float, exact below 2^24
+    // points per cell (where the float sums have long lost their last digits too).
+    o[3] = 1.f;
+    V4f* acc = reinterpret_cast<V4f*>(store_) + e.index;
+    *acc += o;
     return true;
   }
 
@@ -84,7 +86,7 @@ class VoxelGrid {
   void finalize();
   bool finalized() const { return finalized_; }
   //! The centroids as one contiguous array of size() points (after finalize()).
-  const Vec3* centroids() const { return sums_; }
+  const Vec3* centroids() const { return reinterpret_cast<const Vec3*>(store_); }
   //! Rebuilds the hash so that find() sees only the voxels with keep[i] != 0 (the
   //! others stay in the arrays and keep their indices). Planning drops the support
   //! plane this way: the later neighbour searches then probe a nearly empty table.
@@ -96,7 +98,7 @@ class VoxelGrid {
   uint32_t size() const { return size_; }
   float leaf() const { return leaf_; }
   const Vec3& origin() const { return origin_; }
-  Voxel voxel(uint32_t i) const { return Voxel{keys_[i], counts_lent_ ? 0u : counts_[i]}; }
+  Voxel voxel(uint32_t i) const { return Voxel{keys_[i], count(i)}; }
   uint32_t key(uint32_t i) const { return keys_[i]; }
   //! Mean of the voxel's points (world frame), before and after finalize().
   Vec3 centroid(uint32_t i) const;
@@ -146,17 +148,22 @@ class VoxelGrid {
   static constexpr uint32_t max_probe() { return kMaxProbe; }
 
  private:
-  // Empty entries hold 0xFFFFFFFF: no real key has all bits set (z < kMaxZ - 2).
-  uint32_t cache_key_[1u << kCacheBits];
-  uint32_t cache_index_[1u << kCacheBits];
+  uint32_t count(uint32_t i) const;
+
+  // Empty entries hold key 0xFFFFFFFF: no real key has all bits set (z < kMaxZ - 2).
+  struct CacheEntry {
+    uint32_t key;
+    uint32_t index;
+  };
+  CacheEntry cache_[1u << kCacheBits];
   bool finalized_ = false;
-  bool counts_lent_ = false;
   uint32_t slot_bits_ = kSlotBits;  // slots in use: 2^slot_bits_ (fewer once pruned)
   uint32_t slot_mask_ = kVoxelHashSlots - 1;
   uint32_t slots_[kVoxelHashSlots];  // tag | (voxel index + 1); 0 = empty
   uint32_t keys_[kMaxVoxels];
-  uint32_t counts_[kMaxVoxels];
-  Vec3 sums_[kMaxVoxels];  // sum of (point - cell corner); the centroid after finalize()
+  // Before finalize(): per voxel {sum of (point - cell corner), count} as 4 floats.
+  // After: size() packed centroids (3 floats each), then the lendable rest.
+  alignas(16) float store_[4 * kMaxVoxels];
 };
 
 }  // namespace fg
