@@ -97,12 +97,7 @@ struct Ingest {
   float zmin, zmax;
   uint16_t* sight;    // kSightBins^2 nearest returns of this sensor
   uint32_t offered = 0, nonfinite = 0, kept = 0;
-  uint32_t run_bin = 0xFFFFFFFFu, run_min = 0xFFFFu;
   uint32_t parity = 0;
-
-  void flush_sight() {
-    if (run_bin != 0xFFFFFFFFu && run_min < sight[run_bin]) sight[run_bin] = static_cast<uint16_t>(run_min);
-  }
 
   // A point the range or the crop box refused: NaN and Inf points always end here
   // (every comparison with NaN fails, and an Inf coordinate makes the cell NaN or
@@ -119,8 +114,8 @@ struct Ingest {
     // bins (a NaN or Inf x or y fails the bin test): a bin spans several pixels, and
     // the division is a large part of the per-point cost.
     if (z > 0.f && z <= 3.0e38f && (++parity & 1u) != 0u) {
-      // Nearest return per direction bin; consecutive points mostly share a bin, so
-      // the minimum is kept in a register and stored when the bin changes.
+      // Nearest return per direction bin, updated without a branch: a bin spans a few
+      // points of a row, so whether the next point changes bin is unpredictable.
       constexpr float half = 0.5f * static_cast<float>(kSightBins);
       const float inv = 1.f / z;
       const float bu = (x * inv + 1.f) * half, bv = (y * inv + 1.f) * half;
@@ -128,13 +123,8 @@ struct Ingest {
         const float mm = z * 1000.f;
         const uint32_t d = mm < 65534.f ? static_cast<uint32_t>(mm) : 65534u;
         const uint32_t bin = static_cast<uint32_t>(bv) * kSightBins + static_cast<uint32_t>(bu);
-        if (bin != run_bin) {
-          flush_sight();
-          run_bin = bin;
-          run_min = d;
-        } else if (d < run_min) {
-          run_min = d;
-        }
+        const uint32_t cur = sight[bin];
+        sight[bin] = static_cast<uint16_t>(d < cur ? d : cur);
       }
     }
     if (!(z >= zmin && z <= zmax)) return refuse(x, y, z);
@@ -208,7 +198,6 @@ Status Planner::add_points(SensorRole role, const float* xyz, uint32_t count,
       break;
     }
   }
-  in.flush_sight();
   return end_ingest(count, in.offered - in.nonfinite, in.kept, t0, st);
 }
 
@@ -250,7 +239,6 @@ Status Planner::add_depth_image(SensorRole role, const uint16_t* depth_mm, uint1
       }
     }
   }
-  in.flush_sight();
   return end_ingest(static_cast<uint32_t>(width) * height, in.offered - in.nonfinite, in.kept, t0, st);
 }
 
