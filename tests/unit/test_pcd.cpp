@@ -441,7 +441,7 @@ TEST(PcdHandWritten, CompressedStructureOfArraysLabelFirst) {
   const ReadResult r = parse(b, c, "soa.pcd");
   ASSERT_TRUE(r.ok) << r.error;
   PointCloud expect;
-  expect.xyz = xyz;
+  expect.xyz.assign(xyz.begin(), xyz.end());
   expect_same_points(expect, c);
 }
 
@@ -461,7 +461,7 @@ void expect_bad(const std::string& text, const std::string& word, const ReadLimi
   const ReadResult r = parse(text, c, "bad.pcd", limits);
   expect_error(r, "bad.pcd", word);
   // The output is untouched on error.
-  EXPECT_EQ(c.xyz, (std::vector<float>{7, 8, 9}));
+  EXPECT_EQ(std::vector<float>(c.xyz.begin(), c.xyz.end()), (std::vector<float>{7, 8, 9}));
 }
 }  // namespace
 

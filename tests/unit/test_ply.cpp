@@ -206,7 +206,7 @@ TEST(PlyHandWritten, BinaryFixedSizeVertexWithFaceAfter) {
   PointCloud c;
   ReadResult r = parse(b, c);
   ASSERT_TRUE(r.ok) << r.error;
-  EXPECT_EQ(c.xyz, (std::vector<float>{1, 10, 100, 2, 11, 101, 3, 12, 102}));
+  EXPECT_EQ(std::vector<float>(c.xyz.begin(), c.xyz.end()), (std::vector<float>{1, 10, 100, 2, 11, 101, 3, 12, 102}));
   // The face list cut short is an error even though the vertices are complete.
   b.resize(b.size() - 1);
   r = parse(b, c);
@@ -266,7 +266,7 @@ void expect_bad(const std::vector<uint8_t>& b, const std::string& word, const Re
   c.xyz = {7, 8, 9};
   c.width = 1;
   expect_error(parse(b, c, "bad.ply", limits), "bad.ply", word);
-  EXPECT_EQ(c.xyz, (std::vector<float>{7, 8, 9}));
+  EXPECT_EQ(std::vector<float>(c.xyz.begin(), c.xyz.end()), (std::vector<float>{7, 8, 9}));
 }
 
 void expect_bad(const std::string& s, const std::string& word, const ReadLimits& limits = {}) {

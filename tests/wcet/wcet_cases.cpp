@@ -277,7 +277,7 @@ bool load_example(CaseInput& out, std::string& err) {
     SensorInput in;
     in.role = s.name == "head" ? SensorRole::head : SensorRole::hand;
     in.pose = host::to_pose(*s.pose);
-    in.xyz = std::move(c.xyz);
+    in.xyz.assign(c.xyz.begin(), c.xyz.end());
     out.sensors.push_back(std::move(in));
   }
   out.note = "examples/two-sensor-box (real two-sensor capture, 2 x 640x480 PCD)";

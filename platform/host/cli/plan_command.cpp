@@ -29,7 +29,9 @@ PlanOutcome invalid(const std::string& error) {
 }  // namespace
 
 Planner& planner_instance() {
-  static std::unique_ptr<Planner> p(new Planner());
+  // Default-initialised, as firmware places it (fg_api.cpp): value-initialising would
+  // zero all 4 MiB first, a page fault per 4 KiB the plan may never touch.
+  static std::unique_ptr<Planner> p(new Planner);
   return *p;
 }
 

@@ -329,16 +329,16 @@ ReadResult parse_pcd_impl(const uint8_t* data, size_t size, const std::string& n
       return fail(name, "uncompressed size " + std::to_string(usize) + " (" + npts + ") cannot come from " +
                             std::to_string(csize) + " compressed bytes (size mismatch / corrupt)");
     }
-    std::unique_ptr<uint8_t[]> buf(new uint8_t[usize > 0 ? usize : 1]);
+    BigBuffer<uint8_t> buf(usize > 0 ? usize : 1);
     std::string err;
-    if (!lzf::decompress(data + data_offset + 8, csize, buf.get(), usize, err)) {
+    if (!lzf::decompress(data + data_offset + 8, csize, buf.data(), usize, err)) {
       return fail(name, "DATA binary_compressed: " + err);
     }
     cloud.xyz.resize(points * 3);
     // Structure of arrays: the block of field f starts at points * (offset of f in a point).
-    const uint8_t* bx = buf.get() + points * fx.offset;
-    const uint8_t* by = buf.get() + points * fy.offset;
-    const uint8_t* bz = buf.get() + points * fz.offset;
+    const uint8_t* bx = buf.data() + points * fx.offset;
+    const uint8_t* by = buf.data() + points * fy.offset;
+    const uint8_t* bz = buf.data() + points * fz.offset;
     float* o = cloud.xyz.data();
     for (uint64_t i = 0; i < points; ++i, o += 3) {
       o[0] = read_coord(bx + i * fx.size, fx.size);
@@ -347,7 +347,7 @@ ReadResult parse_pcd_impl(const uint8_t* data, size_t size, const std::string& n
     }
     if (il >= 0) {
       const Field& fl = fields[static_cast<size_t>(il)];
-      const uint8_t* bl = buf.get() + points * fl.offset;
+      const uint8_t* bl = buf.data() + points * fl.offset;
       cloud.labels.resize(points);
       for (uint64_t i = 0; i < points; ++i) cloud.labels[i] = read_label(bl + i * fl.size, fl.size);
     }
@@ -427,7 +427,7 @@ void append_float(std::string& s, float v) {
 
 }  // namespace
 
-ReadResult read_file_bytes(const std::string& path, std::vector<uint8_t>& out, uint64_t max_bytes) {
+ReadResult read_file_bytes(const std::string& path, BigBuffer<uint8_t>& out, uint64_t max_bytes) {
   namespace fs = std::filesystem;
   std::error_code ec;
   const fs::file_status st = fs::status(path, ec);
@@ -447,20 +447,24 @@ ReadResult read_file_bytes(const std::string& path, std::vector<uint8_t>& out, u
   }
   std::ifstream in(path, std::ios::binary);
   if (!in) return fail(path, "cannot open file for reading");
-  std::vector<uint8_t> bytes;
+  BigBuffer<uint8_t> bytes;
   constexpr size_t kChunk = size_t{1} << 20;
   try {
+    // The size the file system reported in one read, then chunks while more arrives
+    // (a file that grows while it is read still stops at max_bytes).
     bytes.reserve(static_cast<size_t>(expected) + kChunk);
+    size_t want = static_cast<size_t>(expected) + 1;  // +1: end of file seen in the first read
     for (;;) {
       const size_t old = bytes.size();
-      bytes.resize(old + kChunk);
-      in.read(reinterpret_cast<char*>(bytes.data() + old), static_cast<std::streamsize>(kChunk));
+      bytes.resize(old + want);
+      in.read(reinterpret_cast<char*>(bytes.data() + old), static_cast<std::streamsize>(want));
       const size_t got = static_cast<size_t>(in.gcount());
       bytes.resize(old + got);
       if (bytes.size() > max_bytes) {
         return fail(path, "file is larger than the limit of " + std::to_string(max_bytes) + " bytes");
       }
-      if (got < kChunk) break;
+      if (got < want) break;
+      want = kChunk;
     }
   } catch (const std::bad_alloc&) {
     return fail(path, "out of memory while reading the file");
@@ -476,7 +480,7 @@ ReadResult parse_pcd(const uint8_t* data, size_t size, const std::string& name, 
 }
 
 ReadResult read_pcd(const std::string& path, PointCloud& out, const ReadLimits& limits) {
-  std::vector<uint8_t> bytes;
+  BigBuffer<uint8_t> bytes;
   if (ReadResult r = read_file_bytes(path, bytes, limits.max_file_bytes); !r.ok) return r;
   return parse_pcd(bytes.data(), bytes.size(), path, out, limits);
 }

@@ -402,7 +402,7 @@ ReadResult parse_ply(const uint8_t* data, size_t size, const std::string& name, 
 }
 
 ReadResult read_ply(const std::string& path, PointCloud& out, const ReadLimits& limits) {
-  std::vector<uint8_t> bytes;
+  BigBuffer<uint8_t> bytes;
   if (ReadResult r = read_file_bytes(path, bytes, limits.max_file_bytes); !r.ok) return r;
   return parse_ply(bytes.data(), bytes.size(), path, out, limits);
 }

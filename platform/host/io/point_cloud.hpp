@@ -5,10 +5,12 @@
 #include <string>
 #include <vector>
 
+#include "big_buffer.hpp"
+
 namespace fg::host {
 
 struct PointCloud {
-  std::vector<float> xyz;         //!< 3 floats per point, x y z; NaN kept for missing pixels
+  BigBuffer<float> xyz;           //!< 3 floats per point, x y z; NaN kept for missing pixels
   uint32_t width = 0;             //!< organized: image width; unorganized: point count
   uint32_t height = 1;            //!< organized: image height; unorganized: 1
   bool organized() const { return height > 1; }
@@ -36,7 +38,7 @@ struct ReadResult {
 //! Reads a whole file in binary mode into `out`. Errors (naming `path`): cannot open,
 //! a directory, a read error, or more than `max_bytes` bytes (checked before reading
 //! regular files; other files are read in chunks and stop at the limit).
-ReadResult read_file_bytes(const std::string& path, std::vector<uint8_t>& out,
+ReadResult read_file_bytes(const std::string& path, BigBuffer<uint8_t>& out,
                            uint64_t max_bytes = ReadLimits{}.max_file_bytes);
 
 }  // namespace fg::host

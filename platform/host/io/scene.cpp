@@ -194,7 +194,7 @@ ReadResult parse_scene(const std::string& text, const std::string& manifest_path
 }
 
 ReadResult read_scene(const std::string& path, Scene& out) {
-  std::vector<uint8_t> bytes;  // refuses directories, devices and FIFOs, bounds the size
+  BigBuffer<uint8_t> bytes;  // refuses directories, devices and FIFOs, bounds the size
   if (ReadResult r = read_file_bytes(path, bytes, kMaxManifestBytes); !r.ok)
     return ReadResult::failure(r.error + " (scene manifest)");
   return parse_scene(std::string(bytes.begin(), bytes.end()), path, out);
