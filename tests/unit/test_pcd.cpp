@@ -265,6 +265,46 @@ TEST(Lzf, CompressDecompressRoundTrip) {
   }
 }
 
+// Streams of random tokens (literal runs, back-references of every short distance and
+// length, so overlapping periodic copies too) decode as a byte-at-a-time decoder of
+// the LZF format written here decodes them.
+TEST(Lzf, MatchesByteWiseReferenceDecoder) {
+  std::mt19937 rng(99);
+  for (int trial = 0; trial < 300; ++trial) {
+    std::vector<uint8_t> in, expect;
+    const int tokens = 1 + static_cast<int>(rng() % 60);
+    for (int t = 0; t < tokens; ++t) {
+      if (expect.empty() || rng() % 3 == 0) {
+        const size_t len = 1 + rng() % 32;
+        in.push_back(static_cast<uint8_t>(len - 1));
+        for (size_t k = 0; k < len; ++k) {
+          const uint8_t b = static_cast<uint8_t>(rng());
+          in.push_back(b);
+          expect.push_back(b);
+        }
+      } else {
+        const size_t max_dist = std::min<size_t>(expect.size(), rng() % 2 ? 20 : 8192);
+        const size_t dist = 1 + rng() % max_dist;
+        const size_t len = 3 + rng() % (rng() % 4 == 0 ? 262 : 40);  // 3..264
+        const size_t code = len - 2;
+        if (code < 7) {
+          in.push_back(static_cast<uint8_t>((code << 5) | ((dist - 1) >> 8)));
+        } else {
+          in.push_back(static_cast<uint8_t>((7 << 5) | ((dist - 1) >> 8)));
+          in.push_back(static_cast<uint8_t>(code - 7));
+        }
+        in.push_back(static_cast<uint8_t>((dist - 1) & 0xFF));
+        for (size_t k = 0; k < len; ++k) expect.push_back(expect[expect.size() - dist]);
+      }
+    }
+    std::vector<uint8_t> out(expect.size(), 0xAB);
+    std::string err;
+    ASSERT_TRUE(fg::host::lzf::decompress(in.data(), in.size(), out.data(), out.size(), err))
+        << err << " trial " << trial;
+    ASSERT_EQ(out, expect) << "trial " << trial;
+  }
+}
+
 // ---- round trips -----------------------------------------------------------------------
 
 namespace {

@@ -66,9 +66,23 @@ bool decompress(const uint8_t* in, size_t in_size, uint8_t* out, size_t out_size
         return false;
       }
       const uint8_t* ref = out + op - dist;
-      if (dist >= 16 && op + len + 16 <= out_size) {
-        // 16-byte chunks: each chunk's source lies wholly before its destination.
-        for (size_t k = 0; k < len; k += 16) std::memcpy(out + op + k, ref + k, 16);
+      if (op + len + 16 <= out_size) {
+        // Chunked copies (the bytes past len are overwritten by what follows); a chunk
+        // no longer than the distance has its source wholly before its destination.
+        // Matches are short (5-7 bytes on average in depth clouds), so one chunk is
+        // the rule; distance 4 is a repeated float (runs of NaN pixels).
+        if (dist >= 16) {
+          for (size_t k = 0; k < len; k += 16) std::memcpy(out + op + k, ref + k, 16);
+        } else if (dist >= 8) {
+          for (size_t k = 0; k < len; k += 8) std::memcpy(out + op + k, ref + k, 8);
+        } else if (dist == 4) {
+          uint8_t pattern[8];
+          std::memcpy(pattern, ref, 4);
+          std::memcpy(pattern + 4, ref, 4);
+          for (size_t k = 0; k < len; k += 8) std::memcpy(out + op + k, pattern, 8);
+        } else {
+          for (size_t k = 0; k < len; ++k) out[op + k] = ref[k];  // overlapping run
+        }
       } else if (dist >= len) {
         std::memcpy(out + op, ref, len);
       } else {
