@@ -58,9 +58,19 @@ struct Raster {
   double inv_cell;  // 1 / cell: the first guess of a point's cell multiplies
   uint32_t w;
   uint32_t h;
+  float* xs;  // xs[i] = vx(i) for i = 0..w, ys[j] = vy(j) for j = 0..h (set by corners())
+  float* ys;
 
   float vx(int64_t i) const { return static_cast<float>(origin_x + static_cast<double>(i) * cell); }
   float vy(int64_t j) const { return static_cast<float>(origin_y + static_cast<double>(j) * cell); }
+
+  //! Tabulates the float corner coordinates, so a point's cell is found by lookups.
+  void corners(float* x_table, float* y_table) {
+    xs = x_table;
+    ys = y_table;
+    for (uint32_t i = 0; i <= w; ++i) xs[i] = vx(i);
+    for (uint32_t j = 0; j <= h; ++j) ys[j] = vy(j);
+  }
 
   //! The cell of a finite point, decided against the same float corner coordinates
   //! the polygon is written with, so a point is never outside its own cell.
@@ -71,15 +81,15 @@ struct Raster {
     int64_t j = static_cast<int64_t>((static_cast<double>(p.y) - origin_y) * inv_cell);
     i = std::min<int64_t>(std::max<int64_t>(i, 0), static_cast<int64_t>(w) - 1);
     j = std::min<int64_t>(std::max<int64_t>(j, 0), static_cast<int64_t>(h) - 1);
-    for (int it = 0; it < 2; ++it) {  // correct the division's rounding (at most one cell)
-      if (i > 0 && p.x < vx(i)) {
+    for (int it = 0; it < 2; ++it) {  // correct the guess's rounding (at most one cell)
+      if (i > 0 && p.x < xs[i]) {
         --i;
-      } else if (i + 1 < static_cast<int64_t>(w) && p.x >= vx(i + 1)) {
+      } else if (i + 1 < static_cast<int64_t>(w) && p.x >= xs[i + 1]) {
         ++i;
       }
-      if (j > 0 && p.y < vy(j)) {
+      if (j > 0 && p.y < ys[j]) {
         --j;
-      } else if (j + 1 < static_cast<int64_t>(h) && p.y >= vy(j + 1)) {
+      } else if (j + 1 < static_cast<int64_t>(h) && p.y >= ys[j + 1]) {
         ++j;
       }
     }
@@ -303,6 +313,7 @@ Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& 
   }
   out_cell_m = cell_f;
 
+  ras.corners(scratch.corner_x, scratch.corner_y);
   const uint32_t w = ras.w;
   const uint32_t h = ras.h;
   const uint32_t cells = w * h;
@@ -389,7 +400,7 @@ Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& 
   uint32_t nv = 0;
   auto emit = [&](int64_t x, int64_t y) {
     if (nv >= out_capacity) return false;
-    out[nv++] = Vec2{ras.vx(x), ras.vy(y)};
+    out[nv++] = Vec2{ras.xs[x], ras.ys[y]};
     return true;
   };
   if (!emit(sx, sy)) return Status::capacity_exceeded;

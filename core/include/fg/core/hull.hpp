@@ -25,6 +25,8 @@ Status convex_hull_2d(const Vec2* points, uint32_t n, Vec2* scratch, Vec2* out,
 struct ConcaveHullScratch {
   uint8_t cells[kHullGridDim * kHullGridDim];
   uint8_t temp[kHullGridDim * kHullGridDim];
+  float corner_x[kHullGridDim + 1];  // the raster's cell corners
+  float corner_y[kHullGridDim + 1];
 };
 
 //! Parameters of the raster concave hull.
