@@ -471,6 +471,48 @@ TEST(PlannerInput, RangeFilterAndCropBoxCounts) {
   EXPECT_EQ(r.points.voxels, 2u);
 }
 
+// A full grid stops the read at the first point that needs one more cell, and the
+// counts say so exactly: points 1 cm apart (each in a cell of its own at 5 mm), with
+// NaN points mixed in, so the finite count is known point by point.
+TEST(PlannerInput, FullGridCountsEveryPointUpToTheRefusedOne) {
+  std::vector<Vec3> pts;
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  uint32_t finite_before_refused = 0, generated = 0;
+  for (int k = 0; generated < fg::kMaxVoxels + 500u; ++k) {
+    if (k % 7 == 3) {
+      pts.push_back(Vec3(nan, 0.f, 1.f));
+      continue;
+    }
+    ++generated;
+    const int c = static_cast<int>(pts.size());  // a lattice index per point
+    const Vec3 p(0.0013f + 0.01f * static_cast<float>(c % 100), -0.4987f + 0.01f * static_cast<float>((c / 100) % 100),
+                 0.3013f + 0.01f * static_cast<float>(c / 10000));
+    pts.push_back(p);
+  }
+  // Which point is refused: the (kMaxVoxels + 1)-th finite one.
+  uint32_t finite = 0, refused = 0;
+  for (uint32_t i = 0; i < pts.size(); ++i) {
+    if (!std::isfinite(pts[i].x())) continue;
+    if (++finite == fg::kMaxVoxels + 1u) {
+      refused = i;
+      break;
+    }
+  }
+  finite_before_refused = finite;
+  ASSERT_GT(refused, 0u);
+  auto pl = make_planner();
+  fg::PlannerConfig cfg;
+  cfg.workspace_centre_x_m = 0.5f;
+  ASSERT_EQ(pl->configure(cfg), Status::ok);
+  EXPECT_EQ(add(*pl, pts), Status::capacity_exceeded);
+  PlanResult r;
+  EXPECT_EQ(pl->plan(r), Status::capacity_exceeded);
+  EXPECT_EQ(r.points.input, pts.size());
+  EXPECT_EQ(r.points.finite, finite_before_refused);  // the refused point is read, not kept
+  EXPECT_EQ(r.points.after_filter, fg::kMaxVoxels);
+  EXPECT_EQ(pl->voxels().size(), fg::kMaxVoxels);
+}
+
 TEST(PlannerInput, TooManyVoxelsIsCapacityExceeded) {
   // Random points through the whole crop box: far more distinct cells than kMaxVoxels.
   std::mt19937 rng(6);
