@@ -120,6 +120,7 @@ struct Ingest {
       if (!grid.add_to_cell(pend[k].key, pend[k].o)) {
         offered = pend[k].offered;
         nonfinite = pend[k].nonfinite;
+        kept += k;
         return false;
       }
     }

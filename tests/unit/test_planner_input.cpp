@@ -488,12 +488,16 @@ TEST(PlannerInput, FullGridCountsEveryPointUpToTheRefusedOne) {
     const Vec3 p(0.0013f + 0.01f * static_cast<float>(c % 100), -0.4987f + 0.01f * static_cast<float>((c / 100) % 100),
                  0.3013f + 0.01f * static_cast<float>(c / 10000));
     pts.push_back(p);
+    // Ten points in the first cell again: the refused point then falls inside the
+    // ingest's batch of points, not at its start.
+    if (c == 0)
+      for (int r = 0; r < 10; ++r) pts.push_back(p);
   }
-  // Which point is refused: the (kMaxVoxels + 1)-th finite one.
+  // Which point is refused: the (kMaxVoxels + 11)-th finite one.
   uint32_t finite = 0, refused = 0;
   for (uint32_t i = 0; i < pts.size(); ++i) {
     if (!std::isfinite(pts[i].x())) continue;
-    if (++finite == fg::kMaxVoxels + 1u) {
+    if (++finite == fg::kMaxVoxels + 11u) {
       refused = i;
       break;
     }
@@ -509,7 +513,7 @@ TEST(PlannerInput, FullGridCountsEveryPointUpToTheRefusedOne) {
   EXPECT_EQ(pl->plan(r), Status::capacity_exceeded);
   EXPECT_EQ(r.points.input, pts.size());
   EXPECT_EQ(r.points.finite, finite_before_refused);  // the refused point is read, not kept
-  EXPECT_EQ(r.points.after_filter, fg::kMaxVoxels);
+  EXPECT_EQ(r.points.after_filter, fg::kMaxVoxels + 10u);
   EXPECT_EQ(pl->voxels().size(), fg::kMaxVoxels);
 }
 
