@@ -162,7 +162,8 @@ bool Planner::executable(Candidate& c, PlanResult& out) {
     const Vec3 z = c.Z.normalized();
     const GraspQuery q{c.position, z, c.X.normalized(),
                        c.position - z * (cfg_.gripper.finger_depth_m + cfg_.pregrasp_clearance_m),
-                       c.width, plane_found_ ? &plane_ : nullptr, &object_[0], object_.size()};
+                       c.width, plane_found_ ? &plane_ : nullptr, &object_[0], object_.size(),
+                       grid_.centroids(), state_, grid_.size()};
     const GraspVerdict v = grasp_check_->check(q);
     if (v == GraspVerdict::collision) failed = 2;
     else if (v != GraspVerdict::pass) failed = 6;  // unreachable (an unknown verdict never passes)
