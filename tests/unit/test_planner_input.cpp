@@ -934,3 +934,61 @@ TEST(PlannerFriction, ATurnedPrismIsGraspedOnItsFacesNotItsEdges) {
         << "yaw " << yaw_deg << " closing " << c.transpose() << " approach " << r.grasp.approach.transpose();
   }
 }
+
+// ---------------------------------------------------------------------------------
+// The families about the support plane's axes (docs/method.md, B/C).
+
+namespace {
+// An axis-aligned box standing on the table at (0.5, 0): only the faces a sensor at
+// `eye` faces, plus the table.
+std::vector<Vec3> seen_box_scene(uint32_t seed, const Vec3& eye, float sx, float sy, float sz) {
+  std::mt19937 rng(seed);
+  std::vector<Vec3> pts;
+  add_table(pts, rng, 0.003f, 0.5f - 0.5f * sx, 0.5f + 0.5f * sx, -0.5f * sy, 0.5f * sy);
+  std::vector<Vec3> box;
+  add_box(box, rng, 0.5f, 0.f, sx, sy, sz, 0.0015f);
+  const Vec3 c(0.5f, 0.f, 0.5f * sz), h(0.5f * sx, 0.5f * sy, 0.5f * sz);
+  for (const Vec3& p : box) {
+    // The face a point lies on: the axis where it is at the box's extent.
+    const Vec3 d = p - c;
+    int axis = 0;
+    float best = 1e9f;
+    for (int k = 0; k < 3; ++k) {
+      const float gap = h[k] - std::fabs(d[k]);
+      if (gap < best) {
+        best = gap;
+        axis = k;
+      }
+    }
+    Vec3 n = Vec3::Zero();
+    n[axis] = d[axis] > 0.f ? 1.f : -1.f;
+    if (n.dot(eye - p) > 0.f) pts.push_back(p);
+  }
+  return pts;
+}
+}  // namespace
+
+TEST(PlannerSupportFamilies, ABoxSeenOnItsTopAndOneWideFaceIsGraspedAcrossItsNarrowSide) {
+  // 4.7 x 13.7 x 14.3 cm, seen from high up in front of a wide face: the cloud is an
+  // L (top and one face), its principal axis runs diagonally across it, and so do the
+  // circles about the PCA axes. Whatever grasp comes back closes across the narrow
+  // side (x), within the friction cone of its faces; the circles about the support
+  // plane's axes hold such grasps (top-down, or horizontal from the box's ends).
+  const float cone_cos = std::cos(std::atan(0.5f));
+  int planned = 0;
+  for (const uint32_t seed : {41u, 42u, 43u}) {
+    const Vec3 eye(0.5f - 0.25f, 0.05f * (static_cast<float>(seed) - 42.f), 0.55f);
+    const std::vector<Vec3> world = seen_box_scene(seed, eye, 0.047f, 0.137f, 0.143f);
+    const Pose pose = look_at(eye, Vec3(0.5f, 0.f, 0.07f));
+    auto pl = make_planner();
+    ASSERT_EQ(add(*pl, to_sensor(world, pose), pose), Status::ok);
+    PlanResult r;
+    pl->plan(r);
+    if (r.status != Status::ok) continue;
+    ++planned;
+    EXPECT_GE(std::fabs(r.grasp.closing.x()), cone_cos)
+        << "seed " << seed << " closing " << r.grasp.closing.transpose() << " family " << fg::to_string(r.grasp.family);
+    EXPECT_NEAR(r.grasp.width, 0.047f, 0.01f) << "seed " << seed;
+  }
+  EXPECT_EQ(planned, 3);
+}
