@@ -32,6 +32,9 @@ constexpr float kTiltFitSpread = 0.003f;
 // A side whose fitted 1 - cos(tilt) changes by less than this over kTiltFitDepth is
 // flat (a radius above 0.06 m): its tilt is the contact's.
 constexpr double kFlatChange = 0.2;
+// A flat side's tilt must be this much inside the cone (its fitted tilt scatters by a
+// few degrees: 5 mm voxels, sensor noise).
+constexpr float kFlatMargin = 0.07f;
 // The largest turn of the closing direction towards the contact normals (rad).
 constexpr float kMaxClosingTurn = 0.6f;
 // Smaller turns are not worth a second check of a grasp that passes (rad).
@@ -480,9 +483,13 @@ bool Planner::friction_ok(const Vec3& pos, const ViewFrame& f, float width) {
   bool valid[2], flat[2];
   contact_tilt(pos, f, omc, valid, flat);
   const float cos_cone = std::cos(std::atan(cfg_.friction_mu));
+  const float cos_flat = std::cos(std::atan(cfg_.friction_mu) - kFlatMargin);
   for (int s = 0; s < 2; ++s) {
+    if (valid[s] && flat[s]) {
+      if (omc[s] > 1.f - cos_flat) return false;  // a flat face off the cone: an edge contact
+      continue;
+    }
     if (valid[s] && omc[s] <= 1.f - cos_cone) continue;  // in the cone at the extreme
-    if (valid[s] && flat[s]) return false;                // a flat face off the cone: an edge contact
     if (st.total[s] >= 3 && 3 * st.inside_cone[s] < st.total[s]) return false;
   }
   return true;
