@@ -135,7 +135,7 @@ PathHit segment_hit(const MotionConfig& motion, const PathCheckConfig& cfg,
   }
   const double step = cfg.step_rad > 1e-6 ? cfg.step_rad : 1e-6;
   const double want = std::ceil(span / step);
-  const uint32_t bound = std::max(cfg.max_samples, 1u);
+  const uint32_t bound = std::max<uint32_t>(cfg.max_samples, 1u);
   const uint32_t n = want < 1.0 ? 1u : (want > static_cast<double>(bound) ? bound : static_cast<uint32_t>(want));
   // A tool that starts in contact (the arm's joints put it on the plane or among the
   // points: a calibration offset, or it rests there) is not judged until it is clear.
