@@ -29,6 +29,10 @@ namespace {
 constexpr float kPi = 3.14159265358979f;
 // Approaches pointing up more steeply than this come from below the object: skipped.
 constexpr float kMaxApproachUp = 0.5f;
+// Two family axes closer than 10 deg (the extension's step) search the same circle.
+constexpr float kSameAxisCos = 0.9848078f;
+// The families about the support plane's horizontal axes close within 30 deg of it.
+constexpr float kSupportClosingSin = 0.5f;
 
 class StageTimer {
  public:
@@ -204,6 +208,32 @@ Status Planner::plan(PlanResult& out) {
     analyse_views(first_view, n_views_, out);
     found = rank_and_check(first_cand, out);
   }
+  // Then (G, a tilted principal axis): circles about the support plane's axes. A
+  // partial cloud (the top and one side of a box) tilts the PCA axes across it, and
+  // then no family above approaches square to the faces of an object standing on the
+  // plane: horizontal approaches all round, and approaches in the vertical planes
+  // through the object's major and minor directions along the plane (top-down grasps
+  // closing across the narrow side, or along the long one).
+  Vec3 sup[3];
+  for (int fam = 4; fam <= 6 && found == kMaxCandidates && cfg_.extend_search && support_frame(sup); ++fam) {
+    const uint32_t first_view = n_views_, first_cand = n_candidates_;
+    {
+      StageTimer t(stage(out, Stage::frame));
+      // Axis and start: the normal from the minor direction; the major direction
+      // from the minor (theta 0: top-down, closing across the narrow side); the minor
+      // from the major (theta pi: top-down, closing along the long side).
+      const Vec3& axis = sup[fam - 4];
+      const Vec3& x0 = fam == 6 ? sup[1] : sup[2];
+      // A circle about (nearly) the same axis as one searched above is skipped: it
+      // would search the same approaches again (an upright object's principal axis
+      // snaps to the vertical, and its other axes are then horizontal too).
+      bool searched = false;
+      for (int a = 0; a < 3; ++a) searched = searched || std::fabs(axis.dot(axes[a])) > kSameAxisCos;
+      if (!searched) add_family(static_cast<ViewFamily>(fam), axis, x0, 0.f, 2.f * kPi, false, 0.f, 0.f);
+    }
+    analyse_views(first_view, n_views_, out);
+    found = rank_and_check(first_cand, out);
+  }
   if (found == kMaxCandidates && cfg_.executability_checks) found = check_deferred(out);
 
   if (found == kMaxCandidates) {
@@ -267,6 +297,56 @@ bool Planner::build_object_frame(Vec3 axes[3], Vec3& X0) {
   return X0.allFinite() && Y.allFinite();
 }
 
+const char* to_string(ViewFamily f) {
+  switch (f) {
+    case ViewFamily::sensor_arc: return "sensor_arc";
+    case ViewFamily::full_circle: return "full_circle";
+    case ViewFamily::middle_axis: return "middle_axis";
+    case ViewFamily::minor_axis: return "minor_axis";
+    case ViewFamily::support_normal: return "support_normal";
+    case ViewFamily::support_major: return "support_major";
+    case ViewFamily::support_minor: return "support_minor";
+  }
+  return "unknown";
+}
+
+// The support plane's frame: its upward normal, then the object's major and minor
+// directions along it (PCA of the points projected onto the plane), right-handed
+// (major x minor = normal). False without a plane or when the projection is round
+// to float precision (no major direction: the normal's circle alone would do, but
+// the families are searched as a set).
+bool Planner::support_frame(Vec3 axes[3]) const {
+  if (!plane_found_ || object_.size() < 3) return false;
+  Vec3 n = plane_.n;
+  if (!(n.norm() > 0.5f)) return false;
+  n.normalize();
+  if (n.z() < 0.f) n = -n;
+  const Vec3 a = std::fabs(n.x()) < 0.9f ? Vec3::UnitX() : Vec3::UnitY();
+  const Vec3 u = (a - n * n.dot(a)).normalized(), v = n.cross(u);
+  double suu = 0.0, suv = 0.0, svv = 0.0, su = 0.0, sv = 0.0;
+  const uint32_t m = object_.size();
+  for (uint32_t i = 0; i < m; ++i) {
+    const Vec3 d = object_[i] - centroid_;
+    const double x = u.dot(d), y = v.dot(d);
+    su += x;
+    sv += y;
+    suu += x * x;
+    suv += x * y;
+    svv += y * y;
+  }
+  const double k = static_cast<double>(m);
+  const double cxx = suu / k - (su / k) * (su / k), cxy = suv / k - (su / k) * (sv / k),
+               cyy = svv / k - (sv / k) * (sv / k);
+  // Major direction of the 2x2 covariance: angle 0.5 atan2(2 cxy, cxx - cyy).
+  if (!(std::fabs(cxy) + std::fabs(cxx - cyy) > 1e-12)) return false;
+  const double phi = 0.5 * std::atan2(2.0 * cxy, cxx - cyy);
+  const Vec3 major = (u * static_cast<float>(std::cos(phi)) + v * static_cast<float>(std::sin(phi))).normalized();
+  axes[0] = n;
+  axes[1] = major;
+  axes[2] = n.cross(major).normalized();
+  return axes[1].allFinite() && axes[2].allFinite();
+}
+
 uint32_t Planner::add_family(ViewFamily fam, const Vec3& axis, const Vec3& X0, float from,
                              float to, bool skip_arc, float arc_from, float arc_to) {
   const Vec3 Z0 = X0.cross(axis);
@@ -291,6 +371,12 @@ uint32_t Planner::add_family(ViewFamily fam, const Vec3& axis, const Vec3& X0, f
     v.X = rotate_about(X0, axis, th);
     v.Z = rotate_about(Z0, axis, th);
     if (v.Z.z() > kMaxApproachUp) continue;  // from below the object
+    // About the support plane's horizontal axes: closing within 30 deg of the plane
+    // (approaches within 30 deg of top-down). A steeper closing needs a finger under
+    // the object, which stands on the plane.
+    if ((fam == ViewFamily::support_major || fam == ViewFamily::support_minor) &&
+        std::fabs(v.X.dot(plane_.n)) > kSupportClosingSin * plane_.n.norm())
+      continue;
     if (!seen_from_a_sensor(v.Z)) continue;
     v.has_candidate = false;
     v.beta = v.dz = 0.f;

@@ -24,6 +24,17 @@ constexpr uint32_t kSeenFingerHidden = 2;
 constexpr int kProfileBins = 8;
 constexpr int kSlopeBins = 3;  // the deepest seen bins that give its last slope
 constexpr float kHiddenBulge = 0.005f;
+// The contact tilt fit (contact_tilt): points up to this deep inside each side, at
+// least this many, spread over at least this depth.
+constexpr float kTiltFitDepth = 0.012f;
+constexpr uint32_t kTiltFitMin = 4;
+constexpr float kTiltFitSpread = 0.003f;
+// A side whose fitted 1 - cos(tilt) changes by less than this over kTiltFitDepth is
+// flat (a radius above 0.06 m): its tilt is the contact's.
+constexpr double kFlatChange = 0.2;
+// A flat side's tilt must be this much inside the cone (its fitted tilt scatters by a
+// few degrees: 5 mm voxels, sensor noise).
+constexpr float kFlatMargin = 0.07f;
 // The largest turn of the closing direction towards the contact normals (rad).
 constexpr float kMaxClosingTurn = 0.6f;
 // Smaller turns are not worth a second check of a grasp that passes (rad).
@@ -162,7 +173,8 @@ bool Planner::executable(Candidate& c, PlanResult& out) {
     const Vec3 z = c.Z.normalized();
     const GraspQuery q{c.position, z, c.X.normalized(),
                        c.position - z * (cfg_.gripper.finger_depth_m + cfg_.pregrasp_clearance_m),
-                       c.width, plane_found_ ? &plane_ : nullptr, &object_[0], object_.size()};
+                       c.width, plane_found_ ? &plane_ : nullptr, &object_[0], object_.size(),
+                       grid_.centroids(), state_, grid_.size()};
     const GraspVerdict v = grasp_check_->check(q);
     if (v == GraspVerdict::collision) failed = 2;
     else if (v != GraspVerdict::pass) failed = 6;  // unreachable (an unknown verdict never passes)
@@ -393,14 +405,93 @@ bool Planner::normal_at(uint32_t oi, Vec3& nrm) {
   return true;
 }
 
-// Contact normals inside the friction cone: at least a third of each pad's contact
-// normals have |n . closing| >= cos(atan(mu)). Corner and edge contacts fail (nearly
-// none inside); faces and rounded sides pass, noisy normals on small faces too.
+// The tilt of each pad's contact normal from the closing line, extrapolated to the
+// side's extreme (where the pad touches first): over the points within the pad's
+// footprint up to kTiltFitDepth inside the side, with a defined normal not facing the
+// approach, a least-squares line 1 - cos(tilt) = a + b d in their depth d inside the
+// side. A round side (radius r) has 1 - cos(tilt) = d / r: a ~ 0, the pad meets it
+// along the closing line; a flat face beside an edge keeps its tilt at every depth:
+// a = 1 - cos(its tilt). The sensors seldom see the part of a round side nearest the
+// extreme (the view grazes it there), which a count of the normals inside the cone
+// read as a steep contact. valid[s] is false with fewer than kTiltFitMin points or
+// less than kTiltFitSpread of depth between them.
+void Planner::contact_tilt(const Vec3& pos, const ViewFrame& f, float one_minus_cos[2], bool valid[2], bool flat[2]) {
+  const GripperGeometry& g = cfg_.gripper;
+  const uint32_t n = object_.size();
+  float ext[2] = {1e9f, -1e9f};  // the sides' extremes in the footprint (x)
+  for (uint32_t i = 0; i < n; ++i) {
+    const Vec3 d = object_[i] - pos;
+    const float x = f.X.dot(d), y = f.Y.dot(d), z = f.Z.dot(d);
+    if (std::fabs(y) > 0.5f * g.finger_width_m || std::fabs(z) > 0.5f * g.finger_depth_m) continue;
+    ext[0] = std::min(ext[0], x);
+    ext[1] = std::max(ext[1], x);
+  }
+  double sd[2] = {0, 0}, sdd[2] = {0, 0}, sv[2] = {0, 0}, sdv[2] = {0, 0};
+  uint32_t cnt[2] = {0, 0};
+  float dmin[2] = {1e9f, 1e9f}, dmax[2] = {-1e9f, -1e9f};
+  for (uint32_t i = 0; i < n && ext[1] >= ext[0]; ++i) {
+    const Vec3 d = object_[i] - pos;
+    const float x = f.X.dot(d), y = f.Y.dot(d), z = f.Z.dot(d);
+    if (std::fabs(y) > 0.5f * g.finger_width_m || std::fabs(z) > 0.5f * g.finger_depth_m) continue;
+    const float dl = x - ext[0], dr = ext[1] - x;
+    int side = -1;
+    float depth = 0.f;
+    if (dl <= kTiltFitDepth && dl <= dr) {
+      side = 0;
+      depth = dl;
+    } else if (dr <= kTiltFitDepth) {
+      side = 1;
+      depth = dr;
+    }
+    Vec3 nrm;
+    if (side < 0 || !normal_at(i, nrm) || std::fabs(nrm.dot(f.Z)) > kFrontFacingCos) continue;
+    const double v = 1.0 - std::fabs(static_cast<double>(nrm.dot(f.X)));
+    ++cnt[side];
+    sd[side] += depth;
+    sdd[side] += static_cast<double>(depth) * depth;
+    sv[side] += v;
+    sdv[side] += depth * v;
+    dmin[side] = std::min(dmin[side], depth);
+    dmax[side] = std::max(dmax[side], depth);
+  }
+  for (int s = 0; s < 2; ++s) {
+    valid[s] = flat[s] = false;
+    one_minus_cos[s] = 1.f;
+    if (cnt[s] < kTiltFitMin || dmax[s] - dmin[s] < kTiltFitSpread) continue;
+    const double m = static_cast<double>(cnt[s]);
+    const double var = sdd[s] / m - (sd[s] / m) * (sd[s] / m);
+    if (!(var > 1e-12)) continue;
+    const double b = (sdv[s] / m - (sd[s] / m) * (sv[s] / m)) / var;
+    const double a = sv[s] / m - b * sd[s] / m;
+    one_minus_cos[s] = static_cast<float>(std::min(1.0, std::max(0.0, a)));
+    flat[s] = b * static_cast<double>(kTiltFitDepth) < kFlatChange;
+    valid[s] = true;
+  }
+}
+
+// Contact normals inside the friction cone, per pad: the tilt extrapolated to the
+// side's extreme (contact_tilt) within atan(mu) passes; a flat side whose tilt is
+// outside fails (a face beside an edge the pad would touch); otherwise (no fit, or a
+// curved side whose extrapolation is steep: on real captures the normals next to a
+// silhouette's edge are bent by mixed pixels) at least a third of the pad's contact
+// normals must have |n . closing| >= cos(atan(mu)). Corner and edge contacts fail;
+// faces and rounded sides pass, noisy normals on small faces too.
 bool Planner::friction_ok(const Vec3& pos, const ViewFrame& f, float width) {
   ContactNormalStats st;
   contact_normal_stats(pos, f, width, st);
-  for (int s = 0; s < 2; ++s)
+  float omc[2];
+  bool valid[2], flat[2];
+  contact_tilt(pos, f, omc, valid, flat);
+  const float cos_cone = std::cos(std::atan(cfg_.friction_mu));
+  const float cos_flat = std::cos(std::atan(cfg_.friction_mu) - kFlatMargin);
+  for (int s = 0; s < 2; ++s) {
+    if (valid[s] && flat[s]) {
+      if (omc[s] > 1.f - cos_flat) return false;  // a flat face off the cone: an edge contact
+      continue;
+    }
+    if (valid[s] && omc[s] <= 1.f - cos_cone) continue;  // in the cone at the extreme
     if (st.total[s] >= 3 && 3 * st.inside_cone[s] < st.total[s]) return false;
+  }
   return true;
 }
 

@@ -56,36 +56,48 @@ bool solve(const MotionConfig& cfg, const PoseD& base_T_tool0, const double* nea
 }
 }  // namespace
 
-IkStatus plan_grasp_motion(const MotionConfig& cfg, const Vec3& position, const Vec3& approach,
-                           const Vec3& closing, const Vec3& pregrasp, const double q_now[6],
-                           GraspMotion& out) {
+namespace {
+IkStatus plan_turn(const MotionConfig& cfg, const Vec3& position, const Vec3& approach, const Vec3& closing,
+                   const Vec3& pregrasp, const double q_now[6], bool turned, GraspMotion& out) {
   if (!position.allFinite() || !approach.allFinite() || !closing.allFinite() || !pregrasp.allFinite())
     return IkStatus::invalid_argument;
   for (int i = 0; i < 6; ++i)
     if (!std::isfinite(q_now[i])) return IkStatus::invalid_argument;
   if (!(approach.norm() > 0.5f) || !(closing.norm() > 0.5f)) return IkStatus::invalid_argument;
   const PoseD base_T_world = inverse(to_d(cfg.world_T_base));
+  const Vec3 start = pregrasp - approach.normalized() * cfg.standoff_m;
+  const PoseD pre = compose(base_T_world, tool0_pose(cfg, start, approach, closing, turned));
+  bool ok = solve(cfg, pre, q_now, out.pregrasp);
+  const double* previous = out.pregrasp;
+  for (int k = 1; k <= GraspMotion::kApproachSteps && ok; ++k) {
+    const float f = static_cast<float>(k) / static_cast<float>(GraspMotion::kApproachSteps);
+    const Vec3 centre = k == GraspMotion::kApproachSteps ? position : Vec3(start + (position - start) * f);
+    const PoseD step = compose(base_T_world, tool0_pose(cfg, centre, approach, closing, turned));
+    ok = solve(cfg, step, previous, out.approach[k - 1]);
+    previous = out.approach[k - 1];
+  }
+  if (!ok) return IkStatus::unreachable;
+  for (int i = 0; i < 6; ++i) out.grasp[i] = previous[i];
+  PoseD lift_w = tool0_pose(cfg, position, approach, closing, turned);
+  lift_w.t.z() += static_cast<double>(cfg.lift_m);
+  if (!solve(cfg, compose(base_T_world, lift_w), out.grasp, out.lift)) return IkStatus::unreachable;
+  out.turned = turned;
+  return IkStatus::ok;
+}
+}  // namespace
+
+IkStatus plan_grasp_motion(const MotionConfig& cfg, const Vec3& position, const Vec3& approach,
+                           const Vec3& closing, const Vec3& pregrasp, const double q_now[6],
+                           bool turned, GraspMotion& out) {
+  return plan_turn(cfg, position, approach, closing, pregrasp, q_now, turned, out);
+}
+
+IkStatus plan_grasp_motion(const MotionConfig& cfg, const Vec3& position, const Vec3& approach,
+                           const Vec3& closing, const Vec3& pregrasp, const double q_now[6],
+                           GraspMotion& out) {
   for (int turn = 0; turn < 2; ++turn) {
-    const bool turned = turn == 1;
-    const Vec3 start = pregrasp - approach.normalized() * cfg.standoff_m;
-    const PoseD pre = compose(base_T_world, tool0_pose(cfg, start, approach, closing, turned));
-    bool ok = solve(cfg, pre, q_now, out.pregrasp);
-    const double* previous = out.pregrasp;
-    for (int k = 1; k <= GraspMotion::kApproachSteps && ok; ++k) {
-      const float f = static_cast<float>(k) / static_cast<float>(GraspMotion::kApproachSteps);
-      const Vec3 centre = k == GraspMotion::kApproachSteps ? position : Vec3(start + (position - start) * f);
-      const PoseD step = compose(base_T_world, tool0_pose(cfg, centre, approach, closing, turned));
-      ok = solve(cfg, step, previous, out.approach[k - 1]);
-      previous = out.approach[k - 1];
-    }
-    if (!ok) continue;
-    for (int i = 0; i < 6; ++i) out.grasp[i] = previous[i];
-    PoseD lift_w = tool0_pose(cfg, position, approach, closing, turned);
-    lift_w.t.z() += static_cast<double>(cfg.lift_m);
-    if (solve(cfg, compose(base_T_world, lift_w), out.grasp, out.lift)) {
-      out.turned = turned;
-      return IkStatus::ok;
-    }
+    const IkStatus s = plan_turn(cfg, position, approach, closing, pregrasp, q_now, turn == 1, out);
+    if (s != IkStatus::unreachable) return s;
   }
   return IkStatus::unreachable;
 }

@@ -17,8 +17,9 @@ void Ur5GraspCheck::set_current_joints(const double q[6]) {
 }
 
 void Ur5GraspCheck::clear_counts() {
-  asked_ = unreachable_ = collisions_ = 0;
+  asked_ = unreachable_ = collisions_ = path_hits_ = 0;
   last_hit_ = ToolHit::none;
+  last_path_hit_ = PathHit::none;
 }
 
 GraspVerdict Ur5GraspCheck::do_check(const GraspQuery& q) {
@@ -36,14 +37,35 @@ GraspVerdict Ur5GraspCheck::do_check(const GraspQuery& q) {
   }
 #endif
   if (cfg_.check_reach) {
-    GraspMotion m;
-    if (plan_grasp_motion(cfg_.motion, q.position, q.approach, q.closing, q.pregrasp, q_now_, m) !=
-        IkStatus::ok) {
-      ++unreachable_;
-      return GraspVerdict::unreachable;
+    // One way round, then the other (a parallel gripper grasps the same either way):
+    // the first whose joints exist and whose executed path is clear.
+    bool reachable = false;
+    last_path_hit_ = PathHit::none;
+    for (int turn = 0; turn < 2; ++turn) {
+      GraspMotion m;
+      if (plan_grasp_motion(cfg_.motion, q.position, q.approach, q.closing, q.pregrasp, q_now_, turn == 1, m) !=
+          IkStatus::ok)
+        continue;
+      reachable = true;
+      if (cfg_.check_path) {
+        const PathHit h = grasp_path_hit(cfg_.motion, cfg_.tool, cfg_.path, q_now_, m, q, nullptr,
+                                           path_points_, kMaxObjectPoints);
+        if (h != PathHit::none) {
+          last_path_hit_ = h;
+          continue;
+        }
+      }
+      motion_ = m;
+      has_motion_ = true;
+      return GraspVerdict::pass;
     }
-    motion_ = m;
-    has_motion_ = true;
+    if (reachable) {
+      ++collisions_;
+      ++path_hits_;
+      return GraspVerdict::collision;
+    }
+    ++unreachable_;
+    return GraspVerdict::unreachable;
   }
   return GraspVerdict::pass;
 }

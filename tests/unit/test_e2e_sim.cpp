@@ -280,3 +280,18 @@ TEST(E2eSimDeterminism, SameSceneSameGrasp) {
 }
 
 }  // namespace
+
+// Boxes whose partial cloud (the top and one wide face) tilts the principal axis
+// across it, so that no circle about the PCA axes approaches square to the faces
+// (found by forcegrasp sim: no_grasp, every candidate outside the friction cone).
+// The circles about the support plane's axes (docs/method.md, B/C) must find a grasp
+// across the narrow side: the same oracle as the parameterised box cases.
+TEST(E2eSimSupportFamilies, BoxesWhoseCloudTiltsThePrincipalAxis) {
+  for (const uint64_t seed : {5057ull, 5076ull}) {
+    const Planned p = plan_scene(ObjectKind::box, seed);
+    const Failures f = check_box(p);
+    std::string all;
+    for (const std::string& s : f) all += "\n  - " + s;
+    EXPECT_TRUE(f.empty()) << "box seed " << seed << ": " << describe(p) << all;
+  }
+}

@@ -124,10 +124,7 @@ PlanOutcome run_plan(const PlanOptions& opts) {
                         {"beta", g.beta},
                         {"dz", g.dz},
                         {"viewpoint", g.viewpoint},
-                        {"family", g.family == ViewFamily::sensor_arc    ? "sensor_arc"
-                                   : g.family == ViewFamily::full_circle ? "full_circle"
-                                   : g.family == ViewFamily::middle_axis ? "middle_axis"
-                                                                         : "minor_axis"},
+                        {"family", to_string(g.family)},
                         {"pregrasp", vec(g.pregrasp)}};
       if (check_cfg.check_reach && check.has_motion()) {
         const robot::GraspMotion& m = check.motion();

@@ -75,15 +75,7 @@ std::string vec_text(const V3& v, int decimals = 3) {
   return "(" + fmt(v.x(), decimals) + ", " + fmt(v.y(), decimals) + ", " + fmt(v.z(), decimals) + ")";
 }
 
-const char* family_name(ViewFamily f) {
-  switch (f) {
-    case ViewFamily::sensor_arc: return "sensor_arc";
-    case ViewFamily::full_circle: return "full_circle";
-    case ViewFamily::middle_axis: return "middle_axis";
-    case ViewFamily::minor_axis: return "minor_axis";
-  }
-  return "?";
-}
+const char* family_name(ViewFamily f) { return to_string(f); }
 
 // Largest of 1, 2, 5 x 10^k not above v (v > 0).
 double nice_floor(double v) {
@@ -881,6 +873,11 @@ void draw_marker(Svg& svg, ViewFamily f, P2 c, double r, const std::string& styl
     case ViewFamily::minor_axis:
       svg.polygon({{c.x, c.y - 1.25 * r}, {c.x + 1.25 * r, c.y}, {c.x, c.y + 1.25 * r}, {c.x - 1.25 * r, c.y}}, style);
       break;
+    case ViewFamily::support_normal:
+    case ViewFamily::support_major:
+    case ViewFamily::support_minor:  // a triangle pointing down: the support plane's frame
+      svg.polygon({{c.x, c.y + 1.2 * r}, {c.x + 1.1 * r, c.y - 0.8 * r}, {c.x - 1.1 * r, c.y - 0.8 * r}}, style);
+      break;
   }
 }
 const char* family_colour(ViewFamily f) {
@@ -889,6 +886,9 @@ const char* family_colour(ViewFamily f) {
     case ViewFamily::full_circle: return "#ff7f0e";
     case ViewFamily::middle_axis: return "#2ca02c";
     case ViewFamily::minor_axis: return "#9467bd";
+    case ViewFamily::support_normal: return "#8c564b";
+    case ViewFamily::support_major: return "#e377c2";
+    case ViewFamily::support_minor: return "#7f7f7f";
   }
   return "#000000";
 }
@@ -903,7 +903,7 @@ std::string balance_picture(const Planner& planner, const PlanResult& result) {
   };
   std::vector<Row> rows;
   uint32_t no_cand = 0, no_contact = 0;
-  bool fam_used[4] = {false, false, false, false};
+  bool fam_used[kViewFamilies] = {};
   Bounds tb;
   for (uint32_t i = 0; i < planner.view_count(); ++i) {
     const ViewRecord& v = planner.view(i);
@@ -988,7 +988,7 @@ std::string balance_picture(const Planner& planner, const PlanResult& result) {
   }
 
   Legend lg(760, 110, 265);
-  for (int k = 0; k < 4; ++k) {
+  for (int k = 0; k < kViewFamilies; ++k) {
     const ViewFamily f = static_cast<ViewFamily>(k);
     if (!fam_used[k] && k != 0) continue;
     lg.add([f](Svg& s, P2 q) { draw_marker(s, f, q, 4.5, attrs("#222222", 0.8, family_colour(f))); },

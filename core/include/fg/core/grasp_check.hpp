@@ -27,6 +27,13 @@ struct GraspQuery {
   const Plane* support;       //!< the support plane, or null when none was found
   const Vec3* object_points;  //!< the target's points (the planner's memory; valid
   uint32_t n_object_points;   //!< during the call only)
+  //! Everything in the scene that is not the support plane (the target and the other
+  //! objects): scene_points[i] for every i < n_scene_points whose scene_keep[i] is not
+  //! 0 (scene_keep null: all of them). The planner's voxel centroids; valid during the
+  //! call only. Null / 0 when not given.
+  const Vec3* scene_points = nullptr;
+  const uint8_t* scene_keep = nullptr;
+  uint32_t n_scene_points = 0;
 };
 
 class GraspCheck {

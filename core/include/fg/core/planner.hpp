@@ -30,8 +30,22 @@ enum class Stage : uint8_t { ingest, plane, cluster, frame, xoy, xoz, select, to
 const char* to_string(Stage s);
 
 //! Viewpoint families: the paper's arc between the sensors, then (extend_search)
-//! the rest of the circle about the principal axis and circles about the other axes.
-enum class ViewFamily : uint8_t { sensor_arc = 0, full_circle = 1, middle_axis = 2, minor_axis = 3 };
+//! the rest of the circle about the principal axis and circles about the other axes,
+//! then circles about the support plane's axes (its normal, and the object's major
+//! and minor directions along the plane).
+enum class ViewFamily : uint8_t {
+  sensor_arc = 0,
+  full_circle = 1,
+  middle_axis = 2,
+  minor_axis = 3,
+  support_normal = 4,
+  support_major = 5,
+  support_minor = 6,
+};
+inline constexpr int kViewFamilies = 7;
+//! "sensor_arc", "full_circle", "middle_axis", "minor_axis", "support_normal",
+//! "support_major", "support_minor".
+const char* to_string(ViewFamily f);
 
 struct Grasp {
   Vec3 position = Vec3::Zero();  //!< world, centre between the pads
@@ -158,6 +172,7 @@ class Planner {
   Status ingest_begin(SensorRole role, const Pose& world_T_sensor);
   Status end_ingest(uint32_t offered, uint32_t finite, uint32_t kept, uint64_t t0, Status st);
   bool build_object_frame(Vec3 axes[3], Vec3& X0);
+  bool support_frame(Vec3 axes[3]) const;
   uint32_t add_family(ViewFamily fam, const Vec3& axis, const Vec3& X0, float from, float to,
                       bool skip_arc, float arc_from, float arc_to);
   void analyse_views(uint32_t first, uint32_t last, PlanResult& out);
@@ -178,6 +193,7 @@ class Planner {
   };
   void contact_normal_stats(const Vec3& pos, const ViewFrame& f, float width, ContactNormalStats& st);
   bool friction_ok(const Vec3& pos, const ViewFrame& f, float width);
+  void contact_tilt(const Vec3& pos, const ViewFrame& f, float one_minus_cos[2], bool valid[2], bool flat[2]);
   bool fingers_clear_of_hull(const Vec3& pos, const ViewFrame& f);
   int fingers_in_seen_space(const Vec3& pos, const ViewFrame& f, uint32_t& partly_hidden);
   bool unseen_side_clear(const Vec3& pos, const ViewFrame& f, int side);

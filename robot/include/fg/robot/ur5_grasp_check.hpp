@@ -1,14 +1,17 @@
 // The robot's check of a planner candidate (algorithm.md F): the whole tool clear of
 // the support plane and the target's convex pieces (libccd, where the build has it),
 // and joint solutions inside the limits at the pre-grasp, the grasp and the lift,
-// each nearest the one before, starting from the arm's current joints. Install it on
+// each nearest the one before, starting from the arm's current joints, and the tool
+// along the joint path the arm will execute (path_check.hpp). Install it on
 // the planner (Planner::set_grasp_check) before plan(); after an ok plan, motion()
 // holds the joints of the returned grasp. No heap.
 #pragma once
 #include <cstdint>
 
 #include "fg/core/grasp_check.hpp"
+#include "fg/core/limits.hpp"
 #include "fg/robot/grasp_motion.hpp"
+#include "fg/robot/path_check.hpp"
 #include "fg/robot/tool_collision.hpp"
 
 #ifndef FG_ROBOT_WITH_LIBCCD
@@ -22,6 +25,12 @@ struct GraspCheckConfig {
   ToolGeometry tool;
   bool check_reach = true;  //!< inverse kinematics (needs the current joints)
   bool check_tool = true;   //!< tool collision (ignored in builds without libccd)
+  //! The tool along the joint path the arm executes (the free move from the current
+  //! joints, then the approach waypoints) against the support plane and the scene
+  //! points (path_check.hpp); needs check_reach. When the path of one way round (the
+  //! closing direction kept or reversed) hits, the other is tried.
+  bool check_path = true;
+  PathCheckConfig path;
 };
 
 class Ur5GraspCheck final : public GraspCheck {
@@ -40,6 +49,9 @@ class Ur5GraspCheck final : public GraspCheck {
   uint32_t asked() const { return asked_; }
   uint32_t unreachable() const { return unreachable_; }
   uint32_t collisions() const { return collisions_; }
+  //! Candidates turned down because the executed joint path hit (counted in collisions()).
+  uint32_t path_hits() const { return path_hits_; }
+  PathHit last_path_hit() const { return last_path_hit_; }
   ToolHit last_hit() const { return last_hit_; }
   void clear_counts();
 
@@ -52,8 +64,10 @@ class Ur5GraspCheck final : public GraspCheck {
   double q_now_[6] = {0.0, -1.5707963267948966, 1.5707963267948966, -1.5707963267948966,
                       -1.5707963267948966, 0.0};
   GraspMotion motion_{};
+  uint32_t path_points_[kMaxObjectPoints];  // the kept scene points of the path check
   bool has_motion_ = false;
-  uint32_t asked_ = 0, unreachable_ = 0, collisions_ = 0;
+  uint32_t asked_ = 0, unreachable_ = 0, collisions_ = 0, path_hits_ = 0;
+  PathHit last_path_hit_ = PathHit::none;
   ToolHit last_hit_ = ToolHit::none;
 #if FG_ROBOT_WITH_LIBCCD
   ToolCollision collision_;
