@@ -56,9 +56,9 @@ bool solve(const MotionConfig& cfg, const PoseD& base_T_tool0, const double* nea
 }
 }  // namespace
 
-namespace {
-IkStatus plan_turn(const MotionConfig& cfg, const Vec3& position, const Vec3& approach, const Vec3& closing,
-                   const Vec3& pregrasp, const double q_now[6], bool turned, GraspMotion& out) {
+IkStatus plan_grasp_motion(const MotionConfig& cfg, const Vec3& position, const Vec3& approach,
+                           const Vec3& closing, const Vec3& pregrasp, const double q_now[6],
+                           bool turned, GraspMotion& out) {
   if (!position.allFinite() || !approach.allFinite() || !closing.allFinite() || !pregrasp.allFinite())
     return IkStatus::invalid_argument;
   for (int i = 0; i < 6; ++i)
@@ -84,19 +84,12 @@ IkStatus plan_turn(const MotionConfig& cfg, const Vec3& position, const Vec3& ap
   out.turned = turned;
   return IkStatus::ok;
 }
-}  // namespace
-
-IkStatus plan_grasp_motion(const MotionConfig& cfg, const Vec3& position, const Vec3& approach,
-                           const Vec3& closing, const Vec3& pregrasp, const double q_now[6],
-                           bool turned, GraspMotion& out) {
-  return plan_turn(cfg, position, approach, closing, pregrasp, q_now, turned, out);
-}
 
 IkStatus plan_grasp_motion(const MotionConfig& cfg, const Vec3& position, const Vec3& approach,
                            const Vec3& closing, const Vec3& pregrasp, const double q_now[6],
                            GraspMotion& out) {
   for (int turn = 0; turn < 2; ++turn) {
-    const IkStatus s = plan_turn(cfg, position, approach, closing, pregrasp, q_now, turn == 1, out);
+    const IkStatus s = plan_grasp_motion(cfg, position, approach, closing, pregrasp, q_now, turn == 1, out);
     if (s != IkStatus::unreachable) return s;
   }
   return IkStatus::unreachable;

@@ -75,7 +75,6 @@ std::string vec_text(const V3& v, int decimals = 3) {
   return "(" + fmt(v.x(), decimals) + ", " + fmt(v.y(), decimals) + ", " + fmt(v.z(), decimals) + ")";
 }
 
-const char* family_name(ViewFamily f) { return to_string(f); }
 
 // Largest of 1, 2, 5 x 10^k not above v (v > 0).
 double nice_floor(double v) {
@@ -729,7 +728,7 @@ std::string silhouette_picture(Planner& planner, const PlanResult& result) {
   if (vi >= 0) {
     const ViewRecord& v = planner.view(static_cast<uint32_t>(vi));
     sub.push_back(std::string(chosen ? "chosen viewpoint " : "viewpoint (none chosen; best beta) ") +
-                  std::to_string(vi) + ": family " + family_name(v.family) + ", theta " +
+                  std::to_string(vi) + ": family " + to_string(v.family) + ", theta " +
                   fmt(v.theta * 180.0 / kPi, 1) + " deg; seen along its Z " + vec_text(v.Z.cast<double>(), 2) +
                   ", origin at the object centroid");
     sub.push_back(std::to_string(d.n_points) + " projected points, " + std::to_string(d.n_contour) +
@@ -992,7 +991,7 @@ std::string balance_picture(const Planner& planner, const PlanResult& result) {
     const ViewFamily f = static_cast<ViewFamily>(k);
     if (!fam_used[k] && k != 0) continue;
     lg.add([f](Svg& s, P2 q) { draw_marker(s, f, q, 4.5, attrs("#222222", 0.8, family_colour(f))); },
-           std::string("viewpoint, ") + family_name(f));
+           std::string("viewpoint, ") + to_string(f));
   }
   if (have_chosen)
     lg.add([](Svg& s, P2 q) { s.circle(q, 9, attrs("#d62728", 2.5, "#ffd84d", "fill-opacity=\"0.6\"")); },
@@ -1023,7 +1022,7 @@ std::string index_html(const PlanResult& result) {
     o << ": position " << esc(vec_text(g.position.cast<double>(), 4)) << " m, approach "
       << esc(vec_text(g.approach.cast<double>(), 3)) << ", closing " << esc(vec_text(g.closing.cast<double>(), 3))
       << ", width " << fmt(g.width * 1000, 1) << " mm, beta " << rad_text(g.beta) << " rad, dz "
-      << fmt(g.dz * 1000, 2) << " mm (" << family_name(g.family) << ", viewpoint " << fmt(g.viewpoint, 3)
+      << fmt(g.dz * 1000, 2) << " mm (" << to_string(g.family) << ", viewpoint " << fmt(g.viewpoint, 3)
       << " rad)";
   }
   o << ". " << result.points.object << " object points, " << result.viewpoints << " viewpoints, "

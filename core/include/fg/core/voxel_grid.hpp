@@ -91,8 +91,8 @@ class VoxelGrid {
   //! others stay in the arrays and keep their indices). Planning drops the support
   //! plane this way: the later neighbour searches then probe a nearly empty table.
   void keep_in_index_only(const uint8_t* keep);
-  //! After finalize(): lends the count storage (size() entries) as caller scratch,
-  //! valid until reset(); voxel(i).count reads 0 from then on. nullptr before.
+  //! After finalize(): lends the storage the counts used, past the packed centroids
+  //! (size() entries), as caller scratch, valid until reset(). nullptr before.
   uint32_t* lend_count_storage();
 
   uint32_t size() const { return size_; }
