@@ -35,6 +35,9 @@ constexpr double kFlatChange = 0.2;
 // A flat side's tilt must be this much inside the cone (its fitted tilt scatters by a
 // few degrees: 5 mm voxels, sensor noise).
 constexpr float kFlatMargin = 0.07f;
+// A pad must reach more than this (along the approach) past the first contact point of
+// its side: a voxel (centroids lie up to half a voxel inside the surface) and a margin.
+constexpr float kTipReach = 0.006f;
 // The largest turn of the closing direction towards the contact normals (rad).
 constexpr float kMaxClosingTurn = 0.6f;
 // Smaller turns are not worth a second check of a grasp that passes (rad).
@@ -209,8 +212,12 @@ void Planner::contact_normal_stats(const Vec3& pos, const ViewFrame& f, float wi
     int side = -1;
     if (x <= -0.5f * width + cfg_.contact_band_m) side = 0;
     else if (x >= 0.5f * width - cfg_.contact_band_m) side = 1;
+    if (side < 0) continue;
+    st.z_first[side] = std::min(st.z_first[side], z);
     Vec3 nrm;
-    if (side < 0 || !normal_at(i, nrm) || std::fabs(nrm.dot(f.Z)) > kFrontFacingCos) continue;
+    if (!normal_at(i, nrm)) continue;
+    if (plane_found_ && std::fabs(nrm.dot(plane_.n)) > kFrontFacingCos * plane_.n.norm()) ++st.level[side];
+    if (std::fabs(nrm.dot(f.Z)) > kFrontFacingCos) continue;
     const float along = nrm.dot(f.X);
     ++st.total[side];
     st.inside_cone[side] += std::fabs(along) >= cos_cone ? 1u : 0u;
@@ -484,7 +491,13 @@ bool Planner::friction_ok(const Vec3& pos, const ViewFrame& f, float width) {
   contact_tilt(pos, f, omc, valid, flat);
   const float cos_cone = std::cos(std::atan(cfg_.friction_mu));
   const float cos_flat = std::cos(std::atan(cfg_.friction_mu) - kFlatMargin);
+  const float tip = 0.5f * cfg_.gripper.finger_depth_m - kTipReach;
   for (int s = 0; s < 2; ++s) {
+    // Every contact point within kTipReach of the fingertip, some of them on a face
+    // parallel to the support plane (a top): the pad overlaps the side by less than
+    // that, and its tip may land on the top beyond the edge it was to squeeze (a low
+    // object under a tilted approach, the hand raised off the table; a thin one).
+    if (st.z_first[s] > tip && st.level[s] > 0) return false;
     if (valid[s] && flat[s]) {
       if (omc[s] > 1.f - cos_flat) return false;  // a flat face off the cone: an edge contact
       continue;
