@@ -85,6 +85,7 @@ Status Planner::plan(PlanResult& out) {
   n_views_ = 0;
   n_candidates_ = 0;
   checks_left_ = kMaxCheckedCandidates;
+  if (grasp_check_ != nullptr) grasp_check_->begin_plan();
   n_deferred_ = 0;
   n_near_ = 0;
   chosen_view_ = -1;
