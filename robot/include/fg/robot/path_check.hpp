@@ -62,8 +62,10 @@ struct PathBudget {
 //! vertical column (kPathColumnM square columns in x and y, kPathColumns per axis,
 //! wrapping round, so any extent fits: far points only share a column), so a tool pose
 //! scans only the columns under its bounding box, not the whole scene.
-constexpr uint32_t kPathColumns = 32;
-constexpr double kPathColumnM = 0.04;
+//! (Small builds: 16 columns of 8 cm, 1 KiB of starts; the host: 32 of 4 cm, 4 KiB.
+//! Either way one wrap spans 1.28 m, about a workspace.)
+constexpr uint32_t kPathColumns = kMaxObjectPoints >= 4096 ? 32 : 16;
+constexpr double kPathColumnM = 1.28 / kPathColumns;
 struct PathSceneScratch {
   uint32_t idx[kMaxObjectPoints];
   uint32_t column_start[kPathColumns * kPathColumns + 1];
