@@ -133,6 +133,7 @@ Status Planner::plan(PlanResult& out) {
     // only: take the support plane out of the hash.
     static_assert(kVoxelRemoved == 0, "state_ doubles as the keep flags");
     if (removed > 0) grid_.keep_in_index_only(state_);
+    grid_.prepare_lookups(state_);
   }
 
   // A.6 target cluster
