@@ -24,18 +24,14 @@ void VoxelGrid::build_filter(const uint8_t* keep) {
   for (uint32_t w = 0; w < (2u << kCacheBits); ++w) filter_[w] = 0u;
   for (uint32_t i = 0; i < size_; ++i) {
     if (keep != nullptr && keep[i] == 0) continue;
-    const uint32_t b1 = mix(keys_[i]) & kFilterMask, b2 = filter_bit2(keys_[i]);
+    const uint32_t m = mix(keys_[i]), b1 = m & kFilterMask, b2 = (m >> 14) & kFilterMask;
     filter_[b1 >> 5] |= 1u << (b1 & 31u);
     filter_[b2 >> 5] |= 1u << (b2 & 31u);
   }
   filter_on_ = true;
 }
 
-uint32_t VoxelGrid::find(uint32_t key) const {
-  if (filter_on_) {
-    const uint32_t b1 = mix(key) & kFilterMask, b2 = filter_bit2(key);
-    if (((filter_[b1 >> 5] >> (b1 & 31u)) & (filter_[b2 >> 5] >> (b2 & 31u)) & 1u) == 0u) return kNone;
-  }
+uint32_t VoxelGrid::find_in_table(uint32_t key) const {
   uint32_t s = slot_of(key);
   const uint32_t tag = tag_of(key);
   for (uint32_t probe = 0; probe < kMaxProbe; ++probe) {

@@ -109,7 +109,13 @@ class VoxelGrid {
   //! Mean of the voxel's points (world frame), before and after finalize().
   Vec3 centroid(uint32_t i) const;
   //! Index of the voxel with `key`, or kNone.
-  uint32_t find(uint32_t key) const;
+  uint32_t find(uint32_t key) const {
+    if (filter_on_) {  // most absent keys end here (prepare_lookups)
+      const uint32_t m = mix(key), b1 = m & kFilterMask, b2 = (m >> 14) & kFilterMask;
+      if (((filter_[b1 >> 5] >> (b1 & 31u)) & (filter_[b2 >> 5] >> (b2 & 31u)) & 1u) == 0u) return kNone;
+    }
+    return find_in_table(key);
+  }
 
   // A full avalanche of the key (murmur3's finaliser): neighbouring cells land far
   // apart, so runs of occupied slots stay short for any cloud.
@@ -128,6 +134,7 @@ class VoxelGrid {
 
  private:
   uint32_t find_or_add(uint32_t key);
+  uint32_t find_in_table(uint32_t key) const;
   bool rebuild_index(const uint8_t* keep, uint32_t bits);
   uint32_t slot_of(uint32_t key) const { return mix(key) >> (32 - slot_bits_); }
   static constexpr uint32_t kSlotBits = detail_log2u(kVoxelHashSlots);
@@ -172,7 +179,6 @@ class VoxelGrid {
     uint32_t filter_[2u << kCacheBits];
   };
   static constexpr uint32_t kFilterMask = (64u << kCacheBits) - 1u;
-  static uint32_t filter_bit2(uint32_t key) { return mix(key ^ 0x9E3779B9u) & kFilterMask; }
   void build_filter(const uint8_t* keep);  // keep null: every voxel
   bool filter_on_ = false;
   static constexpr uint32_t kIndexAll = 0xFFFFFFFFu;
