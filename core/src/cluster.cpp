@@ -3,7 +3,7 @@
 namespace fg {
 namespace {
 struct Offset {
-  int32_t dx, dy, dz;
+  uint32_t delta;  // pack(dx, dy, dz) in two's complement per field, summed
 };
 // Neighbour offsets within `cells` (Euclidean in cell units, so 1 -> 26, 2 -> 32).
 uint32_t make_offsets(uint32_t cells, Offset* out) {
@@ -15,7 +15,8 @@ uint32_t make_offsets(uint32_t cells, Offset* out) {
         const int32_t d2 = dx * dx + dy * dy + dz * dz;
         if (d2 == 0) continue;
         if (r > 1 && d2 > r * r) continue;
-        out[n++] = Offset{dx, dy, dz};
+        out[n++] = Offset{static_cast<uint32_t>(dx) + (static_cast<uint32_t>(dy) << 11) +
+                          (static_cast<uint32_t>(dz) << 22)};
       }
   return n;
 }
@@ -33,15 +34,11 @@ uint32_t flood(const VoxelGrid& grid, uint8_t* state, uint32_t* queue, uint32_t 
     const Vec3 c = grid.centroid(i);
     sum_x += c.x();
     sum_y += c.y();
-    const uint32_t k = grid.voxel(i).key;
-    const int32_t x = static_cast<int32_t>(VoxelGrid::key_x(k));
-    const int32_t y = static_cast<int32_t>(VoxelGrid::key_y(k));
-    const int32_t z = static_cast<int32_t>(VoxelGrid::key_z(k));
+    // A neighbour's key is the packed sum: inserted cells keep a 2-cell margin inside
+    // each field's range, so no field under- or overflows into the next.
+    const uint32_t k = grid.key(i);
     for (uint32_t o = 0; o < n_off; ++o) {
-      // Inserted cells keep a 2-cell margin inside the key range: no wrap-around.
-      const uint32_t nk = VoxelGrid::pack(static_cast<uint32_t>(x + off[o].dx),
-                                          static_cast<uint32_t>(y + off[o].dy),
-                                          static_cast<uint32_t>(z + off[o].dz));
+      const uint32_t nk = k + off[o].delta;
       const uint32_t j = grid.find(nk);
       if (j == VoxelGrid::kNone || state[j] != kVoxelFree) continue;
       state[j] = mark;

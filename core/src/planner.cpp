@@ -85,6 +85,7 @@ Status Planner::plan(PlanResult& out) {
   n_views_ = 0;
   n_candidates_ = 0;
   checks_left_ = kMaxCheckedCandidates;
+  if (grasp_check_ != nullptr) grasp_check_->begin_plan();
   n_deferred_ = 0;
   n_near_ = 0;
   chosen_view_ = -1;
@@ -132,6 +133,7 @@ Status Planner::plan(PlanResult& out) {
     // only: take the support plane out of the hash.
     static_assert(kVoxelRemoved == 0, "state_ doubles as the keep flags");
     if (removed > 0) grid_.keep_in_index_only(state_);
+    grid_.prepare_lookups(state_);
   }
 
   // A.6 target cluster

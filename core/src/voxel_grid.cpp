@@ -12,11 +12,26 @@ void VoxelGrid::reset(const Vec3& origin, float leaf_m) {
   // slot by slot costs a probe per voxel.
   for (uint32_t s = 0; s < kVoxelHashSlots; ++s) slots_[s] = 0u;
   finalized_ = false;
+  filter_on_ = false;
   size_ = 0;
+  indexed_ = kIndexAll;
   for (uint32_t i = 0; i < (1u << kCacheBits); ++i) cache_[i] = CacheEntry{0xFFFFFFFFu, 0u};
 }
 
-uint32_t VoxelGrid::find(uint32_t key) const {
+void VoxelGrid::build_filter(const uint8_t* keep) {
+  // keep, when given, is the set the index was pruned to (prepare_lookups' caller
+  // passes the same flags as keep_in_index_only).
+  for (uint32_t w = 0; w < (2u << kCacheBits); ++w) filter_[w] = 0u;
+  for (uint32_t i = 0; i < size_; ++i) {
+    if (keep != nullptr && keep[i] == 0) continue;
+    const uint32_t m = mix(keys_[i]), b1 = m & kFilterMask, b2 = (m >> 14) & kFilterMask;
+    filter_[b1 >> 5] |= 1u << (b1 & 31u);
+    filter_[b2 >> 5] |= 1u << (b2 & 31u);
+  }
+  filter_on_ = true;
+}
+
+uint32_t VoxelGrid::find_in_table(uint32_t key) const {
   uint32_t s = slot_of(key);
   const uint32_t tag = tag_of(key);
   for (uint32_t probe = 0; probe < kMaxProbe; ++probe) {
@@ -95,7 +110,6 @@ bool VoxelGrid::rebuild_index(const uint8_t* keep, uint32_t bits) {
 }
 
 void VoxelGrid::keep_in_index_only(const uint8_t* keep) {
-  for (uint32_t s = 0; s < (1u << kCacheBits); ++s) cache_[s].key = 0xFFFFFFFFu;
   // A table sized for the kept voxels (at most half full) stays in the fast caches.
   uint32_t kept = 0;
   for (uint32_t i = 0; i < size_; ++i) kept += keep[i] != 0 ? 1u : 0u;
@@ -104,7 +118,20 @@ void VoxelGrid::keep_in_index_only(const uint8_t* keep) {
   // Should a crafted cloud crowd the small table, the full one takes the kept voxels
   // back: inserted in the same order, a subset of keys never probes farther there than
   // the whole set did, so each finds its slot within kMaxProbe again.
+  filter_on_ = false;
+  for (uint32_t s = 0; s < (1u << kCacheBits); ++s) cache_[s] = CacheEntry{0xFFFFFFFFu, 0u};
   if (!rebuild_index(keep, bits)) (void)rebuild_index(keep, kSlotBits);
+  indexed_ = kept;
+}
+
+void VoxelGrid::prepare_lookups(const uint8_t* keep) {
+  // Below half load an absent key's walk is about two slots: the filter would cost
+  // more than it saves.
+  const bool pruned = indexed_ != kIndexAll;
+  const uint32_t n = pruned ? indexed_ : size_;
+  if (!finalized_ || 2u * n <= slot_mask_ + 1u) return;
+  // A filter of every voxel is a superset of a pruned index's: still exact.
+  build_filter(pruned ? keep : nullptr);
 }
 
 uint32_t* VoxelGrid::lend_count_storage() {

@@ -9,6 +9,12 @@ void Ur5GraspCheck::configure(const GraspCheckConfig& cfg) {
   cfg_.tool.tcp_offset_m = cfg_.motion.tcp_offset_m;
   has_motion_ = false;
   clear_counts();
+  do_begin_plan();
+}
+
+void Ur5GraspCheck::do_begin_plan() {
+  scene_ready_ = false;
+  budget_ = PathBudget::of(cfg_.path);
 }
 
 void Ur5GraspCheck::set_current_joints(const double q[6]) {
@@ -17,7 +23,7 @@ void Ur5GraspCheck::set_current_joints(const double q[6]) {
 }
 
 void Ur5GraspCheck::clear_counts() {
-  asked_ = unreachable_ = collisions_ = path_hits_ = 0;
+  asked_ = unreachable_ = collisions_ = path_hits_ = path_budget_hits_ = 0;
   last_hit_ = ToolHit::none;
   last_path_hit_ = PathHit::none;
 }
@@ -48,10 +54,17 @@ GraspVerdict Ur5GraspCheck::do_check(const GraspQuery& q) {
         continue;
       reachable = true;
       if (cfg_.check_path) {
-        const PathHit h = grasp_path_hit(cfg_.motion, cfg_.tool, cfg_.path, q_now_, m, q, nullptr,
-                                           path_points_, kMaxObjectPoints);
+        // Gathered again when a caller outside the planner hands in another scene.
+        if (!scene_ready_ || scene_of_.scene_points != q.scene_points || scene_of_.scene_keep != q.scene_keep ||
+            scene_of_.n_scene_points != q.n_scene_points || scene_of_.support != q.support) {
+          scene_ = prepare_path_scene(q, &path_scratch_);
+          scene_of_ = q;
+          scene_ready_ = true;
+        }
+        const PathHit h = grasp_path_hit(cfg_.motion, cfg_.tool, cfg_.path, q_now_, m, scene_, q, nullptr, &budget_);
         if (h != PathHit::none) {
           last_path_hit_ = h;
+          if (h == PathHit::budget) break;  // nothing is left to check the other way round
           continue;
         }
       }
@@ -60,8 +73,11 @@ GraspVerdict Ur5GraspCheck::do_check(const GraspQuery& q) {
       return GraspVerdict::pass;
     }
     if (reachable) {
+      // Not cleared: a path that hits, or one the plan's budget could not pay for
+      // (turned down as a collision would be: an unchecked path is not executed).
       ++collisions_;
       ++path_hits_;
+      if (last_path_hit_ == PathHit::budget) ++path_budget_hits_;
       return GraspVerdict::collision;
     }
     ++unreachable_;

@@ -244,3 +244,156 @@ TEST(PathCheck, TheUr5CheckAcceptsOnlyMotionsWhosePathIsClear) {
   check.set_current_joints(q_now);
   EXPECT_EQ(check.check(q), GraspVerdict::pass);
 }
+
+namespace {
+
+// A motion from kQa: a free move to a random pre-grasp, then six short approach steps.
+robot::GraspMotion random_motion(std::mt19937& rng) {
+  std::uniform_real_distribution<double> uq(-0.6, 0.6), us(-0.03, 0.03);
+  robot::GraspMotion m{};
+  for (int i = 0; i < 6; ++i) m.pregrasp[i] = kQa[i] + uq(rng);
+  const double* prev = m.pregrasp;
+  for (auto& step : m.approach) {
+    for (int i = 0; i < 6; ++i) step[i] = prev[i] + us(rng);
+    prev = step;
+  }
+  return m;
+}
+
+// The samples grasp_path_hit takes on a clear path, from the header's rules: each
+// segment ceil(span / step_rad) samples (at least 1, at most max_samples), and the
+// free move's start once (the tool may be leaving a contact there).
+uint32_t samples_of(const robot::PathCheckConfig& cfg, const double q_now[6], const robot::GraspMotion& m) {
+  uint32_t n = 1;
+  const double* from = q_now;
+  const double* to = m.pregrasp;
+  for (int s = 0; s <= robot::GraspMotion::kApproachSteps; ++s) {
+    double span = 0.0;
+    for (int i = 0; i < 6; ++i) span = std::max(span, std::fabs(to[i] - from[i]));
+    const double want = std::ceil(span / cfg.step_rad);
+    n += want < 1.0 ? 1u : std::min<uint32_t>(static_cast<uint32_t>(want), cfg.max_samples);
+    if (s == robot::GraspMotion::kApproachSteps) break;
+    from = to;
+    to = m.approach[s];
+  }
+  return n;
+}
+
+}  // namespace
+
+TEST(PathCheck, TheColumnIndexAnswersAsScanningEveryPoint) {
+  // The oracle is the same check without the index (every kept point against every
+  // box at every sample): random motions, points scattered about the tool along them
+  // (some inside it), far points over several metres (the columns wrap round), and
+  // points flagged as the support plane's.
+  const robot::ToolGeometry tool;  // with the body behind the palm
+  robot::MotionConfig mc;
+  mc.tcp_offset_m = tool.tcp_offset_m;
+  const robot::PathCheckConfig cfg;
+  static robot::PathSceneScratch scratch;  // 68 KB: not on the test's stack
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> uf(0.0, 1.0), un(-0.12, 0.12), ufar(-4.0, 4.0);
+  int hits = 0, clear = 0;
+  for (int trial = 0; trial < 80; ++trial) {
+    const robot::GraspMotion m = random_motion(rng);
+    std::vector<Vec3> pts;
+    std::vector<uint8_t> keep;
+    for (int k = 0; k < 300; ++k) {
+      double qs[6];
+      const double f = uf(rng);
+      for (int i = 0; i < 6; ++i) qs[i] = kQa[i] + f * (m.pregrasp[i] - kQa[i]);
+      const Pads p = pads_at(mc, qs);
+      // Mostly outside the fingers' and palm's boxes, a few trials with points inside.
+      const double spread = 1.0 + 1.5 * (trial % 4);
+      pts.push_back((p.centre + V3d(un(rng), un(rng), un(rng)) * spread).cast<float>());
+      keep.push_back(static_cast<uint8_t>(k % 7 != 0));
+    }
+    for (int k = 0; k < 200; ++k) {
+      pts.push_back(Vec3(static_cast<float>(ufar(rng)), static_cast<float>(ufar(rng)), static_cast<float>(uf(rng))));
+      keep.push_back(1);
+    }
+    GraspQuery q{};
+    q.scene_points = pts.data();
+    q.scene_keep = keep.data();
+    q.n_scene_points = static_cast<uint32_t>(pts.size());
+    const robot::PathScene indexed = robot::prepare_path_scene(q, &scratch);
+    const robot::PathScene plain = robot::prepare_path_scene(q, nullptr);
+    ASSERT_NE(indexed.idx, nullptr);
+    ASSERT_EQ(plain.idx, nullptr);
+    int seg_a = -1, seg_b = -1;
+    const PathHit a = robot::grasp_path_hit(mc, tool, cfg, kQa, m, indexed, q, &seg_a);
+    const PathHit b = robot::grasp_path_hit(mc, tool, cfg, kQa, m, plain, q, &seg_b);
+    EXPECT_EQ(a, b) << "trial " << trial;
+    EXPECT_EQ(seg_a, seg_b) << "trial " << trial;
+    (a == PathHit::scene ? hits : clear) += 1;
+  }
+  EXPECT_GE(hits, 10);
+  EXPECT_GE(clear, 10);
+}
+
+TEST(PathCheck, ABudgetThatCannotPayForThePathAnswersBudget) {
+  const robot::ToolGeometry tool = no_body_tool();
+  const robot::MotionConfig mc = motion_for(tool);
+  const robot::PathCheckConfig cfg;
+  std::mt19937 rng(5);
+  const robot::GraspMotion m = random_motion(rng);
+  Plane far_below;
+  far_below.n = Vec3::UnitZ();
+  far_below.d = 5.f;  // z = -5 m
+  GraspQuery q{};
+  q.support = &far_below;
+  const robot::PathScene scene = robot::prepare_path_scene(q, nullptr);
+  const uint32_t need = samples_of(cfg, kQa, m);
+  robot::PathBudget enough{need, 0};
+  EXPECT_EQ(robot::grasp_path_hit(mc, tool, cfg, kQa, m, scene, q, nullptr, &enough), PathHit::none);
+  EXPECT_EQ(enough.samples, 0u);
+  robot::PathBudget short_one{need - 1, 0};
+  EXPECT_EQ(robot::grasp_path_hit(mc, tool, cfg, kQa, m, scene, q, nullptr, &short_one), PathHit::budget);
+
+  // Point tests: one point beside the start of the path, inside the tool's bounds at
+  // the first sample, so that sample scans it (charged 1 test per box whose columns
+  // hold it), never inside a box. A budget of no tests cannot pay for that scan.
+  const Pads start = pads_at(mc, kQa);
+  const Vec3 beside = (start.centre + start.R * V3d(0.0, 0.0, 0.02)).cast<float>();  // between the open fingers
+  q.scene_points = &beside;
+  q.n_scene_points = 1;
+  const robot::PathScene one = robot::prepare_path_scene(q, nullptr);
+  robot::PathBudget plenty = robot::PathBudget::of(cfg);
+  EXPECT_EQ(robot::grasp_path_hit(mc, tool, cfg, kQa, m, one, q, nullptr, &plenty), PathHit::none);
+  EXPECT_LT(plenty.point_tests, cfg.plan_point_tests);
+  robot::PathBudget no_tests{need, 0};
+  EXPECT_EQ(robot::grasp_path_hit(mc, tool, cfg, kQa, m, one, q, nullptr, &no_tests), PathHit::budget);
+}
+
+TEST(PathCheck, TheUr5CheckSpendsOneBudgetPerPlan) {
+  // The same reachable grasp as above: what one check spends, measured; a plan's budget
+  // of exactly that passes the first check and turns down the second as unchecked
+  // (a collision verdict, counted as a budget hit) until the next plan begins.
+  robot::Ur5GraspCheck check;
+  robot::GraspCheckConfig cfg;
+  check.configure(cfg);
+  const double q_now[6] = {0.0, -1.9, 1.9, -1.57, -1.57, 0.0};
+  check.set_current_joints(q_now);
+  const Vec3 pos(0.0f, -0.45f, 0.10f), approach(0.f, -0.6f, -0.8f), closing(1.f, 0.f, 0.f);
+  GraspQuery q{};
+  q.position = pos;
+  q.approach = approach;
+  q.closing = closing;
+  q.pregrasp = pos - approach * 0.06f;
+  q.width = 0.05f;
+  ASSERT_EQ(check.check(q), GraspVerdict::pass);
+  const uint32_t used = cfg.path.plan_samples - check.path_budget().samples;
+  ASSERT_GT(used, 10u);
+
+  cfg.path.plan_samples = used;
+  check.configure(cfg);
+  check.set_current_joints(q_now);
+  EXPECT_EQ(check.check(q), GraspVerdict::pass);
+  EXPECT_EQ(check.path_budget().samples, 0u);
+  EXPECT_EQ(check.check(q), GraspVerdict::collision);
+  EXPECT_EQ(check.last_path_hit(), PathHit::budget);
+  EXPECT_EQ(check.path_budget_hits(), 1u);
+  check.begin_plan();
+  EXPECT_EQ(check.check(q), GraspVerdict::pass);
+  EXPECT_EQ(check.path_budget_hits(), 1u);
+}

@@ -339,6 +339,64 @@ TEST(VoxelGrid, FinalizeKeepsCentroidsAndLendsCounts) {
 
 // keep_in_index_only(): find() sees exactly the kept voxels, indices and centroids do
 // not move, and a reset brings back a complete index.
+// After finalize() find() consults a Bloom filter of the indexed keys before the
+// table: it must still find every present cell and no absent one, with the table at
+// its load limit (isolated cells: every neighbour lookup is of an absent key), and
+// again after the index is pruned to a subset (the filter rebuilt for the subset).
+TEST(VoxelGrid, FindAfterFinalizeAndPruningAgreesWithBruteForce) {
+  std::mt19937 rng(41);
+  const Vec3 origin(0.f, 0.f, 0.f);
+  const float leaf = 0.005f;
+  const uint32_t want = fg::kMaxVoxels * 3 / 4;
+  // Cells two apart on a lattice (no two touch), in random order.
+  std::vector<Vec3> pts;
+  std::set<Cell> cells;
+  std::uniform_int_distribution<int> u(1, 120);
+  while (pts.size() < want) {
+    const Cell c{4 + 2 * u(rng), 4 + 2 * u(rng), 4 + 2 * u(rng)};
+    if (!cells.insert(c).second) continue;
+    pts.push_back(Vec3((static_cast<float>(std::get<0>(c)) + 0.5f) * leaf, (static_cast<float>(std::get<1>(c)) + 0.5f) * leaf,
+                       (static_cast<float>(std::get<2>(c)) + 0.5f) * leaf));
+  }
+  auto g = make_grid(origin, leaf);
+  insert_all(*g, pts);
+  ASSERT_EQ(g->size(), want);
+  g->finalize();
+  g->prepare_lookups(nullptr);
+  EXPECT_TRUE(g->lookup_filter_on());  // 3/4 of kMaxVoxels: the table is more than half full
+  const auto check_all = [&](const std::vector<uint8_t>* keep) {
+    // Every present cell, and all 26 neighbours of each (absent: the lattice is sparse).
+    uint32_t wrong = 0, absent = 0;
+    for (uint32_t i = 0; i < g->size(); ++i) {
+      const bool kept = keep == nullptr || (*keep)[i] != 0;
+      if (g->find(g->key(i)) != (kept ? i : VoxelGrid::kNone)) ++wrong;
+      const uint32_t x = VoxelGrid::key_x(g->key(i)), y = VoxelGrid::key_y(g->key(i)), z = VoxelGrid::key_z(g->key(i));
+      for (int d = 0; d < 27; ++d) {
+        if (d == 13) continue;
+        const uint32_t k = VoxelGrid::pack(x + d % 3 - 1, y + (d / 3) % 3 - 1, z + d / 9 - 1);
+        ++absent;
+        if (g->find(k) != VoxelGrid::kNone) ++wrong;
+      }
+    }
+    EXPECT_EQ(wrong, 0u) << absent << " absent lookups";
+  };
+  check_all(nullptr);
+  std::vector<uint8_t> keep(g->size());
+  for (auto& k : keep) k = static_cast<uint8_t>(rng() % 3 == 0);
+  g->keep_in_index_only(keep.data());
+  g->prepare_lookups(keep.data());
+  EXPECT_FALSE(g->lookup_filter_on());  // a third: a table at most half full, no filter
+  check_all(&keep);
+  // Pruned to most voxels: the smallest table that holds them is more than half full
+  // only when they need the whole table; prepare_lookups() then builds the filter of
+  // the kept set.
+  for (auto& k : keep) k = static_cast<uint8_t>(rng() % 16 != 0);
+  g->keep_in_index_only(keep.data());
+  g->prepare_lookups(keep.data());
+  EXPECT_EQ(g->lookup_filter_on(), 2u * (want - want / 16 - 64) > fg::kVoxelHashSlots);
+  check_all(&keep);
+}
+
 TEST(VoxelGrid, IndexPrunedToKeptVoxels) {
   std::mt19937 rng(12);
   const Vec3 origin(-0.1f, -0.1f, -0.1f);

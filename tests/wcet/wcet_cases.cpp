@@ -11,6 +11,7 @@
 #include <unordered_set>
 
 #include "fg/core/limits.hpp"
+#include "io/config_options.hpp"
 #include "io/pcd.hpp"
 #include "io/ply.hpp"
 #include "io/scene.hpp"
@@ -685,6 +686,12 @@ const std::vector<CaseInfo>& case_list() {
       {"views_max", "frame, xoy", "the most viewpoints and scan lines (smallest steps, sphere too wide)", false, false},
       {"candidates_max", "xoz, select", "kMaxCandidates candidates, each rejected late by the collision scan", false, false},
       {"hash_collide", "ingest, reset", "kMaxVoxels cells colliding in the voxel hash (pathological)", false, false},
+      // The reference typical input planned with the options an adversarial case
+      // changes: the ratio of that case at the same configuration.
+      {"typical_at_ransac_max", "(reference)", "the reference typical input with ransac_max's options", true, false},
+      {"typical_at_hull_degenerate", "(reference)", "the reference typical input with hull_degenerate's options", true, false},
+      {"typical_at_views_max", "(reference)", "the reference typical input with views_max's options", true, false},
+      {"typical_at_candidates_max", "(reference)", "the reference typical input with candidates_max's options", true, false},
   };
   return list;
 }
@@ -694,6 +701,22 @@ uint32_t default_points_per_sensor() { return small_build() ? 160u * 120u : 640u
 const char* reference_typical_case() { return small_build() ? "typical_box" : "typical_example"; }
 
 bool make_case(const std::string& name, uint32_t points, CaseInput& out, std::string& error, uint32_t hash_cells) {
+  const std::string at = "typical_at_";
+  if (name.compare(0, at.size(), at) == 0) {
+    // The adversarial case is built only for its option list (a second or two).
+    CaseInput adversarial;
+    if (!make_case(name.substr(at.size()), points, adversarial, error, hash_cells)) return false;
+    if (!make_case(reference_typical_case(), points, out, error, hash_cells)) return false;
+    out.name = name;
+    for (const std::string& o : adversarial.overrides) {
+      const size_t eq = o.find('=');
+      if (eq == std::string::npos || !fg::host::set_config_option(out.cfg, o.substr(0, eq), o.substr(eq + 1), error))
+        return false;
+      out.overrides.push_back(o);
+    }
+    out.note += (out.note.empty() ? "" : "; ") + std::string("options of ") + name.substr(at.size());
+    return true;
+  }
   out = CaseInput{};
   out.name = name;
   if (name == "typical_example") return load_example(out, error);

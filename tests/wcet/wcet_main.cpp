@@ -30,6 +30,7 @@
 
 #include "fg/core/limits.hpp"
 #include "fg/core/planner.hpp"
+#include "fg/robot/ur5_grasp_check.hpp"
 #include "wcet_cases.hpp"
 #include "wcet_clock.hpp"
 
@@ -475,6 +476,14 @@ int main(int argc, char** argv) {
                 sizeof(fg::Planner), o.points,
                 ir ? "instructions (callgrind)" : (o.once ? "one run (us)" : "microseconds, median / max"));
   static fg::Planner planner;  // large: static storage
+  // The robot's check as the grasp task installs it (firmware_api/src/grasp_task.cpp):
+  // inverse kinematics from the arm's joints at the capture, the joint path with its
+  // per-plan budget, and (where the firmware image has libccd: the host configuration)
+  // the whole tool against the plane and the target. The arm starts from one fixed
+  // capture pose over the table (the synthetic cases put the object about the default
+  // workspace centre, 0.5 m in front of the base).
+  static fg::robot::Ur5GraspCheck check;  // 68 KiB of scratch
+  static const double kCaptureJoints[6] = {0.0, -1.9, 1.9, -1.57, -1.57, 0.0};
   std::vector<CaseReport> reps;
   bool failed = false;
   for (const CaseInfo* info : todo) {
@@ -496,6 +505,12 @@ int main(int argc, char** argv) {
       reps.push_back(std::move(rep));
       continue;
     }
+    fg::robot::GraspCheckConfig check_cfg;
+    check_cfg.tool.gripper = rep.input.cfg.gripper;
+    check_cfg.check_tool = std::strcmp(FG_WCET_LIMITS, "host") == 0;
+    check.configure(check_cfg);
+    check.set_current_joints(kCaptureJoints);
+    planner.set_grasp_check(&check);
     if (o.once) {
       rep.runs.push_back(run_once(planner, rep, true, ir));
     } else {

@@ -39,6 +39,9 @@ struct GraspQuery {
 class GraspCheck {
  public:
   GraspVerdict check(const GraspQuery& q) { return do_check(q); }
+  //! The planner calls this once at the start of each plan(), before any check():
+  //! a new scene, and a fresh per-plan work budget where the check keeps one.
+  void begin_plan() { do_begin_plan(); }
 
  protected:
   GraspCheck() = default;
@@ -48,6 +51,7 @@ class GraspCheck {
 
  private:
   virtual GraspVerdict do_check(const GraspQuery& q) = 0;
+  virtual void do_begin_plan() {}
 };
 
 }  // namespace fg

@@ -91,6 +91,12 @@ class VoxelGrid {
   //! others stay in the arrays and keep their indices). Planning drops the support
   //! plane this way: the later neighbour searches then probe a nearly empty table.
   void keep_in_index_only(const uint8_t* keep);
+  //! After finalize(), before many lookups (the clustering, the normals): when the
+  //! index in use is more than half full, find() gets a filter that settles most
+  //! lookups of absent keys without walking the table. `keep`: the flags last given
+  //! to keep_in_index_only(), or null when the index holds every voxel.
+  void prepare_lookups(const uint8_t* keep);
+  bool lookup_filter_on() const { return filter_on_; }
   //! After finalize(): lends the storage the counts used, past the packed centroids
   //! (size() entries), as caller scratch, valid until reset(). nullptr before.
   uint32_t* lend_count_storage();
@@ -103,7 +109,13 @@ class VoxelGrid {
   //! Mean of the voxel's points (world frame), before and after finalize().
   Vec3 centroid(uint32_t i) const;
   //! Index of the voxel with `key`, or kNone.
-  uint32_t find(uint32_t key) const;
+  uint32_t find(uint32_t key) const {
+    if (filter_on_) {  // most absent keys end here (prepare_lookups)
+      const uint32_t m = mix(key), b1 = m & kFilterMask, b2 = (m >> 14) & kFilterMask;
+      if (((filter_[b1 >> 5] >> (b1 & 31u)) & (filter_[b2 >> 5] >> (b2 & 31u)) & 1u) == 0u) return kNone;
+    }
+    return find_in_table(key);
+  }
 
   // A full avalanche of the key (murmur3's finaliser): neighbouring cells land far
   // apart, so runs of occupied slots stay short for any cloud.
@@ -122,6 +134,7 @@ class VoxelGrid {
 
  private:
   uint32_t find_or_add(uint32_t key);
+  uint32_t find_in_table(uint32_t key) const;
   bool rebuild_index(const uint8_t* keep, uint32_t bits);
   uint32_t slot_of(uint32_t key) const { return mix(key) >> (32 - slot_bits_); }
   static constexpr uint32_t kSlotBits = detail_log2u(kVoxelHashSlots);
@@ -155,7 +168,21 @@ class VoxelGrid {
     uint32_t key;
     uint32_t index;
   };
-  CacheEntry cache_[1u << kCacheBits];
+  // The ingest's recent-cell cache; once the grid is finalized (no more inserts) the
+  // same memory holds a two-hash Bloom filter of the indexed keys, which find()
+  // consults first: most neighbour lookups of the clustering and the normals ask for
+  // cells that are empty, and at the table's 3/4 load an absent key's probe walk is
+  // long (about 8 slots on average) where two bit tests in 2^(kCacheBits + 6) bits
+  // (L1-resident) settle most of them.
+  union {
+    CacheEntry cache_[1u << kCacheBits];
+    uint32_t filter_[2u << kCacheBits];
+  };
+  static constexpr uint32_t kFilterMask = (64u << kCacheBits) - 1u;
+  void build_filter(const uint8_t* keep);  // keep null: every voxel
+  bool filter_on_ = false;
+  static constexpr uint32_t kIndexAll = 0xFFFFFFFFu;
+  uint32_t indexed_ = kIndexAll;  // voxels in the index when pruned (kIndexAll: every one)
   bool finalized_ = false;
   uint32_t slot_bits_ = kSlotBits;  // slots in use: 2^slot_bits_ (fewer once pruned)
   uint32_t slot_mask_ = kVoxelHashSlots - 1;

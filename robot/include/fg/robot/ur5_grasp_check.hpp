@@ -51,6 +51,11 @@ class Ur5GraspCheck final : public GraspCheck {
   uint32_t collisions() const { return collisions_; }
   //! Candidates turned down because the executed joint path hit (counted in collisions()).
   uint32_t path_hits() const { return path_hits_; }
+  //! Of those, the ones whose path was not cleared before the plan's path-check budget
+  //! ran out (PathCheckConfig::plan_samples / plan_point_tests).
+  uint32_t path_budget_hits() const { return path_budget_hits_; }
+  //! What is left of this plan's path-check budget.
+  const PathBudget& path_budget() const { return budget_; }
   PathHit last_path_hit() const { return last_path_hit_; }
   ToolHit last_hit() const { return last_hit_; }
   void clear_counts();
@@ -59,14 +64,21 @@ class Ur5GraspCheck final : public GraspCheck {
 
  private:
   GraspVerdict do_check(const GraspQuery& q) override;
+  void do_begin_plan() override;
 
   GraspCheckConfig cfg_;
   double q_now_[6] = {0.0, -1.5707963267948966, 1.5707963267948966, -1.5707963267948966,
                       -1.5707963267948966, 0.0};
   GraspMotion motion_{};
-  uint32_t path_points_[kMaxObjectPoints];  // the kept scene points of the path check
+  PathSceneScratch path_scratch_;  // the kept scene points of the path check, by column
+  // The path check's scene, gathered at the plan's first check (the planner's scene
+  // does not change during a plan), and the plan's remaining budget.
+  PathScene scene_;
+  GraspQuery scene_of_{};  // the query whose scene scene_ holds (its arrays' addresses)
+  bool scene_ready_ = false;
+  PathBudget budget_;
   bool has_motion_ = false;
-  uint32_t asked_ = 0, unreachable_ = 0, collisions_ = 0, path_hits_ = 0;
+  uint32_t asked_ = 0, unreachable_ = 0, collisions_ = 0, path_hits_ = 0, path_budget_hits_ = 0;
   PathHit last_path_hit_ = PathHit::none;
   ToolHit last_hit_ = ToolHit::none;
 #if FG_ROBOT_WITH_LIBCCD
