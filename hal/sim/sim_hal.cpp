@@ -7,6 +7,7 @@
 
 #include "fg/robot/ur5.hpp"
 #include "fg/robot/ur5_ik.hpp"
+#include "sim/pinhole.hpp"
 #include "sim/sim_rng.hpp"
 
 namespace fg::sim {
@@ -260,10 +261,7 @@ CaptureState SimDepthSensor::do_poll(fg::hal::DepthFrame& out) {
   out.depth_mm = image_.mm.data();
   out.width = static_cast<uint16_t>(image_.width);
   out.height = static_cast<uint16_t>(image_.height);
-  out.k.fx = static_cast<float>(camera_.K.fx);
-  out.k.fy = static_cast<float>(camera_.K.fy);
-  out.k.cx = static_cast<float>(camera_.K.cx);
-  out.k.cy = static_cast<float>(camera_.K.cy);
+  out.k = to_pinhole(camera_.K);
   out.stamp_us = requested_at_us_;
   return CaptureState::ready;
 }

@@ -16,6 +16,7 @@
 
 #include "fg/core/planner.hpp"
 #include "io/config_options.hpp"
+#include "sim/pinhole.hpp"
 #include "sim/grasp_judge.hpp"
 #include "sim/scene_gen.hpp"
 
@@ -26,15 +27,6 @@ struct Tally {
   std::vector<double> plan_us;
   std::map<std::string, int> wrong;
 };
-
-fg::PinholeIntrinsics intrinsics(const fg::sim::Intrinsics& k) {
-  fg::PinholeIntrinsics p;
-  p.fx = static_cast<float>(k.fx);
-  p.fy = static_cast<float>(k.fy);
-  p.cx = static_cast<float>(k.cx);
-  p.cy = static_cast<float>(k.cy);
-  return p;
-}
 
 double median(std::vector<double> v) {
   if (v.empty()) return 0;
@@ -104,11 +96,11 @@ int main(int argc, char** argv) {
     planner->reset();
     fg::Status st = planner->add_depth_image(
         fg::SensorRole::head, img.head.mm.data(), static_cast<uint16_t>(img.head.width),
-        static_cast<uint16_t>(img.head.height), intrinsics(scene.head.K), scene.head.world_T_sensor.to_pose());
+        static_cast<uint16_t>(img.head.height), fg::sim::to_pinhole(scene.head.K), scene.head.world_T_sensor.to_pose());
     if (st == fg::Status::ok)
       st = planner->add_depth_image(
           fg::SensorRole::hand, img.hand.mm.data(), static_cast<uint16_t>(img.hand.width),
-          static_cast<uint16_t>(img.hand.height), intrinsics(scene.hand.K), scene.hand.world_T_sensor.to_pose());
+          static_cast<uint16_t>(img.hand.height), fg::sim::to_pinhole(scene.hand.K), scene.hand.world_T_sensor.to_pose());
     fg::PlanResult res;
     if (st == fg::Status::ok) st = planner->plan(res);
     bool right = false;

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "fg/core/planner.hpp"
+#include "sim/pinhole.hpp"
 #include "sim/grasp_judge.hpp"
 #include "sim/scene_gen.hpp"
 
@@ -24,15 +25,6 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180.0;
-
-fg::PinholeIntrinsics intrinsics(const Intrinsics& k) {
-  fg::PinholeIntrinsics p;
-  p.fx = static_cast<float>(k.fx);
-  p.fy = static_cast<float>(k.fy);
-  p.cx = static_cast<float>(k.cx);
-  p.cy = static_cast<float>(k.cy);
-  return p;
-}
 
 struct Planned {
   GeneratedScene scene;
@@ -57,11 +49,11 @@ Planned plan_scene(ObjectKind kind, uint64_t seed) {
   fg::Planner& p = planner();
   p.reset();
   fg::Status st = p.add_depth_image(fg::SensorRole::head, img.head.mm.data(), static_cast<uint16_t>(img.head.width),
-                                    static_cast<uint16_t>(img.head.height), intrinsics(out.scene.head.K),
+                                    static_cast<uint16_t>(img.head.height), fg::sim::to_pinhole(out.scene.head.K),
                                     out.scene.head.world_T_sensor.to_pose());
   if (st == fg::Status::ok)
     st = p.add_depth_image(fg::SensorRole::hand, img.hand.mm.data(), static_cast<uint16_t>(img.hand.width),
-                           static_cast<uint16_t>(img.hand.height), intrinsics(out.scene.hand.K),
+                           static_cast<uint16_t>(img.hand.height), fg::sim::to_pinhole(out.scene.hand.K),
                            out.scene.hand.world_T_sensor.to_pose());
   if (st == fg::Status::ok) st = p.plan(out.result);
   out.status = st;

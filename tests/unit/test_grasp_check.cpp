@@ -10,20 +10,12 @@
 
 #include "fg/core/planner.hpp"
 #include "fg/robot/ur5_grasp_check.hpp"
+#include "sim/pinhole.hpp"
 #include "sim/scene_gen.hpp"
 
 using namespace fg;
 
 namespace {
-
-PinholeIntrinsics intrinsics(const sim::Intrinsics& k) {
-  PinholeIntrinsics p;
-  p.fx = static_cast<float>(k.fx);
-  p.fy = static_cast<float>(k.fy);
-  p.cx = static_cast<float>(k.cx);
-  p.cy = static_cast<float>(k.cy);
-  return p;
-}
 
 Planner& planner() {
   static std::unique_ptr<Planner> p = [] {
@@ -40,11 +32,11 @@ void add_scene(const sim::GeneratedScene& scene) {
   Planner& p = planner();
   p.reset();
   ASSERT_EQ(p.add_depth_image(SensorRole::head, img.head.mm.data(), static_cast<uint16_t>(img.head.width),
-                              static_cast<uint16_t>(img.head.height), intrinsics(scene.head.K),
+                              static_cast<uint16_t>(img.head.height), fg::sim::to_pinhole(scene.head.K),
                               scene.head.world_T_sensor.to_pose()),
             Status::ok);
   ASSERT_EQ(p.add_depth_image(SensorRole::hand, img.hand.mm.data(), static_cast<uint16_t>(img.hand.width),
-                              static_cast<uint16_t>(img.hand.height), intrinsics(scene.hand.K),
+                              static_cast<uint16_t>(img.hand.height), fg::sim::to_pinhole(scene.hand.K),
                               scene.hand.world_T_sensor.to_pose()),
             Status::ok);
 }

@@ -73,6 +73,19 @@ robot::MotionConfig motion_for(const robot::ToolGeometry& tool) {
 }
 
 const double kQa[6] = {0.3, -1.2, 1.4, -1.8, -1.57, 0.2};
+
+// An arm pose over the table, and a grasp in front of it that the UR5 reaches from there.
+const double kInFront[6] = {0.0, -1.9, 1.9, -1.57, -1.57, 0.0};
+GraspQuery reachable_grasp() {
+  const Vec3 pos(0.0f, -0.45f, 0.10f), approach(0.f, -0.6f, -0.8f);
+  GraspQuery q{};
+  q.position = pos;
+  q.approach = approach;
+  q.closing = Vec3(1.f, 0.f, 0.f);
+  q.pregrasp = pos - approach * 0.06f;
+  q.width = 0.05f;
+  return q;
+}
 const double kQb[6] = {-0.9, -1.9, 2.1, -1.2, -1.2, 1.0};
 
 }  // namespace
@@ -204,15 +217,9 @@ TEST(PathCheck, TheUr5CheckAcceptsOnlyMotionsWhosePathIsClear) {
   robot::Ur5GraspCheck check;
   robot::GraspCheckConfig cfg;
   check.configure(cfg);
-  const double q_now[6] = {0.0, -1.9, 1.9, -1.57, -1.57, 0.0};
+  const double* q_now = kInFront;
   check.set_current_joints(q_now);
-  const Vec3 pos(0.0f, -0.45f, 0.10f), approach(0.f, -0.6f, -0.8f), closing(1.f, 0.f, 0.f);
-  GraspQuery q{};
-  q.position = pos;
-  q.approach = approach;
-  q.closing = closing;
-  q.pregrasp = pos - approach * 0.06f;
-  q.width = 0.05f;
+  GraspQuery q = reachable_grasp();
   ASSERT_EQ(check.check(q), GraspVerdict::pass);
   const robot::GraspMotion first = check.motion();
   const robot::MotionConfig& mc = check.config().motion;
@@ -372,15 +379,9 @@ TEST(PathCheck, TheUr5CheckSpendsOneBudgetPerPlan) {
   robot::Ur5GraspCheck check;
   robot::GraspCheckConfig cfg;
   check.configure(cfg);
-  const double q_now[6] = {0.0, -1.9, 1.9, -1.57, -1.57, 0.0};
+  const double* q_now = kInFront;
   check.set_current_joints(q_now);
-  const Vec3 pos(0.0f, -0.45f, 0.10f), approach(0.f, -0.6f, -0.8f), closing(1.f, 0.f, 0.f);
-  GraspQuery q{};
-  q.position = pos;
-  q.approach = approach;
-  q.closing = closing;
-  q.pregrasp = pos - approach * 0.06f;
-  q.width = 0.05f;
+  GraspQuery q = reachable_grasp();
   ASSERT_EQ(check.check(q), GraspVerdict::pass);
   const uint32_t used = cfg.path.plan_samples - check.path_budget().samples;
   ASSERT_GT(used, 10u);

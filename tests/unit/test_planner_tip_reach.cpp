@@ -13,21 +13,13 @@
 #include <string>
 
 #include "fg/core/planner.hpp"
+#include "sim/pinhole.hpp"
 #include "sim/grasp_judge.hpp"
 #include "sim/scene_gen.hpp"
 
 using namespace fg::sim;
 
 namespace {
-
-fg::PinholeIntrinsics intrinsics(const Intrinsics& k) {
-  fg::PinholeIntrinsics p;
-  p.fx = static_cast<float>(k.fx);
-  p.fy = static_cast<float>(k.fy);
-  p.cx = static_cast<float>(k.cx);
-  p.cy = static_cast<float>(k.cy);
-  return p;
-}
 
 // The scene of a box (seeded place, yaw and cameras) whose target is replaced by a slab
 // 2.6 cm across, 12 cm long and `height` tall, lying at the same place and yaw.
@@ -59,11 +51,11 @@ TEST(PlannerTipReach, GraspsOnLowSlabsHoldOnTheTrueGeometry) {
     planner->reset();
     ASSERT_EQ(planner->add_depth_image(fg::SensorRole::head, img.head.mm.data(),
                                        static_cast<uint16_t>(img.head.width), static_cast<uint16_t>(img.head.height),
-                                       intrinsics(s.head.K), s.head.world_T_sensor.to_pose()),
+                                       fg::sim::to_pinhole(s.head.K), s.head.world_T_sensor.to_pose()),
               fg::Status::ok);
     ASSERT_EQ(planner->add_depth_image(fg::SensorRole::hand, img.hand.mm.data(),
                                        static_cast<uint16_t>(img.hand.width), static_cast<uint16_t>(img.hand.height),
-                                       intrinsics(s.hand.K), s.hand.world_T_sensor.to_pose()),
+                                       fg::sim::to_pinhole(s.hand.K), s.hand.world_T_sensor.to_pose()),
               fg::Status::ok);
     fg::PlanResult r;
     const fg::Status st = planner->plan(r);

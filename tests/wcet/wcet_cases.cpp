@@ -15,6 +15,7 @@
 #include "io/pcd.hpp"
 #include "io/ply.hpp"
 #include "io/scene.hpp"
+#include "sim/pinhole.hpp"
 #include "sim/scene_gen.hpp"
 
 #ifndef FG_SOURCE_DIR
@@ -317,10 +318,7 @@ bool sim_box(CaseInput& out, std::string& err) {
     in.depth = ims[s]->mm;
     in.width = static_cast<uint16_t>(ims[s]->width);
     in.height = static_cast<uint16_t>(ims[s]->height);
-    in.k.fx = static_cast<float>(cams[s]->K.fx);
-    in.k.fy = static_cast<float>(cams[s]->K.fy);
-    in.k.cx = static_cast<float>(cams[s]->K.cx);
-    in.k.cy = static_cast<float>(cams[s]->K.cy);
+    in.k = fg::sim::to_pinhole(cams[s]->K);
     out.sensors.push_back(std::move(in));
   }
   out.note = fmt("hal/sim box seed %llu, 2 x %dx%d depth images", static_cast<unsigned long long>(kSeed),
