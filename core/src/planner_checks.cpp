@@ -35,6 +35,20 @@ constexpr double kFlatChange = 0.2;
 // A flat side's tilt must be this much inside the cone (its fitted tilt scatters by a
 // few degrees: 5 mm voxels, sensor noise).
 constexpr float kFlatMargin = 0.07f;
+// The face nearest the contact (contact_tilt, near_face): fits over the points in the
+// nearest kNearFaceMinBins..kNearFaceMaxBins depth bins of kNearFaceBin inside the side,
+// spread over at least kNearFaceSpread.
+constexpr float kNearFaceBin = 0.002f;
+constexpr int kNearFaceBins = 6;  // kNearFaceBins * kNearFaceBin = kTiltFitDepth
+constexpr int kNearFaceMinBins = 3;
+constexpr int kNearFaceMaxBins = 5;
+constexpr float kNearFaceSpread = 0.005f;
+// The crease: at least this many points deeper than the face, their mean tilt at least
+// this much steeper (rad).
+constexpr uint32_t kCreaseMin = 3;
+constexpr double kCreaseJump = 0.17;
+// A face's tilt changes by less than this over the depth it spans (rad).
+constexpr double kFaceTurn = 0.1;
 // A pad must reach more than this (along the approach) past the first contact point of
 // its side: a voxel (centroids lie up to half a voxel inside the surface) and a margin.
 constexpr float kTipReach = 0.006f;
@@ -422,7 +436,8 @@ bool Planner::normal_at(uint32_t oi, Vec3& nrm) {
 // extreme (the view grazes it there), which a count of the normals inside the cone
 // read as a steep contact. valid[s] is false with fewer than kTiltFitMin points or
 // less than kTiltFitSpread of depth between them.
-void Planner::contact_tilt(const Vec3& pos, const ViewFrame& f, float one_minus_cos[2], bool valid[2], bool flat[2]) {
+void Planner::contact_tilt(const Vec3& pos, const ViewFrame& f, float one_minus_cos[2], bool valid[2], bool flat[2],
+                           float near_face[2]) {
   const GripperGeometry& g = cfg_.gripper;
   const uint32_t n = object_.size();
   float ext[2] = {1e9f, -1e9f};  // the sides' extremes in the footprint (x)
@@ -436,6 +451,15 @@ void Planner::contact_tilt(const Vec3& pos, const ViewFrame& f, float one_minus_
   double sd[2] = {0, 0}, sdd[2] = {0, 0}, sv[2] = {0, 0}, sdv[2] = {0, 0};
   uint32_t cnt[2] = {0, 0};
   float dmin[2] = {1e9f, 1e9f}, dmax[2] = {-1e9f, -1e9f};
+  // The same sums per depth bin, for the fits over the nearest bins (near_face).
+  struct BinSums {
+    double sd, sdd, sv, sdv;
+    uint32_t cnt;
+    float dmin, dmax;
+  };
+  BinSums bins[2][kNearFaceBins];
+  for (auto& side_bins : bins)
+    for (BinSums& b : side_bins) b = BinSums{0, 0, 0, 0, 0, 1e9f, -1e9f};
   for (uint32_t i = 0; i < n && ext[1] >= ext[0]; ++i) {
     const Vec3 d = object_[i] - pos;
     const float x = f.X.dot(d), y = f.Y.dot(d), z = f.Z.dot(d);
@@ -460,8 +484,49 @@ void Planner::contact_tilt(const Vec3& pos, const ViewFrame& f, float one_minus_
     sdv[side] += depth * v;
     dmin[side] = std::min(dmin[side], depth);
     dmax[side] = std::max(dmax[side], depth);
+    BinSums& bs = bins[side][std::min(kNearFaceBins - 1, std::max(0, static_cast<int>(depth / kNearFaceBin)))];
+    ++bs.cnt;
+    bs.sd += depth;
+    bs.sdd += static_cast<double>(depth) * depth;
+    bs.sv += v;
+    bs.sdv += depth * v;
+    bs.dmin = std::min(bs.dmin, depth);
+    bs.dmax = std::max(bs.dmax, depth);
   }
   for (int s = 0; s < 2; ++s) {
+    // The face nearest the contact: over the nearest 3, 4, 5 bins (6-10 mm), the
+    // steepest mean 1 - cos(tilt) of a prefix whose tilt is flat (changes by less than
+    // kFaceTurn) with a crease behind it.
+    // A side with an edge inside the fit's depth (a handle's corner) mixes the face the
+    // pad meets with the next one, deeper and steeper: the fit over all of it bends,
+    // reads as round and extrapolates below the tilt of the face beside the edge.
+    near_face[s] = -1.f;
+    BinSums acc{0, 0, 0, 0, 0, 1e9f, -1e9f};
+    for (int k = 0; k < kNearFaceMaxBins; ++k) {
+      const BinSums& b = bins[s][k];
+      acc.sd += b.sd;
+      acc.sdd += b.sdd;
+      acc.sv += b.sv;
+      acc.sdv += b.sdv;
+      acc.cnt += b.cnt;
+      acc.dmin = std::min(acc.dmin, b.dmin);
+      acc.dmax = std::max(acc.dmax, b.dmax);
+      if (k + 1 < kNearFaceMinBins || acc.cnt < kTiltFitMin || acc.dmax - acc.dmin < kNearFaceSpread) continue;
+      const double m = static_cast<double>(acc.cnt);
+      const double var = acc.sdd / m - (acc.sd / m) * (acc.sd / m);
+      if (!(var > 1e-12)) continue;
+      const double slope = (acc.sdv / m - (acc.sd / m) * (acc.sv / m)) / var;
+      // Flat: its tilt changes by less than kFaceTurn over the prefix's depth.
+      const double face = acc.sv / m;
+      const double sin_face = std::sqrt(std::max(0.0, face * (2.0 - face)));
+      if (std::fabs(slope) * static_cast<double>(acc.dmax - acc.dmin) >= kFaceTurn * sin_face) continue;
+      // A crease behind it: the points deeper in (up to kTiltFitDepth) clearly steeper.
+      const uint32_t rest = cnt[s] - acc.cnt;
+      if (rest < kCreaseMin) continue;
+      const double deeper = (sv[s] - acc.sv) / static_cast<double>(rest);
+      if (std::acos(1.0 - std::min(1.0, deeper)) < std::acos(1.0 - std::min(1.0, face)) + kCreaseJump) continue;
+      near_face[s] = std::max(near_face[s], static_cast<float>(face));
+    }
     valid[s] = flat[s] = false;
     one_minus_cos[s] = 1.f;
     if (cnt[s] < kTiltFitMin || dmax[s] - dmin[s] < kTiltFitSpread) continue;
@@ -488,7 +553,8 @@ bool Planner::friction_ok(const Vec3& pos, const ViewFrame& f, float width) {
   contact_normal_stats(pos, f, width, st);
   float omc[2];
   bool valid[2], flat[2];
-  contact_tilt(pos, f, omc, valid, flat);
+  float near_face[2];
+  contact_tilt(pos, f, omc, valid, flat, near_face);
   const float cos_cone = std::cos(std::atan(cfg_.friction_mu));
   const float cos_flat = std::cos(std::atan(cfg_.friction_mu) - kFlatMargin);
   const float tip = 0.5f * cfg_.gripper.finger_depth_m - kTipReach;
@@ -498,6 +564,9 @@ bool Planner::friction_ok(const Vec3& pos, const ViewFrame& f, float width) {
     // that, and its tip may land on the top beyond the edge it was to squeeze (a low
     // object under a tilted approach, the hand raised off the table; a thin one).
     if (st.z_first[s] > tip && st.level[s] > 0) return false;
+    // The face nearest the contact, flat and off the cone: an edge contact, whatever
+    // the fit over the deeper points says.
+    if (near_face[s] > 1.f - cos_flat) return false;
     if (valid[s] && flat[s]) {
       if (omc[s] > 1.f - cos_flat) return false;  // a flat face off the cone: an edge contact
       continue;

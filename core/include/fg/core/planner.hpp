@@ -195,7 +195,8 @@ class Planner {
   };
   void contact_normal_stats(const Vec3& pos, const ViewFrame& f, float width, ContactNormalStats& st);
   bool friction_ok(const Vec3& pos, const ViewFrame& f, float width);
-  void contact_tilt(const Vec3& pos, const ViewFrame& f, float one_minus_cos[2], bool valid[2], bool flat[2]);
+  void contact_tilt(const Vec3& pos, const ViewFrame& f, float one_minus_cos[2], bool valid[2], bool flat[2],
+                    float near_face[2]);
   bool fingers_clear_of_hull(const Vec3& pos, const ViewFrame& f);
   int fingers_in_seen_space(const Vec3& pos, const ViewFrame& f, uint32_t& partly_hidden);
   bool unseen_side_clear(const Vec3& pos, const ViewFrame& f, int side);
