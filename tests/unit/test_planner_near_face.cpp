@@ -9,21 +9,11 @@
 #include <string>
 
 #include "fg/core/planner.hpp"
-#include "sim/grasp_judge.hpp"
-#include "sim/scene_gen.hpp"
+#include "sim_plan_judge.hpp"
 
 using namespace fg::sim;
 
 namespace {
-
-fg::PinholeIntrinsics intrinsics(const Intrinsics& k) {
-  fg::PinholeIntrinsics p;
-  p.fx = static_cast<float>(k.fx);
-  p.fy = static_cast<float>(k.fy);
-  p.cx = static_cast<float>(k.cx);
-  p.cy = static_cast<float>(k.cy);
-  return p;
-}
 
 // The scene of a box (seeded place, yaw and cameras) whose target is replaced by a
 // standing bar of square section `side` (a handle), 12 cm tall, turned about the
@@ -60,29 +50,13 @@ TEST(PlannerNearFace, GraspsOnSquareBarsHoldOnTheTrueGeometry) {
     const double turn = (0.15 + 0.05 * static_cast<double>(seed % 7)) * 3.14159265358979;
     const GeneratedScene s = bar_scene(seed, side, turn);
     ASSERT_TRUE(s.truth.target_fits);
-    const SceneImages img = render_scene(s);
-    planner->reset();
-    ASSERT_EQ(planner->add_depth_image(fg::SensorRole::head, img.head.mm.data(),
-                                       static_cast<uint16_t>(img.head.width), static_cast<uint16_t>(img.head.height),
-                                       intrinsics(s.head.K), s.head.world_T_sensor.to_pose()),
-              fg::Status::ok);
-    ASSERT_EQ(planner->add_depth_image(fg::SensorRole::hand, img.hand.mm.data(),
-                                       static_cast<uint16_t>(img.hand.width), static_cast<uint16_t>(img.hand.height),
-                                       intrinsics(s.hand.K), s.hand.world_T_sensor.to_pose()),
-              fg::Status::ok);
-    fg::PlanResult r;
-    const fg::Status st = planner->plan(r);
-    if (st != fg::Status::ok) {
-      EXPECT_EQ(st, fg::Status::no_grasp) << "seed " << seed << ": " << r.message;
+    const JudgedPlan jp = plan_and_judge(*planner, s);
+    if (jp.status != fg::Status::ok) {
+      EXPECT_EQ(jp.status, fg::Status::no_grasp) << "seed " << seed << ": " << jp.message;
       continue;
     }
     ++grasps;
-    Grasp g;
-    g.position = r.grasp.position;
-    g.approach = r.grasp.approach;
-    g.closing = r.grasp.closing;
-    g.width = r.grasp.width;
-    const JudgeResult j = judge_grasp(s.world, s.target, g, s.gripper);
+    const JudgeResult& j = jp.judge;
     if (j.success) ++held;
     else failures << " seed " << seed << ": " << j.reason << ";";
   }

@@ -13,9 +13,7 @@
 #include <string>
 
 #include "fg/core/planner.hpp"
-#include "sim/pinhole.hpp"
-#include "sim/grasp_judge.hpp"
-#include "sim/scene_gen.hpp"
+#include "sim_plan_judge.hpp"
 
 using namespace fg::sim;
 
@@ -47,29 +45,13 @@ TEST(PlannerTipReach, GraspsOnLowSlabsHoldOnTheTrueGeometry) {
     const double height = 0.012 + 0.0005 * static_cast<double>(seed % 13);  // 1.2 to 1.8 cm
     const GeneratedScene s = slab_scene(seed, height);
     ASSERT_TRUE(s.truth.target_fits);
-    const SceneImages img = render_scene(s);
-    planner->reset();
-    ASSERT_EQ(planner->add_depth_image(fg::SensorRole::head, img.head.mm.data(),
-                                       static_cast<uint16_t>(img.head.width), static_cast<uint16_t>(img.head.height),
-                                       fg::sim::to_pinhole(s.head.K), s.head.world_T_sensor.to_pose()),
-              fg::Status::ok);
-    ASSERT_EQ(planner->add_depth_image(fg::SensorRole::hand, img.hand.mm.data(),
-                                       static_cast<uint16_t>(img.hand.width), static_cast<uint16_t>(img.hand.height),
-                                       fg::sim::to_pinhole(s.hand.K), s.hand.world_T_sensor.to_pose()),
-              fg::Status::ok);
-    fg::PlanResult r;
-    const fg::Status st = planner->plan(r);
-    if (st != fg::Status::ok) {
-      EXPECT_EQ(st, fg::Status::no_grasp) << "seed " << seed << ": " << r.message;
+    const JudgedPlan jp = plan_and_judge(*planner, s);
+    if (jp.status != fg::Status::ok) {
+      EXPECT_EQ(jp.status, fg::Status::no_grasp) << "seed " << seed << ": " << jp.message;
       continue;
     }
     ++grasps;
-    Grasp g;
-    g.position = r.grasp.position;
-    g.approach = r.grasp.approach;
-    g.closing = r.grasp.closing;
-    g.width = r.grasp.width;
-    const JudgeResult j = judge_grasp(s.world, s.target, g, s.gripper);
+    const JudgeResult& j = jp.judge;
     if (j.success) ++held;
     else failures << " seed " << seed << " (height " << height << "): " << j.reason << ";";
   }

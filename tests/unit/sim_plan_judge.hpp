@@ -1,0 +1,46 @@
+// Test helper: plans a hal/sim scene as the sensors see it (both cameras' depth images)
+// and judges the returned grasp on the scene's TRUE geometry (hal/sim/grasp_judge).
+#pragma once
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "fg/core/planner.hpp"
+#include "sim/grasp_judge.hpp"
+#include "sim/pinhole.hpp"
+#include "sim/scene_gen.hpp"
+
+namespace fg::sim {
+
+struct JudgedPlan {
+  fg::Status status = fg::Status::internal_error;
+  std::string message;
+  JudgeResult judge;  //!< set when status is ok
+};
+
+inline JudgedPlan plan_and_judge(fg::Planner& planner, const GeneratedScene& s) {
+  JudgedPlan out;
+  const SceneImages img = render_scene(s);
+  planner.reset();
+  EXPECT_EQ(planner.add_depth_image(fg::SensorRole::head, img.head.mm.data(), static_cast<uint16_t>(img.head.width),
+                                    static_cast<uint16_t>(img.head.height), to_pinhole(s.head.K),
+                                    s.head.world_T_sensor.to_pose()),
+            fg::Status::ok);
+  EXPECT_EQ(planner.add_depth_image(fg::SensorRole::hand, img.hand.mm.data(), static_cast<uint16_t>(img.hand.width),
+                                    static_cast<uint16_t>(img.hand.height), to_pinhole(s.hand.K),
+                                    s.hand.world_T_sensor.to_pose()),
+            fg::Status::ok);
+  fg::PlanResult r;
+  out.status = planner.plan(r);
+  out.message = r.message;
+  if (out.status != fg::Status::ok) return out;
+  Grasp g;
+  g.position = r.grasp.position;
+  g.approach = r.grasp.approach;
+  g.closing = r.grasp.closing;
+  g.width = r.grasp.width;
+  out.judge = judge_grasp(s.world, s.target, g, s.gripper);
+  return out;
+}
+
+}  // namespace fg::sim
