@@ -3,6 +3,7 @@
 #pragma once
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <string>
 
 #include "fg/core/planner.hpp"
@@ -11,6 +12,23 @@
 #include "sim/scene_gen.hpp"
 
 namespace fg::sim {
+
+//! The scene of a box (seeded place, yaw and cameras, no second object) whose target
+//! is replaced by a box of half extents `half` standing on the table at the same
+//! place, turned about the vertical by `turn` from the box's yaw.
+inline GeneratedScene box_target_scene(uint64_t seed, const V3& half, double turn) {
+  SceneOptions opt;
+  opt.second_object_rate = 0.0;
+  GeneratedScene s = make_scene(ObjectKind::box, seed, opt);
+  Object& o = s.world.objects[static_cast<size_t>(s.target)];
+  Rigid pose = o.parts.at(0).world_T_shape;
+  pose.t.z() = s.world.table.height + half.z();
+  pose = pose * Rigid::rot_z(turn);
+  o.parts.clear();
+  o.parts.push_back(Part::box("body", half, pose));
+  s.truth = compute_truth(s.world, s.target, s.gripper, s.truth.fit_margin);
+  return s;
+}
 
 struct JudgedPlan {
   fg::Status status = fg::Status::internal_error;

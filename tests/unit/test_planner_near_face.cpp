@@ -19,17 +19,7 @@ namespace {
 // standing bar of square section `side` (a handle), 12 cm tall, turned about the
 // vertical by `turn` from the box's yaw.
 GeneratedScene bar_scene(uint64_t seed, double side, double turn) {
-  SceneOptions opt;
-  opt.second_object_rate = 0.0;
-  GeneratedScene s = make_scene(ObjectKind::box, seed, opt);
-  Object& o = s.world.objects[static_cast<size_t>(s.target)];
-  Rigid pose = o.parts.at(0).world_T_shape;
-  pose.t.z() = s.world.table.height + 0.06;
-  pose = pose * Rigid::rot_z(turn);
-  o.parts.clear();
-  o.parts.push_back(Part::box("bar", V3(0.5 * side, 0.5 * side, 0.06), pose));
-  s.truth = compute_truth(s.world, s.target, s.gripper, s.truth.fit_margin);
-  return s;
+  return box_target_scene(seed, V3(0.5 * side, 0.5 * side, 0.06), turn);
 }
 
 }  // namespace

@@ -22,16 +22,7 @@ namespace {
 // The scene of a box (seeded place, yaw and cameras) whose target is replaced by a slab
 // 2.6 cm across, 12 cm long and `height` tall, lying at the same place and yaw.
 GeneratedScene slab_scene(uint64_t seed, double height) {
-  SceneOptions opt;
-  opt.second_object_rate = 0.0;
-  GeneratedScene s = make_scene(ObjectKind::box, seed, opt);
-  Object& o = s.world.objects[static_cast<size_t>(s.target)];
-  Rigid pose = o.parts.at(0).world_T_shape;
-  pose.t.z() = s.world.table.height + 0.5 * height;
-  o.parts.clear();
-  o.parts.push_back(Part::box("body", V3(0.013, 0.06, 0.5 * height), pose));
-  s.truth = compute_truth(s.world, s.target, s.gripper, s.truth.fit_margin);
-  return s;
+  return box_target_scene(seed, V3(0.013, 0.06, 0.5 * height), 0.0);
 }
 
 }  // namespace

@@ -40,7 +40,7 @@ class GraspCheck {
  public:
   GraspVerdict check(const GraspQuery& q) { return do_check(q); }
   //! The planner calls this once at the start of each plan(), before any check():
-  //! a new scene, and a fresh per-plan work budget where the check keeps one.
+  //! the scene of this plan, and a fresh per-plan work budget where the check keeps one.
   void begin_plan() { do_begin_plan(); }
 
  protected:
