@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <memory>
+#include <sstream>
 #include <string>
 
 #include "fg/core/planner.hpp"
@@ -58,6 +60,34 @@ inline JudgedPlan plan_and_judge(fg::Planner& planner, const GeneratedScene& s) 
   g.closing = r.grasp.closing;
   g.width = r.grasp.width;
   out.judge = judge_grasp(s.world, s.target, g, s.gripper);
+  return out;
+}
+
+//! Seeds 1..n: each scene (make(seed), a target that fits) planned by a default planner
+//! and its grasp judged; a plan that is not ok must be no_grasp.
+struct JudgedSeeds {
+  int grasps = 0, held = 0;
+  std::string failures;  //!< " seed N: reason;" for each grasp that does not hold
+};
+template <class MakeScene>
+JudgedSeeds judge_seeds(uint64_t n, MakeScene make) {
+  JudgedSeeds out;
+  auto planner = std::make_unique<fg::Planner>();
+  EXPECT_EQ(planner->configure(fg::PlannerConfig{}), fg::Status::ok);
+  std::ostringstream failures;
+  for (uint64_t seed = 1; seed <= n; ++seed) {
+    const GeneratedScene s = make(seed);
+    EXPECT_TRUE(s.truth.target_fits) << "seed " << seed;
+    const JudgedPlan jp = plan_and_judge(*planner, s);
+    if (jp.status != fg::Status::ok) {
+      EXPECT_EQ(jp.status, fg::Status::no_grasp) << "seed " << seed << ": " << jp.message;
+      continue;
+    }
+    ++out.grasps;
+    if (jp.judge.success) ++out.held;
+    else failures << " seed " << seed << ": " << jp.judge.reason << ";";
+  }
+  out.failures = failures.str();
   return out;
 }
 

@@ -8,8 +8,6 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
-#include <memory>
-#include <sstream>
 #include <string>
 
 #include "fg/core/planner.hpp"
@@ -28,25 +26,11 @@ GeneratedScene slab_scene(uint64_t seed, double height) {
 }  // namespace
 
 TEST(PlannerTipReach, GraspsOnLowSlabsHoldOnTheTrueGeometry) {
-  auto planner = std::make_unique<fg::Planner>();
-  ASSERT_EQ(planner->configure(fg::PlannerConfig{}), fg::Status::ok);
-  int grasps = 0, held = 0;
-  std::ostringstream failures;
-  for (uint64_t seed = 1; seed <= 24; ++seed) {
+  const JudgedSeeds r = judge_seeds(24, [](uint64_t seed) {
     const double height = 0.012 + 0.0005 * static_cast<double>(seed % 13);  // 1.2 to 1.8 cm
-    const GeneratedScene s = slab_scene(seed, height);
-    ASSERT_TRUE(s.truth.target_fits);
-    const JudgedPlan jp = plan_and_judge(*planner, s);
-    if (jp.status != fg::Status::ok) {
-      EXPECT_EQ(jp.status, fg::Status::no_grasp) << "seed " << seed << ": " << jp.message;
-      continue;
-    }
-    ++grasps;
-    const JudgeResult& j = jp.judge;
-    if (j.success) ++held;
-    else failures << " seed " << seed << " (height " << height << "): " << j.reason << ";";
-  }
-  EXPECT_EQ(held, grasps) << "grasps that do not hold:" << failures.str();
+    return slab_scene(seed, height);
+  });
+  EXPECT_EQ(r.held, r.grasps) << "grasps that do not hold:" << r.failures;
   // The slabs fit the gripper across their narrow side: most get a grasp.
-  EXPECT_GE(grasps, 12);
+  EXPECT_GE(r.grasps, 12);
 }
