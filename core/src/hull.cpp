@@ -120,51 +120,48 @@ struct DfsResult {
 };
 
 //! Iterative depth-first flood from `start` over the cells whose F bit equals
-//! `want_fg`, 4- (dir_step 2) or 8-connected (dir_step 1). Marks them with
-//! `mark`; the path back to `start` is kept as parent directions in the cell bits,
-//! so no stack is needed. Each cell is entered once and left once.
+//! `want_fg`, 4- (dir_step 2) or 8-connected (dir_step 1). Marks them with `mark`; the
+//! path back to `start` is kept as parent directions in the cell bits, so no stack is
+//! needed. Each cell is entered once and left once. Every cell the flood may enter is
+//! interior (off the raster's outer ring): the callers make the ring fail its test
+//! (background for a foreground flood, marked before a background flood), so a
+//! neighbour is one index offset away, with no bounds test.
 DfsResult flood(uint8_t* g, const uint8_t* counts, uint32_t w, uint32_t h, uint32_t start,
                 bool want_fg, int dir_step, uint8_t mark) {
   DfsResult res{0, false, true};
   const uint64_t cells = static_cast<uint64_t>(w) * h;
   const uint64_t max_steps = 2 * cells + 2;
-  uint32_t cur = start;
+  int64_t off[8];  // index offsets of the 8 directions
+  for (int d = 0; d < 8; ++d) off[d] = static_cast<int64_t>(kDy8[d]) * static_cast<int64_t>(w) + kDx8[d];
+  const uint8_t want = want_fg ? kFg : 0;
+  int64_t cur = start;
   g[cur] = static_cast<uint8_t>((g[cur] & ~kParentMask) | mark);
   if (counts != nullptr) {
     res.points += counts[cur];
     res.saturated = res.saturated || counts[cur] == 255;
   }
   int dir_from = 0;
-  int64_t ci = static_cast<int64_t>(cur % w), cj = static_cast<int64_t>(cur / w);  // cur's column, row
   for (uint64_t step = 0; step < max_steps; ++step) {
     bool moved = false;
     for (int d = dir_from; d < 8; d += dir_step) {
-      const int64_t ni = ci + kDx8[d];
-      const int64_t nj = cj + kDy8[d];
-      if (ni < 0 || nj < 0 || ni >= static_cast<int64_t>(w) || nj >= static_cast<int64_t>(h)) continue;
-      const uint32_t nb = static_cast<uint32_t>(nj) * w + static_cast<uint32_t>(ni);
-      if (((g[nb] & kFg) != 0) != want_fg || (g[nb] & mark) != 0) continue;
+      const int64_t nb = cur + off[d];
+      const uint8_t v = g[nb];
+      if ((v & kFg) != want || (v & mark) != 0) continue;
       const int back = (d + 4) & 7;  // direction from this cell back to its parent
-      g[nb] = static_cast<uint8_t>((g[nb] & ~kParentMask) | mark | (back << kParentShift));
+      g[nb] = static_cast<uint8_t>((v & ~kParentMask) | mark | (back << kParentShift));
       if (counts != nullptr) {
         res.points += counts[nb];
         res.saturated = res.saturated || counts[nb] == 255;
       }
       cur = nb;
-      ci = ni;
-      cj = nj;
       dir_from = 0;
       moved = true;
       break;
     }
     if (moved) continue;
-    if (cur == start) return res;
+    if (cur == static_cast<int64_t>(start)) return res;
     const int back = (g[cur] & kParentMask) >> kParentShift;
-    const int64_t pi = ci + kDx8[back];
-    const int64_t pj = cj + kDy8[back];
-    cur = static_cast<uint32_t>(pj) * w + static_cast<uint32_t>(pi);
-    ci = pi;
-    cj = pj;
+    cur += off[back];
     dir_from = ((back + 4) & 7) + dir_step;  // resume after the child just finished
   }
   res.ok = false;
@@ -348,8 +345,25 @@ Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& 
   }
 
   // Fill holes: flood the background (4-connected, the dual of 8-connected
-  // foreground) from the corner cell; every background cell not reached is a hole.
-  if (!flood(g, nullptr, w, h, 0, false, 2, kVisited).ok) return Status::internal_error;
+  // foreground) from the outer ring; every background cell not reached is a hole. The
+  // ring is marked first and the flood starts from each unmarked background cell next
+  // to it (the flood never steps onto the ring).
+  for (uint32_t i = 0; i < w; ++i) {
+    g[i] |= kVisited;
+    g[(h - 1) * w + i] |= kVisited;
+  }
+  for (uint32_t j = 0; j < h; ++j) {
+    g[j * w] |= kVisited;
+    g[j * w + w - 1] |= kVisited;
+  }
+  auto flood_background = [&](uint32_t i, uint32_t j) {
+    const uint32_t k = j * w + i;
+    return (g[k] & (kFg | kVisited)) != 0 || flood(g, nullptr, w, h, k, false, 2, kVisited).ok;
+  };
+  for (uint32_t i = 1; i + 1 < w; ++i)
+    if (!flood_background(i, 1) || !flood_background(i, h - 2)) return Status::internal_error;
+  for (uint32_t j = 1; j + 1 < h; ++j)
+    if (!flood_background(1, j) || !flood_background(w - 2, j)) return Status::internal_error;
   for (uint32_t k = 0; k < cells; ++k) g[k] = ((g[k] & kFg) || !(g[k] & kVisited)) ? kFg : 0;
 
   // Components (8-connected) in raster order; keep the one with the most points
