@@ -386,6 +386,45 @@ TEST(ConcaveHull, RingHoleIsFilled) {
   EXPECT_TRUE(fg::polygon_contains(r.poly.data(), static_cast<uint32_t>(r.poly.size()), Vec2{0.0f, 0.0f}));
 }
 
+// A square ring of 9 x 9 cells at 1 cm with one point alone at its middle, one point
+// per cell centre, traced without closing (so the polygon's area counts cells
+// exactly). A hole is background that no 4-connected path joins to the raster's
+// border (the dual of the 8-connected foreground); filling it joins the middle point
+// to the ring, so every point is inside. Opened edge-on, the inside is no hole and the
+// middle point is a component of its own.
+TEST(ConcaveHull, HolesAreBackgroundNotFourConnectedToTheBorder) {
+  auto ring = [](int skip_i, int skip_j) {
+    std::vector<Vec2> pts;
+    for (int j = 0; j < 9; ++j)
+      for (int i = 0; i < 9; ++i) {
+        const bool edge = i == 0 || j == 0 || i == 8 || j == 8;
+        if ((edge && !(i == skip_i && j == skip_j)) || (i == 4 && j == 4))
+          pts.push_back({0.01f * static_cast<float>(i), 0.01f * static_cast<float>(j)});
+      }
+    return pts;
+  };
+  auto cells_inside = [](const Concave& r) {
+    return fg::polygon_area(r.poly.data(), static_cast<uint32_t>(r.poly.size())) / (0.01 * 0.01);
+  };
+  const Concave closed = concave(ring(-1, -1), 0.01f, 0);
+  ASSERT_EQ(closed.status, Status::ok);
+  ASSERT_FLOAT_EQ(closed.cell, 0.01f);
+  EXPECT_TRUE(closed.all_inside);
+  EXPECT_NEAR(cells_inside(closed), 81.0, 1e-3);
+  // A corner cell missing: the inside meets the outside only diagonally, still a hole.
+  const Concave corner = concave(ring(0, 0), 0.01f, 0);
+  ASSERT_EQ(corner.status, Status::ok);
+  EXPECT_TRUE(corner.all_inside);
+  EXPECT_NEAR(cells_inside(corner), 80.0, 1e-3);
+  // An edge cell missing, on each side in turn: no hole; the ring, 31 cells, is traced.
+  for (const auto& gap : {std::pair<int, int>{4, 0}, {8, 4}, {4, 8}, {0, 4}}) {
+    const Concave r = concave(ring(gap.first, gap.second), 0.01f, 0);
+    ASSERT_EQ(r.status, Status::ok);
+    EXPECT_FALSE(r.all_inside) << gap.first << "," << gap.second;
+    EXPECT_NEAR(cells_inside(r), 31.0, 1e-3) << gap.first << "," << gap.second;
+  }
+}
+
 std::vector<Vec2> random_blob(std::mt19937& rng, int n, Vec2 centre, float radius) {
   // Union of three overlapping discs, uniform by rejection.
   std::uniform_real_distribution<float> u(-1.0f, 1.0f);
