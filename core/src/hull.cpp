@@ -28,16 +28,12 @@ double cross(const Vec2& o, const Vec2& a, const Vec2& b) {
 
 // ----------------------------------------------------------------------------------
 // Raster concave hull helpers. Cell flag bits (ConcaveHullScratch::cells):
-//   closing stage : bit0 occupied, bit1 row-dilated, bit2 dilated, bit3 row-eroded,
-//                   bit4 closed
+//   binning       : bit0 occupied
 //   after closing : bit0 foreground (F), bit1 visited, bits2-4 DFS parent direction,
 //                   bit5 "current component" mark used by the exact recount
-// ConcaveHullScratch::temp holds the number of points per cell, saturated at 255.
+// ConcaveHullScratch::temp holds the number of points per cell, saturated at 255;
+// ConcaveHullScratch::rows holds the closing's images, one bit per cell.
 constexpr uint8_t kOcc = 0x01;
-constexpr uint8_t kRowDil = 0x02;
-constexpr uint8_t kDil = 0x04;
-constexpr uint8_t kRowEro = 0x08;
-constexpr uint8_t kClosed = 0x10;
 
 constexpr uint8_t kFg = 0x01;
 constexpr uint8_t kVisited = 0x02;
@@ -97,21 +93,67 @@ struct Raster {
   }
 };
 
-//! One line of a separable square dilation (any src set in the window) or erosion
-//! (the whole window set; outside the raster counts as unset): src bit -> dst bit.
-void morph_line(uint8_t* g, uint32_t start, uint32_t step, uint32_t len, uint32_t r,
-                uint8_t src, uint8_t dst, bool erode) {
-  const uint32_t full = 2 * r + 1;
-  uint32_t count = 0;  // set cells in [t - r, t + r] clipped to the line
-  const uint32_t first = std::min(r, len - 1);
-  for (uint32_t t = 0; t <= first; ++t) count += (g[start + t * step] & src) ? 1u : 0u;
-  for (uint32_t t = 0; t < len; ++t) {
-    const bool on = erode ? (count == full) : (count > 0);
-    if (on) g[start + t * step] = static_cast<uint8_t>(g[start + t * step] | dst);
-    if (t + r + 1 < len) count += (g[start + (t + r + 1) * step] & src) ? 1u : 0u;
-    if (t >= r) count -= (g[start + (t - r) * step] & src) ? 1u : 0u;
+//! Rows of a raster as bit sets: cell i of a row is bit i % 64 of word i / 64; bits
+//! at and past the row's width stay 0.
+struct BitRows {
+  uint64_t* bits;
+  uint32_t words;  // per row
+  uint32_t h;
+  uint64_t last_mask;  // the valid bits of a row's last word
+
+  uint64_t* row(uint32_t j) const { return bits + static_cast<size_t>(j) * words; }
+
+  //! One word of `src` shifted by s cells (s > 0: towards larger i), zeros shifted in.
+  static uint64_t shifted_word(const uint64_t* src, uint32_t words, uint32_t k, int32_t s) {
+    const int32_t ws = s >= 0 ? s / 64 : -((-s + 63) / 64);  // floor(s / 64)
+    const uint32_t b = static_cast<uint32_t>(s - ws * 64);  // 0..63
+    const int64_t lo = static_cast<int64_t>(k) - ws;        // source word of the low part
+    auto at = [&](int64_t q) { return q >= 0 && q < static_cast<int64_t>(words) ? src[q] : uint64_t{0}; };
+    if (b == 0) return at(lo);
+    return (at(lo) << b) | (at(lo - 1) >> (64 - b));
   }
-}
+
+  //! out = the union (dilate) or the intersection (erode) of `in` shifted by -r..r
+  //! cells along each row; cells beyond the row count as unset.
+  void along_rows(const BitRows& in, uint32_t r, bool erode) const {
+    for (uint32_t j = 0; j < h; ++j) {
+      const uint64_t* src = in.row(j);
+      uint64_t* dst = row(j);
+      for (uint32_t k = 0; k < words; ++k) {
+        uint64_t acc = src[k];
+        for (uint32_t s = 1; s <= r; ++s) {
+          const uint64_t a = shifted_word(src, words, k, static_cast<int32_t>(s));
+          const uint64_t b = shifted_word(src, words, k, -static_cast<int32_t>(s));
+          acc = erode ? (acc & a & b) : (acc | a | b);
+        }
+        dst[k] = k + 1 == words ? (acc & last_mask) : acc;
+      }
+    }
+  }
+
+  //! The same across rows (rows beyond the raster count as unset).
+  void across_rows(const BitRows& in, uint32_t r, bool erode) const {
+    for (uint32_t j = 0; j < h; ++j) {
+      const bool clipped = j < r || j + r >= h;
+      for (uint32_t k = 0; k < words; ++k) {
+        if (erode && clipped) {
+          row(j)[k] = 0;
+          continue;
+        }
+        uint64_t acc = in.row(j)[k];
+        for (uint32_t t = 1; t <= r; ++t) {
+          if (erode) {
+            acc &= in.row(j - t)[k] & in.row(j + t)[k];
+          } else {
+            if (j >= t) acc |= in.row(j - t)[k];
+            if (j + t < h) acc |= in.row(j + t)[k];
+          }
+        }
+        row(j)[k] = acc;
+      }
+    }
+  }
+};
 
 struct DfsResult {
   uint64_t points;  //!< sum of the saturated per-cell point counts
@@ -320,20 +362,34 @@ Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& 
     g[k] = 0;
     counts[k] = 0;
   }
+  const uint32_t words = (w + 63) / 64;
+  const uint32_t tail_bits = w - (words - 1) * 64;
+  const BitRows occ{scratch.rows[0], words, h, tail_bits == 64 ? ~uint64_t{0} : (uint64_t{1} << tail_bits) - 1};
+  const BitRows tmp{scratch.rows[1], words, h, occ.last_mask};
+  for (uint32_t k = 0; k < words * h; ++k) occ.bits[k] = 0;
   for (uint32_t i = 0; i < n; ++i) {
     if (!is_finite(points[i])) continue;
     const uint32_t k = ras.index_of(points[i]);
     g[k] = kOcc;
     if (counts[k] < 255) ++counts[k];
+    const uint32_t j = k / w, c = k - j * w;
+    occ.row(j)[c / 64] |= uint64_t{1} << (c % 64);
   }
 
-  // Closing (dilate then erode) with a (2r+1)^2 square, separably; OR the occupied
-  // cells back in (a no-op with the margin, kept so the guarantee never rests on it).
-  for (uint32_t j = 0; j < h; ++j) morph_line(g, j * w, 1, w, r, kOcc, kRowDil, false);
-  for (uint32_t i = 0; i < w; ++i) morph_line(g, i, w, h, r, kRowDil, kDil, false);
-  for (uint32_t j = 0; j < h; ++j) morph_line(g, j * w, 1, w, r, kDil, kRowEro, true);
-  for (uint32_t i = 0; i < w; ++i) morph_line(g, i, w, h, r, kRowEro, kClosed, true);
-  for (uint32_t k = 0; k < cells; ++k) g[k] = (g[k] & (kClosed | kOcc)) ? kFg : 0;
+  // Closing (dilate then erode) with a (2r+1)^2 square, separably, on bit rows (the
+  // occupancy image is overwritten by the steps, ending as the closed image); OR the
+  // occupied cells back in (a no-op with the margin, kept so the guarantee never rests
+  // on it).
+  tmp.along_rows(occ, r, false);
+  occ.across_rows(tmp, r, false);
+  tmp.along_rows(occ, r, true);
+  occ.across_rows(tmp, r, true);
+  for (uint32_t j = 0; j < h; ++j) {
+    const uint64_t* closed = occ.row(j);
+    uint8_t* line = g + j * w;
+    for (uint32_t c = 0; c < w; ++c)
+      line[c] = (((closed[c / 64] >> (c % 64)) & 1u) != 0 || (line[c] & kOcc) != 0) ? kFg : 0;
+  }
   // The dilation cannot reach the outer ring of cells; make that an invariant.
   for (uint32_t i = 0; i < w; ++i) {
     g[i] = 0;

@@ -425,6 +425,36 @@ TEST(ConcaveHull, HolesAreBackgroundNotFourConnectedToTheBorder) {
   }
 }
 
+// Two 8 x 10-cell rectangles side by side, `gap` empty columns apart, one point per
+// cell centre at 1 cm. A closing with a (2r+1)^2 square bridges the gap exactly when
+// it is at most 2r columns wide, and then gives the bounding rectangle. The larger
+// radii shift rows across the 64-cell words of the raster.
+TEST(ConcaveHull, ClosingBridgesGapsUpToTwiceItsRadius) {
+  FG_NEED_RASTER(256u);
+  auto pair_of_boxes = [](int gap) {
+    std::vector<Vec2> pts;
+    for (int j = 0; j < 10; ++j)
+      for (int i = 0; i < 16 + gap; ++i)
+        if (i < 8 || i >= 8 + gap) pts.push_back({0.01f * static_cast<float>(i), 0.01f * static_cast<float>(j)});
+    return pts;
+  };
+  struct Case {
+    uint32_t r;
+    int gap;
+    bool joined;
+  } cases[] = {{3, 6, true}, {3, 7, false}, {30, 60, true}, {30, 61, false}, {100, 30, true}};
+  for (const Case& c : cases) {
+    const Concave h = concave(pair_of_boxes(c.gap), 0.01f, c.r);
+    ASSERT_EQ(h.status, Status::ok) << c.r << " " << c.gap;
+    ASSERT_FLOAT_EQ(h.cell, 0.01f) << c.r << " " << c.gap;
+    const double cells = fg::polygon_area(h.poly.data(), static_cast<uint32_t>(h.poly.size())) / (0.01 * 0.01);
+    EXPECT_EQ(h.all_inside, c.joined) << c.r << " " << c.gap;
+    // Joined: the bounding rectangle. Apart: equal point counts, so the first box in
+    // raster order (the left one), closed onto itself.
+    EXPECT_NEAR(cells, c.joined ? 10.0 * (16 + c.gap) : 80.0, 1e-3) << c.r << " " << c.gap;
+  }
+}
+
 std::vector<Vec2> random_blob(std::mt19937& rng, int n, Vec2 centre, float radius) {
   // Union of three overlapping discs, uniform by rejection.
   std::uniform_real_distribution<float> u(-1.0f, 1.0f);

@@ -27,6 +27,9 @@ struct ConcaveHullScratch {
   uint8_t temp[kHullGridDim * kHullGridDim];
   float corner_x[kHullGridDim + 1];  // the raster's cell corners
   float corner_y[kHullGridDim + 1];
+  // The closing works on rows as bit sets (64 cells per word): two images.
+  static constexpr uint32_t kRowWords = (kHullGridDim + 63) / 64;
+  uint64_t rows[2][kHullGridDim * kRowWords];
 };
 
 //! Parameters of the raster concave hull.
