@@ -210,6 +210,77 @@ DfsResult flood(uint8_t* g, const uint8_t* counts, uint32_t w, uint32_t h, uint3
   return res;
 }
 
+//! Union-find over runs: the root of a run's component (path halving; a root is its
+//! component's first run in raster order, since unions keep the smaller index).
+uint32_t run_root(HullRun* runs, uint32_t x) {
+  for (uint32_t guard = 0; runs[x].parent != x && guard < ConcaveHullScratch::kMaxRuns; ++guard) {
+    runs[x].parent = runs[runs[x].parent].parent;
+    x = runs[x].parent;
+  }
+  return x;
+}
+
+void run_union(HullRun* runs, uint32_t a, uint32_t b) {
+  uint32_t ra = run_root(runs, a), rb = run_root(runs, b);
+  if (ra == rb) return;
+  if (rb < ra) std::swap(ra, rb);
+  runs[rb].parent = ra;
+  runs[ra].points = ((runs[ra].points | runs[rb].points) & 0x80000000u) +
+                    ((runs[ra].points & 0x7FFFFFFFu) + (runs[rb].points & 0x7FFFFFFFu));
+}
+
+//! Labels the 8-connected foreground components (kFg cells of g) by runs: each row's
+//! runs, with their points summed from `counts`, joined to the runs of the row below
+//! that touch them (overlap, or meet diagonally). n_runs receives the count; false
+//! when the raster has more runs than `runs` holds (nothing else is then valid).
+bool label_runs(const uint8_t* g, const uint8_t* counts, uint32_t w, uint32_t h, HullRun* runs,
+                uint32_t* row_first, uint32_t& n_runs) {
+  n_runs = 0;
+  for (uint32_t j = 0; j < h; ++j) {
+    row_first[j] = n_runs;
+    const uint8_t* line = g + j * w;
+    const uint8_t* cnt = counts + j * w;
+    for (uint32_t i = 0; i < w;) {
+      if ((line[i] & kFg) == 0) {
+        ++i;
+        continue;
+      }
+      const uint32_t x0 = i;
+      uint32_t pts = 0;
+      bool sat = false;
+      for (; i < w && (line[i] & kFg) != 0; ++i) {
+        pts += cnt[i];
+        sat = sat || cnt[i] == 255;
+      }
+      if (n_runs == ConcaveHullScratch::kMaxRuns) return false;
+      runs[n_runs] = HullRun{n_runs, pts | (sat ? 0x80000000u : 0u), static_cast<uint16_t>(x0),
+                             static_cast<uint16_t>(i - 1)};
+      ++n_runs;
+    }
+    if (j == 0) continue;
+    // Join with the row below: runs a and b touch when a.x0 <= b.x1 + 1 and
+    // b.x0 <= a.x1 + 1 (8-connected).
+    uint32_t a = row_first[j - 1], b = row_first[j];
+    const uint32_t a_end = row_first[j], b_end = n_runs;
+    while (a < a_end && b < b_end) {
+      if (runs[a].x1 + 1u < runs[b].x0) {
+        ++a;
+      } else if (runs[b].x1 + 1u < runs[a].x0) {
+        ++b;
+      } else {
+        run_union(runs, a, b);
+        if (runs[a].x1 < runs[b].x1) {
+          ++a;
+        } else {
+          ++b;
+        }
+      }
+    }
+  }
+  row_first[h] = n_runs;
+  return true;
+}
+
 }  // namespace
 
 // ------------------------------------------------------------------------------------
@@ -424,25 +495,56 @@ Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& 
 
   // Components (8-connected) in raster order; keep the one with the most points
   // (ties: the earlier one). Counts come from the saturated per-cell counts and are
-  // recounted exactly when a cell saturated.
+  // recounted exactly when a cell saturated. Labelled by runs of the rows; a raster
+  // with more runs than the scratch holds is flooded component by component instead.
   uint64_t best_points = 0;
   uint32_t best_start = cells;
-  for (uint32_t k = 0; k < cells; ++k) {
-    if (!(g[k] & kFg) || (g[k] & kVisited)) continue;
-    const DfsResult comp = flood(g, counts, w, h, k, true, 1, kVisited);
-    if (!comp.ok) return Status::internal_error;
-    uint64_t pts = comp.points;
-    if (comp.saturated) {
-      if (!flood(g, nullptr, w, h, k, true, 1, kCurrent).ok) return Status::internal_error;
-      pts = 0;
-      for (uint32_t i = 0; i < n; ++i) {
-        if (is_finite(points[i]) && (g[ras.index_of(points[i])] & kCurrent)) ++pts;
+  HullRun* const runs = scratch.runs;
+  uint32_t row_first[kDim + 1];
+  uint32_t n_runs = 0;
+  if (label_runs(g, counts, w, h, runs, row_first, n_runs)) {
+    for (uint32_t j = 0; j < h; ++j) {
+      for (uint32_t q = row_first[j]; q < row_first[j + 1]; ++q) {
+        if (runs[q].parent != q) continue;  // not a component's first run
+        uint64_t pts = runs[q].points & 0x7FFFFFFFu;
+        if ((runs[q].points & 0x80000000u) != 0) {
+          // Exact recount: mark the component's cells, count the points in them.
+          for (uint32_t jj = j; jj < h; ++jj)
+            for (uint32_t p = row_first[jj]; p < row_first[jj + 1]; ++p)
+              if (run_root(runs, p) == q)
+                for (uint32_t c = runs[p].x0; c <= runs[p].x1; ++c) g[jj * w + c] |= kCurrent;
+          pts = 0;
+          for (uint32_t i = 0; i < n; ++i) {
+            if (is_finite(points[i]) && (g[ras.index_of(points[i])] & kCurrent)) ++pts;
+          }
+          for (uint32_t c = 0; c < cells; ++c) g[c] = static_cast<uint8_t>(g[c] & ~kCurrent);
+        }
+        if (best_start == cells || pts > best_points) {
+          best_points = pts;
+          best_start = j * w + runs[q].x0;
+        }
       }
-      for (uint32_t c = 0; c < cells; ++c) g[c] = static_cast<uint8_t>(g[c] & ~kCurrent);
     }
-    if (best_start == cells || pts > best_points) {
-      best_points = pts;
-      best_start = k;
+  } else {
+    for (uint32_t k = 0; k < cells; ++k) {
+      if (!(g[k] & kFg) || (g[k] & kVisited)) continue;
+      const DfsResult comp = flood(g, counts, w, h, k, true, 1, kVisited);
+      if (!comp.ok) return Status::internal_error;
+      uint64_t pts = comp.points;
+      if (comp.saturated) {
+        if (!flood(g, nullptr, w, h, k, true, 1, kCurrent).ok) return Status::internal_error;
+        pts = 0;
+        for (uint32_t i = 0; i < n; ++i) {
+          if (is_finite(points[i]) && (g[ras.index_of(points[i])] & kCurrent)) ++pts;
+        }
+        for (uint32_t c = 0; c < cells; ++c) g[c] = static_cast<uint8_t>(g[c] & ~kCurrent);
+      }
+      if (best_start == cells || pts > best_points) {
+        best_points = pts;
+        best_start = k;
+      }
+      // Holding every point, it wins: any later component has none, and ties go to it.
+      if (best_points == finite) break;
     }
   }
   if (best_start == cells) return Status::internal_error;  // a point's cell is always set

@@ -455,6 +455,56 @@ TEST(ConcaveHull, ClosingBridgesGapsUpToTwiceItsRadius) {
   }
 }
 
+// A comb: `cols` vertical bars of `rows` cells, one empty column between bars, one
+// point per cell (1 cm) and 300 more in the bottom cell of the second bar, which so
+// holds the most points (its cell's count saturates and is recounted exactly). With
+// few rows the components are labelled by runs; with more runs than the scratch
+// holds, by flooding: both trace the second bar alone.
+TEST(ConcaveHull, CombOfBarsTracesTheBarWithTheMostPoints) {
+  FG_NEED_RASTER(128u);
+  for (const int rows : {4, 20, 30}) {
+    const int cols = 60;
+    std::vector<Vec2> pts;
+    for (int j = 0; j < rows; ++j)
+      for (int c = 0; c < cols; ++c) pts.push_back({0.02f * static_cast<float>(c), 0.01f * static_cast<float>(j)});
+    for (int k = 0; k < 300; ++k) pts.push_back({0.02f, 0.0f});
+    const bool many_runs = static_cast<uint32_t>(rows * cols) > fg::ConcaveHullScratch::kMaxRuns;
+    const Concave r = concave(pts, 0.01f, 0);
+    ASSERT_EQ(r.status, Status::ok) << rows;
+    ASSERT_FLOAT_EQ(r.cell, 0.01f);
+    EXPECT_FALSE(r.all_inside);
+    ASSERT_EQ(r.poly.size(), 4u) << rows << (many_runs ? " (flooded)" : " (runs)");
+    float x0 = 1e9f, x1 = -1e9f;
+    for (const Vec2& v : r.poly) {
+      x0 = std::min(x0, v.x);
+      x1 = std::max(x1, v.x);
+    }
+    EXPECT_NEAR(x0, 0.015f, 1e-4f) << rows;  // the bar of x = 0.02 m, one cell wide
+    EXPECT_NEAR(x1, 0.025f, 1e-4f) << rows;
+    EXPECT_NEAR(fg::polygon_area(r.poly.data(), 4) / (0.01 * 0.01), rows, 1e-3) << rows;
+  }
+  EXPECT_LT(4u * 60u, fg::ConcaveHullScratch::kMaxRuns);
+  EXPECT_GT(30u * 60u, fg::ConcaveHullScratch::kMaxRuns);  // the last comb floods
+}
+
+// An arch: two legs joined only by a top row, so its left and right halves are labelled
+// apart until that row. The polygon starts at the lower-left corner of the component's
+// lowest, then leftmost cell: the left leg's foot.
+TEST(ConcaveHull, ArchStartsAtItsFirstCellInRasterOrder) {
+  std::vector<Vec2> pts;
+  for (int j = 0; j < 7; ++j)
+    for (int i = 0; i < 5; ++i)
+      if (j == 6 || i == 0 || i == 4) pts.push_back({0.01f * static_cast<float>(i), 0.01f * static_cast<float>(j)});
+  const Concave r = concave(pts, 0.01f, 0);
+  ASSERT_EQ(r.status, Status::ok);
+  ASSERT_FLOAT_EQ(r.cell, 0.01f);
+  EXPECT_TRUE(r.all_inside);
+  ASSERT_FALSE(r.poly.empty());
+  EXPECT_NEAR(r.poly[0].x, -0.005f, 1e-5f);
+  EXPECT_NEAR(r.poly[0].y, -0.005f, 1e-5f);
+  EXPECT_NEAR(fg::polygon_area(r.poly.data(), static_cast<uint32_t>(r.poly.size())) / (0.01 * 0.01), 17.0, 1e-3);
+}
+
 std::vector<Vec2> random_blob(std::mt19937& rng, int n, Vec2 centre, float radius) {
   // Union of three overlapping discs, uniform by rejection.
   std::uniform_real_distribution<float> u(-1.0f, 1.0f);

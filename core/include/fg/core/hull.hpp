@@ -21,15 +21,28 @@ namespace fg {
 Status convex_hull_2d(const Vec2* points, uint32_t n, Vec2* scratch, Vec2* out,
                       uint32_t out_capacity, uint32_t& out_n);
 
+//! A run of foreground cells in one raster row (the concave hull's component labels).
+struct HullRun {
+  uint32_t parent;  //!< union-find link: a run index (itself at a root)
+  uint32_t points;  //!< points in its cells (saturated per-cell counts); bit 31: a count saturated
+  uint16_t x0, x1;  //!< its first and last cell
+};
+
 //! Work memory of the concave hull (a silhouette raster). Large: keep it in a workspace.
 struct ConcaveHullScratch {
   uint8_t cells[kHullGridDim * kHullGridDim];
   uint8_t temp[kHullGridDim * kHullGridDim];
   float corner_x[kHullGridDim + 1];  // the raster's cell corners
   float corner_y[kHullGridDim + 1];
-  // The closing works on rows as bit sets (64 cells per word): two images.
+  // The closing works on rows as bit sets (64 cells per word): two images. The
+  // component labelling then reuses that memory for runs (a raster with more runs than
+  // fit is labelled by flooding instead).
   static constexpr uint32_t kRowWords = (kHullGridDim + 63) / 64;
-  uint64_t rows[2][kHullGridDim * kRowWords];
+  static constexpr uint32_t kMaxRuns = 2 * kHullGridDim * kRowWords * sizeof(uint64_t) / sizeof(HullRun);
+  union {
+    uint64_t rows[2][kHullGridDim * kRowWords];
+    HullRun runs[kMaxRuns];
+  };
 };
 
 //! Parameters of the raster concave hull.
