@@ -172,7 +172,8 @@ struct Ingest {
     }
     // In the crop box, so at least 2 cells inside the key range (reset()).
     const V4i i = __builtin_convertvector(f, V4i);
-    const V4f o = (f - __builtin_convertvector(i, V4f)) * leaf;
+    // Lane 3 of f and i is 0 (finite point): o[3] = 1, the point's count.
+    const V4f o = (f - __builtin_convertvector(i, V4f)) * leaf + V4f{0.f, 0.f, 0.f, 1.f};
     const uint32_t key = VoxelGrid::pack(static_cast<uint32_t>(i[0]), static_cast<uint32_t>(i[1]),
                                          static_cast<uint32_t>(i[2]));
     pend[n_pend++] = Pending{o, key, offered, nonfinite};

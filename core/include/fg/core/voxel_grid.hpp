@@ -56,13 +56,13 @@ class VoxelGrid {
                    iz = static_cast<uint32_t>(fz);
     return add_to_cell(pack(ix, iy, iz), V4f{(fx - static_cast<float>(ix)) * leaf_,
                                              (fy - static_cast<float>(iy)) * leaf_,
-                                             (fz - static_cast<float>(iz)) * leaf_, 0.f});
+                                             (fz - static_cast<float>(iz)) * leaf_, 1.f});
   }
 
   //! The hot path of the ingest: one point of the cell `key` (the packed key of a cell
   //! at least 2 inside the key range) at (o[0], o[1], o[2]) metres from the cell
-  //! corner (o[3] is ignored). Before finalize(). False when the grid is full (or the
-  //! cell's hash neighbourhood is: kMaxProbe).
+  //! corner, o[3] = 1 (it is added to the count). Before finalize(). False when the
+  //! grid is full (or the cell's hash neighbourhood is: kMaxProbe).
   bool add_to_cell(uint32_t key, V4f o) {
     // A small direct-mapped cache of recent cells: neighbouring pixels of a depth
     // image (in this row and the rows above) mostly fall in the same few hundred cells.
@@ -75,7 +75,6 @@ class VoxelGrid {
     }
     // Sum and count in one vector add: the count is lane 3, a float, exact below 2^24
     // points per cell (where the float sums have long lost their last digits too).
-    o[3] = 1.f;
     V4f* acc = reinterpret_cast<V4f*>(store_) + e.index;
     *acc += o;
     return true;
