@@ -1,5 +1,6 @@
 #include "fg/core/force_balance.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include "fg/core/hull.hpp"
 
@@ -19,12 +20,55 @@ uint32_t build_scan_lines(const Vec2* contour, uint32_t n_contour, float y_min, 
     n = capacity;
     used_delta = capacity > 1 ? span / static_cast<float>(capacity - 1) : span;
   }
+  bool finite = true;
   for (uint32_t j = 0; j < n; ++j) {
     ScanLine& l = lines[j];
     l.y = y_min + static_cast<float>(j) * used_delta;
-    l.hit = polygon_span_at_y(contour, n_contour, l.y, l.left, l.right);
-    if (!l.hit) l.left = l.right = 0.f;
+    l.left = l.right = 0.f;
+    l.hit = false;
     l.kept = false;
+    finite = finite && std::isfinite(l.y);
+  }
+  if (!finite) {  // lines beyond the float range: each one on its own (they meet nothing)
+    for (uint32_t j = 0; j < n; ++j)
+      lines[j].hit = polygon_span_at_y(contour, n_contour, lines[j].y, lines[j].left, lines[j].right);
+    return n;
+  }
+  // One pass over the edges: the lines' y do not decrease with j, so an edge meets the
+  // run of lines from the first at or above its lower end (bisection) to its upper end,
+  // and gives each exactly what polygon_span_at_y takes from it. The spans are kept in
+  // float: rounding is monotonic, so the float of the extreme double is the extreme
+  // of the floats.
+  for (uint32_t i = 0; i < n_contour; ++i) {
+    const Vec2& a = contour[i];
+    const Vec2& b = contour[(i + 1 == n_contour) ? 0 : i + 1];
+    const double lo = std::min<double>(a.y, b.y), hi = std::max<double>(a.y, b.y);
+    if (!(lo <= hi)) continue;  // a NaN end: the edge meets nothing
+    uint32_t first = 0, last = n;  // the first line with y >= lo, by bisection
+    for (uint32_t guard = 0; first < last && guard < 32; ++guard) {
+      const uint32_t mid = first + (last - first) / 2;
+      if (static_cast<double>(lines[mid].y) < lo) {
+        first = mid + 1;
+      } else {
+        last = mid;
+      }
+    }
+    for (uint32_t j = first; j < n && static_cast<double>(lines[j].y) <= hi; ++j) {
+      double x[2];
+      const uint32_t m = edge_meets_line(a, b, lines[j].y, x);
+      for (uint32_t k = 0; k < m; ++k) {
+        if (!std::isfinite(x[k])) continue;
+        const float xf = static_cast<float>(x[k]);
+        ScanLine& l = lines[j];
+        if (!l.hit) {
+          l.left = l.right = xf;
+          l.hit = true;
+        } else {
+          l.left = std::min(l.left, xf);
+          l.right = std::max(l.right, xf);
+        }
+      }
+    }
   }
   return n;
 }

@@ -644,6 +644,29 @@ bool polygon_contains(const Vec2* poly, uint32_t n, Vec2 p, float edge_tol_m) {
   return inside;
 }
 
+uint32_t edge_meets_line(const Vec2& a, const Vec2& b, double yl, double x[2]) {
+  if (!is_finite(a) || !is_finite(b)) return 0;  // a broken edge crosses nothing
+  const double ay = a.y, by = b.y;
+  if (ay == yl && by == yl) {  // along a horizontal edge (or a degenerate one)
+    x[0] = a.x;
+    x[1] = b.x;
+    return 2;
+  }
+  if ((ay < yl && by < yl) || (ay > yl && by > yl)) return 0;  // both on one side
+  if (ay == yl) {  // through a vertex: the vertex itself
+    x[0] = a.x;
+    return 1;
+  }
+  if (by == yl) {
+    x[0] = b.x;
+    return 1;
+  }
+  const double t = (yl - ay) / (by - ay);
+  const double xi = a.x + t * (static_cast<double>(b.x) - a.x);
+  x[0] = std::min(std::max(xi, std::min<double>(a.x, b.x)), std::max<double>(a.x, b.x));
+  return 1;
+}
+
 bool polygon_span_at_y(const Vec2* poly, uint32_t n, float y_line, float& x_left, float& x_right) {
   x_left = 0.0f;
   x_right = 0.0f;
@@ -651,39 +674,19 @@ bool polygon_span_at_y(const Vec2* poly, uint32_t n, float y_line, float& x_left
   const double yl = y_line;
   bool any = false;
   double lo = 0.0, hi = 0.0;
-  auto take = [&](double x) {
-    if (!std::isfinite(x)) return;
-    if (!any) {
-      lo = hi = x;
-      any = true;
-    } else {
-      lo = std::min(lo, x);
-      hi = std::max(hi, x);
-    }
-  };
   for (uint32_t i = 0; i < n; ++i) {
-    const Vec2& a = poly[i];
-    const Vec2& b = poly[(i + 1 == n) ? 0 : i + 1];
-    if (!is_finite(a) || !is_finite(b)) continue;  // a broken edge crosses nothing
-    const double ay = a.y, by = b.y;
-    if (ay == yl && by == yl) {  // along a horizontal edge (or a degenerate one)
-      take(a.x);
-      take(b.x);
-      continue;
+    double x[2];
+    const uint32_t m = edge_meets_line(poly[i], poly[(i + 1 == n) ? 0 : i + 1], yl, x);
+    for (uint32_t k = 0; k < m; ++k) {
+      if (!std::isfinite(x[k])) continue;
+      if (!any) {
+        lo = hi = x[k];
+        any = true;
+      } else {
+        lo = std::min(lo, x[k]);
+        hi = std::max(hi, x[k]);
+      }
     }
-    if ((ay < yl && by < yl) || (ay > yl && by > yl)) continue;  // both on one side
-    if (ay == yl) {  // through a vertex: the vertex itself
-      take(a.x);
-      continue;
-    }
-    if (by == yl) {
-      take(b.x);
-      continue;
-    }
-    const double t = (yl - ay) / (by - ay);
-    double x = a.x + t * (static_cast<double>(b.x) - a.x);
-    x = std::min(std::max(x, std::min<double>(a.x, b.x)), std::max<double>(a.x, b.x));
-    take(x);
   }
   if (!any) return false;
   x_left = static_cast<float>(lo);

@@ -14,6 +14,8 @@
 #include <vector>
 
 #include "fg/core/force_balance.hpp"
+#include "fg/core/hull.hpp"
+#include "fg/core/limits.hpp"
 
 namespace {
 
@@ -247,6 +249,48 @@ TEST(ScanLines, HugeSpanOverDeltaStillFillsTheCapacity) {
     EXPECT_EQ(n, 64u) << "delta " << delta;
     EXPECT_NEAR(used, 100.0 / 63, 1e-4) << "delta " << delta;
   }
+}
+
+// The lines are built in one sweep over the contour's edges; each must equal the line
+// asked of the polygon on its own (polygon_span_at_y, tested against brute force in
+// test_hull). Random star polygons with vertices on the lines' own y values, so lines
+// pass through vertices and along horizontal edges, and lines beyond the polygon.
+TEST(ScanLines, SweepEqualsEachLineOnItsOwn) {
+  std::mt19937 rng(77);
+  std::uniform_int_distribution<int> verts(3, 40);
+  std::uniform_real_distribution<float> radius(0.2f, 1.f), jitter(-0.5f, 0.5f);
+  std::vector<ScanLine> lines(fg::kMaxScanLines);
+  int through_vertex = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    const float delta = trial % 3 == 0 ? 0.01f : 0.0037f;
+    const float y0 = -0.2f + 0.001f * static_cast<float>(trial % 7);
+    const int nv = verts(rng);
+    std::vector<Vec2> poly;
+    for (int k = 0; k < nv; ++k) {  // a star polygon about the origin
+      const float ang = 6.2831853f * (static_cast<float>(k) + 0.4f * jitter(rng)) / static_cast<float>(nv);
+      const float r = 0.1f * radius(rng);
+      float y = r * std::sin(ang);
+      if (trial % 2 == 0) {  // snapped onto a line's y, computed as the lines' are
+        const float j = std::round((y - y0) / delta);
+        y = y0 + j * delta;
+      }
+      poly.push_back({r * std::cos(ang), y});
+    }
+    if (trial % 5 == 0) poly.push_back({poly.back().x + 0.01f, poly.back().y});  // a horizontal edge
+    float used = 0;
+    const uint32_t n = fg::build_scan_lines(poly.data(), static_cast<uint32_t>(poly.size()), y0, y0 + 0.5f, delta,
+                                            lines.data(), fg::kMaxScanLines, used);
+    ASSERT_GT(n, 0u);
+    for (uint32_t j = 0; j < n; ++j) {
+      float xl = 0, xr = 0;
+      const bool hit = fg::polygon_span_at_y(poly.data(), static_cast<uint32_t>(poly.size()), lines[j].y, xl, xr);
+      ASSERT_EQ(lines[j].hit, hit) << "trial " << trial << " line " << j;
+      EXPECT_EQ(lines[j].left, xl) << "trial " << trial << " line " << j;
+      EXPECT_EQ(lines[j].right, xr) << "trial " << trial << " line " << j;
+      for (const Vec2& v : poly) through_vertex += v.y == lines[j].y ? 1 : 0;
+    }
+  }
+  EXPECT_GT(through_vertex, 100);  // the vertex cases were exercised
 }
 
 TEST(ScanLines, InvalidArguments) {

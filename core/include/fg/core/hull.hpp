@@ -95,4 +95,10 @@ bool polygon_contains(const Vec2* poly, uint32_t n, Vec2 p, float edge_tol_m = 1
 //! zeros) when the line misses the polygon or y_line is not finite.
 bool polygon_span_at_y(const Vec2* poly, uint32_t n, float y_line, float& x_left, float& x_right);
 
+//! What polygon_span_at_y takes from the edge a-b for the line y = y_line: the x of
+//! each meeting (both ends of an edge along the line, the vertex a line passes through,
+//! else the interpolated crossing), written to x[]; returns how many (0, 1 or 2). An
+//! edge with a non-finite end meets nothing; callers skip non-finite x.
+uint32_t edge_meets_line(const Vec2& a, const Vec2& b, double y_line, double x[2]);
+
 }  // namespace fg
