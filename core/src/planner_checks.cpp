@@ -49,6 +49,16 @@ constexpr uint32_t kCreaseMin = 3;
 constexpr double kCreaseJump = 0.17;
 // A face's tilt changes by less than this over the depth it spans (rad).
 constexpr double kFaceTurn = 0.1;
+// A patch of the 26-neighbourhood is planar when its thickness (smallest spread) is
+// below this share of its width (middle spread): rounded sides of radius above a voxel
+// are, the voxels on an edge whose faces turn by more than about 60 deg are not.
+constexpr float kPlanarRatio = 0.1f;
+// The edge at a side's extreme: points up to this deep inside the side, at least
+// kEdgeMin of them, more than half not planar.
+constexpr float kEdgeDepth = 0.002f;
+constexpr uint32_t kEdgeMin = 2;
+// The face beside that edge: the kBestFace-th smallest tilt of the planar points.
+constexpr int kBestFace = 3;
 // A pad must reach more than this (along the approach) past the first contact point of
 // its side: a voxel (centroids lie up to half a voxel inside the surface) and a margin.
 constexpr float kTipReach = 0.006f;
@@ -394,10 +404,12 @@ bool Planner::unseen_side_clear(const Vec3& pos, const ViewFrame& f, int side) {
   return reach + kHiddenBulge <= 0.5f * g.max_opening_m - cfg_.collision_tolerance_m;
 }
 
+bool Planner::normal_planar(uint32_t oi) const { return normal_state_[oi] == 1; }
+
 bool Planner::normal_at(uint32_t oi, Vec3& nrm) {
   if (normal_state_[oi] != 0) {
     nrm = normals_[oi];
-    return normal_state_[oi] == 1;
+    return normal_state_[oi] == 1 || normal_state_[oi] == 3;
   }
   normal_state_[oi] = 2;
   const uint32_t key = grid_.voxel(object_voxel_[oi]).key;
@@ -418,10 +430,12 @@ bool Planner::normal_at(uint32_t oi, Vec3& nrm) {
   Vec3 c, ev;
   Mat3 vecs;
   if (!pca(pts, m, c, ev, vecs)) return false;
-  // A surface patch: the smallest spread must be clearly below the middle one.
+  // A surface patch: the smallest spread must be clearly below the middle one; a
+  // patch thicker than kPlanarRatio of its width keeps its normal but is not planar
+  // (it straddles an edge: the normal mixes the faces'; contact_tilt).
   if (!(ev[0] < 0.5f * ev[1])) return false;
   normals_[oi] = vecs.col(0);
-  normal_state_[oi] = 1;
+  normal_state_[oi] = ev[0] < kPlanarRatio * ev[1] ? 1 : 3;
   nrm = normals_[oi];
   return true;
 }
@@ -435,9 +449,10 @@ bool Planner::normal_at(uint32_t oi, Vec3& nrm) {
 // a = 1 - cos(its tilt). The sensors seldom see the part of a round side nearest the
 // extreme (the view grazes it there), which a count of the normals inside the cone
 // read as a steep contact. valid[s] is false with fewer than kTiltFitMin points or
-// less than kTiltFitSpread of depth between them.
+// less than kTiltFitSpread of depth between them. near_face[s] and edge_face[s] are the
+// 1 - cos(tilt) of the face beside an edge found near the extreme (-1: none found).
 void Planner::contact_tilt(const Vec3& pos, const ViewFrame& f, float one_minus_cos[2], bool valid[2], bool flat[2],
-                           float near_face[2]) {
+                           float near_face[2], float edge_face[2]) {
   const GripperGeometry& g = cfg_.gripper;
   const uint32_t n = object_.size();
   float ext[2] = {1e9f, -1e9f};  // the sides' extremes in the footprint (x)
@@ -458,6 +473,12 @@ void Planner::contact_tilt(const Vec3& pos, const ViewFrame& f, float one_minus_
     float dmin, dmax;
   };
   BinSums bins[2][kNearFaceBins];
+  // The edge at the extreme (edge_face): points near it, how many of them not planar,
+  // and the kBestFace smallest 1 - cos(tilt) of the planar points (ascending).
+  uint32_t n_near[2] = {0, 0}, n_near_edge[2] = {0, 0}, n_planar[2] = {0, 0};
+  double best[2][kBestFace];
+  for (auto& side_best : best)
+    for (double& b : side_best) b = 2.0;
   for (auto& side_bins : bins)
     for (BinSums& b : side_bins) b = BinSums{0, 0, 0, 0, 0, 1e9f, -1e9f};
   for (uint32_t i = 0; i < n && ext[1] >= ext[0]; ++i) {
@@ -477,6 +498,17 @@ void Planner::contact_tilt(const Vec3& pos, const ViewFrame& f, float one_minus_
     Vec3 nrm;
     if (side < 0 || !normal_at(i, nrm) || std::fabs(nrm.dot(f.Z)) > kFrontFacingCos) continue;
     const double v = 1.0 - std::fabs(static_cast<double>(nrm.dot(f.X)));
+    const bool planar = normal_planar(i);
+    if (depth <= kEdgeDepth) {
+      ++n_near[side];
+      n_near_edge[side] += planar ? 0u : 1u;
+    }
+    if (planar) {
+      ++n_planar[side];
+      double ins = v;  // insertion into the ascending kBestFace smallest
+      for (double& b : best[side])
+        if (ins < b) std::swap(ins, b);
+    }
     ++cnt[side];
     sd[side] += depth;
     sdd[side] += static_cast<double>(depth) * depth;
@@ -494,6 +526,14 @@ void Planner::contact_tilt(const Vec3& pos, const ViewFrame& f, float one_minus_
     bs.dmax = std::max(bs.dmax, depth);
   }
   for (int s = 0; s < 2; ++s) {
+    // An edge at the extreme: the pad touches it, and holds by the better of the faces
+    // beside it (the planar points' smallest tilt, kBestFace of them). The normals of
+    // the voxels on the edge mix both faces' and read as their bisector, in the cone
+    // when neither face is (a standing bat's handle closed 30 deg off its faces).
+    edge_face[s] = -1.f;
+    if (n_near[s] >= kEdgeMin && 2 * n_near_edge[s] > n_near[s] && n_planar[s] >= static_cast<uint32_t>(kBestFace) &&
+        2 * n_planar[s] >= cnt[s])
+      edge_face[s] = static_cast<float>(best[s][kBestFace - 1]);
     // The face nearest the contact: over the nearest 3, 4, 5 bins (6-10 mm), the
     // steepest mean 1 - cos(tilt) of a prefix whose tilt is flat (changes by less than
     // kFaceTurn) with a crease behind it.
@@ -553,8 +593,8 @@ bool Planner::friction_ok(const Vec3& pos, const ViewFrame& f, float width) {
   contact_normal_stats(pos, f, width, st);
   float omc[2];
   bool valid[2], flat[2];
-  float near_face[2];
-  contact_tilt(pos, f, omc, valid, flat, near_face);
+  float near_face[2], edge_face[2];
+  contact_tilt(pos, f, omc, valid, flat, near_face, edge_face);
   const float cos_cone = std::cos(std::atan(cfg_.friction_mu));
   const float cos_flat = std::cos(std::atan(cfg_.friction_mu) - kFlatMargin);
   const float tip = 0.5f * cfg_.gripper.finger_depth_m - kTipReach;
@@ -567,6 +607,8 @@ bool Planner::friction_ok(const Vec3& pos, const ViewFrame& f, float width) {
     // The face nearest the contact, flat and off the cone: an edge contact, whatever
     // the fit over the deeper points says.
     if (near_face[s] > 1.f - cos_flat) return false;
+    // An edge at the extreme whose better face is off the cone.
+    if (edge_face[s] > 1.f - cos_flat) return false;
     if (valid[s] && flat[s]) {
       if (omc[s] > 1.f - cos_flat) return false;  // a flat face off the cone: an edge contact
       continue;

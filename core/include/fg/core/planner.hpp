@@ -196,12 +196,13 @@ class Planner {
   void contact_normal_stats(const Vec3& pos, const ViewFrame& f, float width, ContactNormalStats& st);
   bool friction_ok(const Vec3& pos, const ViewFrame& f, float width);
   void contact_tilt(const Vec3& pos, const ViewFrame& f, float one_minus_cos[2], bool valid[2], bool flat[2],
-                    float near_face[2]);
+                    float near_face[2], float edge_face[2]);
   bool fingers_clear_of_hull(const Vec3& pos, const ViewFrame& f);
   int fingers_in_seen_space(const Vec3& pos, const ViewFrame& f, uint32_t& partly_hidden);
   bool unseen_side_clear(const Vec3& pos, const ViewFrame& f, int side);
   int visibility(const Vec3& q) const;
   bool normal_at(uint32_t object_index, Vec3& n);
+  bool normal_planar(uint32_t object_index) const;  //!< after normal_at returned true
   uint32_t rank_and_check(uint32_t first_candidate, PlanResult& out);
   uint32_t check_deferred(PlanResult& out);
   void fill_grasp(const Candidate& c, PlanResult& out);
@@ -261,7 +262,7 @@ class Planner {
 
   // Normals of object points, computed on demand for the friction test.
   Vec3 normals_[kMaxObjectPoints];
-  uint8_t normal_state_[kMaxObjectPoints];  // 0 unknown, 1 valid, 2 undefined
+  uint8_t normal_state_[kMaxObjectPoints];  // 0 unknown, 1 valid, 2 undefined, 3 valid, not planar
   Vec3 local_[kMaxObjectPoints];            // object points near the hand, grasp frame
 };
 
