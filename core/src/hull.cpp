@@ -499,6 +499,15 @@ Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& 
   // with more runs than the scratch holds is flooded component by component instead.
   uint64_t best_points = 0;
   uint32_t best_start = cells;
+  // The exact count of the points in the cells marked kCurrent; clears the marks.
+  auto count_marked = [&]() {
+    uint64_t marked = 0;
+    for (uint32_t i = 0; i < n; ++i) {
+      if (is_finite(points[i]) && (g[ras.index_of(points[i])] & kCurrent)) ++marked;
+    }
+    for (uint32_t c = 0; c < cells; ++c) g[c] = static_cast<uint8_t>(g[c] & ~kCurrent);
+    return marked;
+  };
   HullRun* const runs = scratch.runs;
   uint32_t row_first[kDim + 1];
   uint32_t n_runs = 0;
@@ -513,11 +522,7 @@ Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& 
             for (uint32_t p = row_first[jj]; p < row_first[jj + 1]; ++p)
               if (run_root(runs, p) == q)
                 for (uint32_t c = runs[p].x0; c <= runs[p].x1; ++c) g[jj * w + c] |= kCurrent;
-          pts = 0;
-          for (uint32_t i = 0; i < n; ++i) {
-            if (is_finite(points[i]) && (g[ras.index_of(points[i])] & kCurrent)) ++pts;
-          }
-          for (uint32_t c = 0; c < cells; ++c) g[c] = static_cast<uint8_t>(g[c] & ~kCurrent);
+          pts = count_marked();
         }
         if (best_start == cells || pts > best_points) {
           best_points = pts;
@@ -533,11 +538,7 @@ Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& 
       uint64_t pts = comp.points;
       if (comp.saturated) {
         if (!flood(g, nullptr, w, h, k, true, 1, kCurrent).ok) return Status::internal_error;
-        pts = 0;
-        for (uint32_t i = 0; i < n; ++i) {
-          if (is_finite(points[i]) && (g[ras.index_of(points[i])] & kCurrent)) ++pts;
-        }
-        for (uint32_t c = 0; c < cells; ++c) g[c] = static_cast<uint8_t>(g[c] & ~kCurrent);
+        pts = count_marked();
       }
       if (best_start == cells || pts > best_points) {
         best_points = pts;
