@@ -230,9 +230,13 @@ Status Planner::add_points(SensorRole role, const float* xyz, uint32_t count,
   Status st = Status::ok;
   const uint8_t* base = reinterpret_cast<const uint8_t*>(xyz);
   for (uint32_t i = 0; i < count; ++i) {
-    float p[3];
-    std::memcpy(p, base + static_cast<size_t>(i) * stride_bytes, sizeof p);  // any alignment
-    if (!in.add(grid_, p[0], p[1], p[2])) {
+    // Any alignment; three scalar loads (a copy through a float[3] went via the stack).
+    const uint8_t* q = base + static_cast<size_t>(i) * stride_bytes;
+    float x, y, z;
+    std::memcpy(&x, q, sizeof x);
+    std::memcpy(&y, q + 4, sizeof y);
+    std::memcpy(&z, q + 8, sizeof z);
+    if (!in.add(grid_, x, y, z)) {
       st = Status::capacity_exceeded;
       break;
     }
