@@ -24,6 +24,9 @@ constexpr uint32_t kSeenFingerHidden = 2;
 constexpr int kProfileBins = 8;
 constexpr int kSlopeBins = 3;  // the deepest seen bins that give its last slope
 constexpr float kHiddenBulge = 0.005f;
+// Straight down: an approach within 5 deg (half the extension families' 10 deg step) of
+// the support plane's downward normal.
+constexpr float kTopDownCos = 0.9962f;
 // The contact tilt fit (contact_tilt): points up to this deep inside each side, at
 // least this many, spread over at least this depth.
 constexpr float kTiltFitDepth = 0.012f;
@@ -356,7 +359,17 @@ int Planner::fingers_in_seen_space(const Vec3& pos, const ViewFrame& f, uint32_t
         }
     if (hidden - before > kSeenFingerHidden) partly_hidden |= 1u << side;
   }
-  if (static_cast<float>(hidden) > kMaxHiddenShare * static_cast<float>(total)) return 2;
+  // Straight down onto a target standing on the plane, with one finger hidden beside
+  // the side the sensors did not see (the far face of a tall box: the top hides it from
+  // every sensor above it): not rejected, but deferred like a partly hidden finger, so
+  // it is taken only balanced and with the seen side clear of the finger
+  // (unseen_side_clear). Along the plane's normal the flat side that check assumes
+  // where it saw no slope is a wall standing on the plane; on a tilted approach it
+  // would be a wall leaning towards the finger.
+  const bool one_finger = partly_hidden == 1u || partly_hidden == 2u;
+  const bool top_down = plane_found_ && -f.Z.dot(plane_.n) >= kTopDownCos;
+  if (static_cast<float>(hidden) > kMaxHiddenShare * static_cast<float>(total) && !(one_finger && top_down))
+    return 2;
   return partly_hidden != 0 ? 1 : 0;
 }
 
