@@ -6,7 +6,9 @@
 #include <cstdint>
 #include <memory>
 #include <sstream>
+#include <algorithm>
 #include <string>
+#include <vector>
 
 #include "fg/core/planner.hpp"
 #include "sim/grasp_judge.hpp"
@@ -68,6 +70,8 @@ inline JudgedPlan plan_and_judge(fg::Planner& planner, const GeneratedScene& s) 
 struct JudgedSeeds {
   int grasps = 0, held = 0;
   std::string failures;  //!< " seed N: reason;" for each grasp that does not hold
+  //! Of the grasps that do not hold on friction: the larger contact angle of each (deg).
+  std::vector<double> friction_deg;
 };
 template <class MakeScene>
 JudgedSeeds judge_seeds(uint64_t n, MakeScene make) {
@@ -86,6 +90,8 @@ JudgedSeeds judge_seeds(uint64_t n, MakeScene make) {
     ++out.grasps;
     if (jp.judge.success) ++out.held;
     else failures << " seed " << seed << ": " << jp.judge.reason << ";";
+    if (!jp.judge.success && jp.judge.reason.rfind("friction", 0) == 0)
+      out.friction_deg.push_back(std::max(jp.judge.angle_left, jp.judge.angle_right) * 180.0 / 3.14159265358979);
   }
   out.failures = failures.str();
   return out;

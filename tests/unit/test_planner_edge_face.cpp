@@ -26,9 +26,14 @@ TEST(PlannerEdgeFace, GraspsOnHandleSectionBarsHoldOnTheTrueGeometry) {
     const double turn = 0.1 + 0.013 * static_cast<double>(seed % 23) * 3.14159265358979 / 2.0;
     return box_target_scene(seed, V3(0.5 * t, 0.5 * w, 0.05), turn);
   });
-  // Measured: 56 of 59 grasps hold; the 3 that do not are an edge contact at 29 deg that
-  // the rule does not catch and two contacts 65-68 deg off of another kind. Without the
-  // edge rule: 53 of 59 held (three more edge contacts, at 31 deg).
-  EXPECT_LE(r.grasps - r.held, 3) << "grasps that do not hold:" << r.failures;
-  EXPECT_GE(r.held, 56) << "grasps that do not hold:" << r.failures;
+  // Measured on the host: 56 of 59 grasps hold; the 3 that do not are an edge contact
+  // at 29 deg that the rule does not catch and two contacts 65-68 deg off of another
+  // kind. Without the edge rule: 53 of 59 held, with three more edge contacts at 31 deg.
+  // The rendered scenes depend on the platform's libm (aarch64: 54 held, edge contacts
+  // at 27.7 and 35.1 deg), so the assertion counts the contacts the rule is about, just
+  // outside the cone (within 20 deg of it), with a bound on all the others.
+  int edge_like = 0;
+  for (double deg : r.friction_deg) edge_like += deg < 26.57 + 20.0 ? 1 : 0;
+  EXPECT_LE(edge_like, 2) << "grasps that do not hold:" << r.failures;
+  EXPECT_GE(r.held, r.grasps - 6) << "grasps that do not hold:" << r.failures;
 }
