@@ -461,28 +461,21 @@ Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& 
     for (uint32_t c = 0; c < w; ++c)
       line[c] = (((closed[c / 64] >> (c % 64)) & 1u) != 0 || (line[c] & kOcc) != 0) ? kFg : 0;
   }
-  // The dilation cannot reach the outer ring of cells; make that an invariant.
+  // The dilation cannot reach the outer ring of cells; make that an invariant: the ring
+  // is background, and marked visited for the hole filling below.
   for (uint32_t i = 0; i < w; ++i) {
-    g[i] = 0;
-    g[(h - 1) * w + i] = 0;
+    g[i] = kVisited;
+    g[(h - 1) * w + i] = kVisited;
   }
   for (uint32_t j = 0; j < h; ++j) {
-    g[j * w] = 0;
-    g[j * w + w - 1] = 0;
+    g[j * w] = kVisited;
+    g[j * w + w - 1] = kVisited;
   }
 
   // Fill holes: flood the background (4-connected, the dual of 8-connected
   // foreground) from the outer ring; every background cell not reached is a hole. The
-  // ring is marked first and the flood starts from each unmarked background cell next
+  // ring is marked (above) and the flood starts from each unmarked background cell next
   // to it (the flood never steps onto the ring).
-  for (uint32_t i = 0; i < w; ++i) {
-    g[i] |= kVisited;
-    g[(h - 1) * w + i] |= kVisited;
-  }
-  for (uint32_t j = 0; j < h; ++j) {
-    g[j * w] |= kVisited;
-    g[j * w + w - 1] |= kVisited;
-  }
   auto flood_background = [&](uint32_t i, uint32_t j) {
     const uint32_t k = j * w + i;
     return (g[k] & (kFg | kVisited)) != 0 || flood(g, nullptr, w, h, k, false, 2, kVisited).ok;
