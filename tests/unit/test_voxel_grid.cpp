@@ -397,6 +397,27 @@ TEST(VoxelGrid, FindAfterFinalizeAndPruningAgreesWithBruteForce) {
   check_all(&keep);
 }
 
+// The clustering forms a neighbour's filter hash as the voxel's plus the offset's: the
+// hash must be exactly linear over every offset within two cells, for keys anywhere in
+// the packed range (negative offsets included), or the flood would miss neighbours.
+TEST(VoxelGrid, FilterHashIsLinearOverNeighbourOffsets) {
+  std::mt19937 rng(8);
+  std::uniform_int_distribution<uint32_t> u(2, 2045), uz(2, 1021);
+  uint32_t wrong = 0;
+  for (int t = 0; t < 2000; ++t) {
+    const uint32_t x = u(rng), y = u(rng), z = uz(rng);
+    const uint32_t k = VoxelGrid::pack(x, y, z);
+    for (int dz = -2; dz <= 2; ++dz)
+      for (int dy = -2; dy <= 2; ++dy)
+        for (int dx = -2; dx <= 2; ++dx) {
+          const uint32_t nk = VoxelGrid::pack(x + dx, y + dy, z + dz);
+          const int64_t d = dx + dy * (int64_t{1} << 11) + dz * (int64_t{1} << 22);
+          if (VoxelGrid::filter_hash(k) + VoxelGrid::filter_hash_of_offset(d) != VoxelGrid::filter_hash(nk)) ++wrong;
+        }
+  }
+  EXPECT_EQ(wrong, 0u);
+}
+
 TEST(VoxelGrid, IndexPrunedToKeptVoxels) {
   std::mt19937 rng(12);
   const Vec3 origin(-0.1f, -0.1f, -0.1f);
