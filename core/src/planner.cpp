@@ -185,6 +185,8 @@ Status Planner::plan(PlanResult& out) {
         sy += object_[i].y();
       }
       const float cx = static_cast<float>(sx / first_size), cy = static_cast<float>(sy / first_size);
+      // The walks use the near list's storage as their queue: without a fall-back
+      // nothing checks collisions after this, and with one load_target rebuilds it.
       size = retarget_to_cover(grid_, state_, queue, cp, object_voxel_, first_size, cx, cy, object_voxel_,
                                kMaxObjectPoints);
       if (size > 0) load_target(size, queue);
