@@ -4,6 +4,7 @@ namespace fg {
 namespace {
 struct Offset {
   uint32_t delta;  // pack(dx, dy, dz) in two's complement per field, summed
+  uint64_t hash;   // VoxelGrid::filter_hash_of_offset of the signed sum
 };
 // Neighbour offsets within `cells` (Euclidean in cell units, so 1 -> 26, 2 -> 32).
 uint32_t make_offsets(uint32_t cells, Offset* out) {
@@ -16,7 +17,9 @@ uint32_t make_offsets(uint32_t cells, Offset* out) {
         if (d2 == 0) continue;
         if (r > 1 && d2 > r * r) continue;
         out[n++] = Offset{static_cast<uint32_t>(dx) + (static_cast<uint32_t>(dy) << 11) +
-                          (static_cast<uint32_t>(dz) << 22)};
+                              (static_cast<uint32_t>(dz) << 22),
+                          VoxelGrid::filter_hash_of_offset(dx + dy * (int64_t{1} << 11) +
+                                                           dz * (int64_t{1} << 22))};
       }
   return n;
 }
@@ -36,6 +39,7 @@ uint32_t flood(const VoxelGrid& grid, uint8_t* state, uint32_t* queue, uint32_t 
   queue[tail++] = seed;
   state[seed] = mark;
   w = Walk{};
+  const bool filtered = grid.lookup_filter_on();
   while (head < tail) {  // bounded: each voxel enters the queue at most once
     const uint32_t i = queue[head++];
     const Vec3 c = grid.centroid(i);
@@ -43,15 +47,17 @@ uint32_t flood(const VoxelGrid& grid, uint8_t* state, uint32_t* queue, uint32_t 
     w.sum_y += c.y();
     // A neighbour's key is the packed sum: inserted cells keep a 2-cell margin inside
     // each field's range, so no field under- or overflows into the next.
+    // The filter's hash of a neighbour is a sum too (voxel_grid.hpp).
     const uint32_t k = grid.key(i);
     const uint32_t kx = VoxelGrid::key_x(k), ky = VoxelGrid::key_y(k);
     w.x0 = kx < w.x0 ? kx : w.x0;
     w.x1 = kx > w.x1 ? kx : w.x1;
     w.y0 = ky < w.y0 ? ky : w.y0;
     w.y1 = ky > w.y1 ? ky : w.y1;
+    const uint64_t kh = VoxelGrid::filter_hash(k);
     for (uint32_t o = 0; o < n_off; ++o) {
-      const uint32_t nk = k + off[o].delta;
-      const uint32_t j = grid.find(nk);
+      if (filtered && !grid.filter_may_hold(kh + off[o].hash)) continue;  // most absent cells
+      const uint32_t j = grid.find_in_table(k + off[o].delta);
       if (j == VoxelGrid::kNone || state[j] != from) continue;
       state[j] = mark;
       queue[tail++] = j;

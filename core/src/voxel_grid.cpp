@@ -21,12 +21,11 @@ void VoxelGrid::reset(const Vec3& origin, float leaf_m) {
 void VoxelGrid::build_filter(const uint8_t* keep) {
   // keep, when given, is the set the index was pruned to (prepare_lookups' caller
   // passes the same flags as keep_in_index_only).
-  for (uint32_t w = 0; w < (2u << kCacheBits); ++w) filter_[w] = 0u;
+  for (uint32_t w = 0; w < (1u << kCacheBits); ++w) filter_[w] = 0u;
   for (uint32_t i = 0; i < size_; ++i) {
     if (keep != nullptr && keep[i] == 0) continue;
-    const uint32_t m = mix(keys_[i]), b1 = m & kFilterMask, b2 = (m >> 14) & kFilterMask;
-    filter_[b1 >> 5] |= 1u << (b1 & 31u);
-    filter_[b2 >> 5] |= 1u << (b2 & 31u);
+    const uint64_t h = filter_hash(keys_[i]);
+    filter_[filter_word(h)] |= filter_bits(h);
   }
   filter_on_ = true;
 }

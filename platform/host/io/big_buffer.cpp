@@ -1,5 +1,6 @@
 #include "big_buffer.hpp"
 
+#include <cstdint>
 #include <cstdlib>
 #if defined(__linux__)
 #include <sys/mman.h>
@@ -17,11 +18,15 @@ void* big_allocate(size_t bytes) {
     if (p == nullptr) throw std::bad_alloc();
     return p;
   }
+  // Rounded up to whole huge pages, so the advice covers the block's tail too (the
+  // padding is address space only until touched).
+  if (bytes > SIZE_MAX - kHugePage) throw std::bad_alloc();
+  const size_t rounded = (bytes + kHugePage - 1) & ~(kHugePage - 1);
   void* p = nullptr;
-  if (posix_memalign(&p, kHugePage, bytes) != 0 || p == nullptr) throw std::bad_alloc();
+  if (posix_memalign(&p, kHugePage, rounded) != 0 || p == nullptr) throw std::bad_alloc();
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
-  // A hint on the whole huge pages of the block; refused or unsupported changes nothing.
-  (void)madvise(p, bytes & ~(kHugePage - 1), MADV_HUGEPAGE);
+  // A hint; refused or unsupported changes nothing.
+  (void)madvise(p, rounded, MADV_HUGEPAGE);
 #endif
   return p;
 }
