@@ -70,14 +70,17 @@ Status Planner::plan(PlanResult& out) {
   out = PlanResult{};
   const uint64_t t_start = platform::monotonic_us();
   stage(out, Stage::ingest) = ingest_us_;
+  // The viewpoints and candidates of a first search whose target gave way to the
+  // fall-back (the counts cover both searches).
+  uint32_t views_before = 0, candidates_before = 0;
   auto finish = [&](Status s, NoGraspReason r, const char* msg) {
     out.status = s;
     out.reason = r;
     out.message = msg;
     message_ = msg;
     out.points = counts_;
-    out.viewpoints = n_views_;
-    out.candidates = n_candidates_;
+    out.viewpoints = views_before + n_views_;
+    out.candidates = candidates_before + n_candidates_;
     stage(out, Stage::total) =
         static_cast<uint32_t>(platform::monotonic_us() - t_start) + ingest_us_;
     return s;
@@ -137,16 +140,17 @@ Status Planner::plan(PlanResult& out) {
   }
 
   // A.6 target cluster
+  ClusterParams cp;
+  cp.cells = cfg_.cluster_cells;
+  cp.min_points = cfg_.min_object_points;
+  cp.centre_x = cfg_.workspace_centre_x_m;
+  cp.centre_y = cfg_.workspace_centre_y_m;
+  cp.rule = cfg_.target_rule;
+  // The breadth-first queue borrows the voxel count storage, idle after finalize().
+  uint32_t* const queue = grid_.lend_count_storage();
+  uint32_t clusters = 0;
   {
     StageTimer t(stage(out, Stage::cluster));
-    ClusterParams cp;
-    cp.cells = cfg_.cluster_cells;
-    cp.min_points = cfg_.min_object_points;
-    cp.centre_x = cfg_.workspace_centre_x_m;
-    cp.centre_y = cfg_.workspace_centre_y_m;
-    cp.rule = cfg_.target_rule;
-    // The breadth-first queue borrows the voxel count storage, idle after finalize().
-    uint32_t* queue = grid_.lend_count_storage();
     const ClusterResult cr =
         cluster_and_pick(grid_, state_, queue, cp, object_voxel_, kMaxObjectPoints);
     if (cr.target_size == 0)
@@ -156,14 +160,73 @@ Status Planner::plan(PlanResult& out) {
     if (cr.target_size > kMaxObjectPoints)
       return finish(Status::capacity_exceeded, NoGraspReason::none,
                     "the target object has more voxels than the build's FG_MAX_OBJECT_POINTS");
-    for (uint32_t i = 0; i < cr.target_size; ++i) {
-      (void)object_.push(grid_.centroid(object_voxel_[i]));
-      normal_state_[i] = 0;
-    }
-    counts_.object = cr.target_size;
-    build_near_list(queue);  // the queue's storage is free again
+    clusters = cr.clusters;
+    load_target(cr.target_size, queue);
   }
 
+  // B-F on the target.
+  NoGraspReason reason = NoGraspReason::none;
+  const char* why = "";
+  uint32_t found = search_grasp(out, reason, why);
+
+  // The target-fragment fall-back (A.6): a target that yields no grasp and lies over
+  // a larger cluster's footprint (the stand under a standing bat, a veil of mixed
+  // pixels beside a bottle) gives way to that cluster, once. The checks' budget is the
+  // plan's: the fall-back gets what the first search left.
+  if (found == kMaxCandidates && cfg_.extend_search && cp.rule == TargetRule::nearest_to_centre &&
+      clusters > 1) {
+    const uint32_t first_size = object_.size();
+    uint32_t size = 0;
+    {
+      StageTimer t(stage(out, Stage::cluster));
+      double sx = 0.0, sy = 0.0;
+      for (uint32_t i = 0; i < first_size; ++i) {
+        sx += object_[i].x();
+        sy += object_[i].y();
+      }
+      const float cx = static_cast<float>(sx / first_size), cy = static_cast<float>(sy / first_size);
+      // The walks use the near list's storage as their queue: without a fall-back
+      // nothing checks collisions after this, and with one load_target rebuilds it.
+      size = retarget_to_cover(grid_, state_, queue, cp, object_voxel_, first_size, cx, cy, object_voxel_,
+                               kMaxObjectPoints);
+      if (size > 0) load_target(size, queue);
+    }
+    if (size > 0) {
+      views_before = n_views_;
+      candidates_before = n_candidates_;
+      NoGraspReason r2 = NoGraspReason::none;
+      const char* why2 = "";
+      found = search_grasp(out, r2, why2);
+      // Both failed: the target's own reason and size are reported (the fall-back
+      // was a second chance, not the target); the inspection shows the last search.
+      if (found == kMaxCandidates) counts_.object = first_size;
+    }
+  }
+  if (found == kMaxCandidates) return finish(Status::no_grasp, reason, why);
+  fill_grasp(candidates_[found], out);
+  return finish(Status::ok, NoGraspReason::none, "ok");
+}
+
+// The target's voxels (object_voxel_[0, size)) become the object points; the near
+// list of the collision check is built around them in `storage`.
+void Planner::load_target(uint32_t size, uint32_t* storage) {
+  object_.clear();
+  for (uint32_t i = 0; i < size; ++i) {
+    (void)object_.push(grid_.centroid(object_voxel_[i]));
+    normal_state_[i] = 0;
+  }
+  counts_.object = size;
+  build_near_list(storage);
+}
+
+// B-F for the current target: the object frame, the view families one at a time
+// until one yields an executable grasp, then the deferred grasps. Returns the grasp's
+// candidate index, or kMaxCandidates with the no_grasp reason and message.
+uint32_t Planner::search_grasp(PlanResult& out, NoGraspReason& reason, const char*& why) {
+  n_views_ = 0;
+  n_candidates_ = 0;
+  n_deferred_ = 0;
+  chosen_view_ = -1;
   // B/C. object frame and the sensor arc
   Vec3 axes[3];
   Vec3 X0;
@@ -171,9 +234,11 @@ Status Planner::plan(PlanResult& out) {
   float arc_from = 0.f, arc_to = 0.f;
   {
     StageTimer t(stage(out, Stage::frame));
-    if (!build_object_frame(axes, X0))
-      return finish(Status::no_grasp, NoGraspReason::degenerate,
-                    "the object points have no defined principal axis (all identical)");
+    if (!build_object_frame(axes, X0)) {
+      reason = NoGraspReason::degenerate;
+      why = "the object points have no defined principal axis (all identical)";
+      return kMaxCandidates;
+    }
     const Vec3& Y = axes[0];
     const Vec3 Z0 = X0.cross(Y);
     if (role_added_[0] && role_added_[1]) {
@@ -190,7 +255,6 @@ Status Planner::plan(PlanResult& out) {
   }
   analyse_views(0, arc_views, out);
   uint32_t found = rank_and_check(0, out);
-
   // The extension (algorithm.md G), one family at a time, stopping at the first that
   // yields an executable grasp: the rest of the circle about Y, then circles about the
   // middle and the minor PCA axes.
@@ -238,34 +302,36 @@ Status Planner::plan(PlanResult& out) {
   }
   if (found == kMaxCandidates && cfg_.executability_checks) found = check_deferred(out);
 
-  if (found == kMaxCandidates) {
-    bool any_kept = false;
-    for (uint32_t v = 0; v < n_views_; ++v) any_kept = any_kept || views_[v].has_candidate;
-    if (n_candidates_ == 0) {
-      // Nothing survived the width filter and the window search.
-      if (any_kept)
-        return finish(Status::no_grasp, NoGraspReason::no_candidate,
-                      "graspable windows exist, but none has contacts on both sides within the pads' reach");
-      return finish(Status::no_grasp, NoGraspReason::too_wide,
-                    "the object is wider than the gripper opening from every viewpoint searched");
+  if (found != kMaxCandidates) return found;
+  bool any_kept = false;
+  for (uint32_t v = 0; v < n_views_; ++v) any_kept = any_kept || views_[v].has_candidate;
+  reason = NoGraspReason::collision;
+  if (n_candidates_ == 0) {
+    // Nothing survived the width filter and the window search.
+    if (any_kept) {
+      reason = NoGraspReason::no_candidate;
+      why = "graspable windows exist, but none has contacts on both sides within the pads' reach";
+    } else {
+      reason = NoGraspReason::too_wide;
+      why = "the object is wider than the gripper opening from every viewpoint searched";
     }
-    // A candidate that passed every check of the gripper but the arm's: a grasp exists
-    // where the arm cannot go, which says more than the other candidates' rejections.
-    const RejectCounts& rj = out.rejected;
-    if (rj.unreachable > 0)
-      return finish(Status::no_grasp, NoGraspReason::unreachable,
-                    "the arm reaches none of the candidates that pass the gripper's checks");
-    if (rj.friction >= rj.collision + rj.table && rj.friction >= rj.occluded)
-      return finish(Status::no_grasp, NoGraspReason::friction,
-                    "every candidate's contact normals lie outside the friction cone");
-    if (rj.occluded > rj.collision + rj.table)
-      return finish(Status::no_grasp, NoGraspReason::collision,
-                    "every candidate puts a finger in space the sensors saw only behind the object");
-    return finish(Status::no_grasp, NoGraspReason::collision,
-                  "every candidate hits the support plane or another object");
+    return kMaxCandidates;
   }
-  fill_grasp(candidates_[found], out);
-  return finish(Status::ok, NoGraspReason::none, "ok");
+  // A candidate that passed every check of the gripper but the arm's: a grasp exists
+  // where the arm cannot go, which says more than the other candidates' rejections.
+  const RejectCounts& rj = out.rejected;
+  if (rj.unreachable > 0) {
+    reason = NoGraspReason::unreachable;
+    why = "the arm reaches none of the candidates that pass the gripper's checks";
+  } else if (rj.friction >= rj.collision + rj.table && rj.friction >= rj.occluded) {
+    reason = NoGraspReason::friction;
+    why = "every candidate's contact normals lie outside the friction cone";
+  } else if (rj.occluded > rj.collision + rj.table) {
+    why = "every candidate puts a finger in space the sensors saw only behind the object";
+  } else {
+    why = "every candidate hits the support plane or another object";
+  }
+  return kMaxCandidates;
 }
 
 bool Planner::build_object_frame(Vec3 axes[3], Vec3& X0) {

@@ -1,8 +1,9 @@
 // cluster_and_pick on voxel cells built here: well-separated blobs (nearest to the
-// centre, largest), min_points, removed voxels, the target buffer's capacity, and
-// the component labelling against a brute-force union-find over all pairs of cells
-// (|difference| <= 1 on every axis for cells = 1; squared distance <= 4 for cells = 2)
-// on random sparse cell sets, peeled one component at a time.
+// centre, largest), min_points, removed voxels, the target buffer's capacity, the
+// target-fragment fall-back (retarget_to_cover), and the component labelling against a
+// brute-force union-find over all pairs of cells (|difference| <= 1 on every axis for
+// cells = 1; squared distance <= 4 for cells = 2) on random sparse cell sets, peeled one
+// component at a time.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -444,6 +445,68 @@ TEST(Cluster, NearestRuleMatchesBruteForceCentroids) {
     std::sort(got.begin(), got.end());
     EXPECT_EQ(got, comps[d[0].second]) << "trial " << trial;
   }
+}
+
+// The target-fragment fall-back: a 3x3x1 fragment F (nearest the centre) over a 4x4x4
+// blob A and a 5x5x2 blob C, both of whose x-y footprints hold F's centroid, and a
+// 6x6x6 blob B, larger but elsewhere.
+struct FallbackScene {
+  int cx = cell_at(0.5f), cy = cell_at(0.f) + 200;
+  std::vector<Cell> cells;
+  uint32_t a0 = 0, c0 = 0, b0 = 0;  // first voxel index of A, C, B
+  ClusterParams p;
+  explicit FallbackScene(bool with_covers) {
+    cells = box_cells(cx - 1, cy - 1, 30, 3, 3, 1);  // F: voxels 0..8
+    if (with_covers) {
+      a0 = static_cast<uint32_t>(cells.size());
+      const std::vector<Cell> a = box_cells(cx - 2, cy - 2, 10, 4, 4, 4);
+      cells.insert(cells.end(), a.begin(), a.end());
+      c0 = static_cast<uint32_t>(cells.size());
+      const std::vector<Cell> c = box_cells(cx - 2, cy - 3, 20, 5, 5, 2);
+      cells.insert(cells.end(), c.begin(), c.end());
+    }
+    b0 = static_cast<uint32_t>(cells.size());
+    const std::vector<Cell> b = box_cells(cx + 30, cy + 20, 10, 6, 6, 6);
+    cells.insert(cells.end(), b.begin(), b.end());
+    p.min_points = 5;
+    p.centre_x = (static_cast<float>(cx) + 0.5f) * kLeaf;  // F's centroid
+    p.centre_y = (static_cast<float>(cy) + 0.5f) * kLeaf;
+  }
+};
+
+TEST(Cluster, RetargetToTheLargestClusterUnderTheFragment) {
+  const FallbackScene s(true);
+  for (uint32_t capacity : {1000u, 60u}) {
+    SCOPED_TRACE(capacity);
+    Fixture f(s.cells);
+    const ClusterResult r = f.run(s.p);
+    ASSERT_EQ(r.target_size, 9u);
+    ASSERT_EQ(f.targets(r), range_set(0, 9));
+    // A (64) is the largest cover; with room for 60 voxels only, C (50).
+    const uint32_t got = fg::retarget_to_cover(*f.grid, f.state.data(), f.queue.data(), s.p, f.target.data(), 9,
+                                               s.p.centre_x, s.p.centre_y, f.target.data(), capacity);
+    const std::set<uint32_t> want = capacity >= 64 ? range_set(s.a0, s.a0 + 64) : range_set(s.c0, s.c0 + 50);
+    ASSERT_EQ(got, want.size());
+    EXPECT_EQ(std::set<uint32_t>(f.target.begin(), f.target.begin() + got), want);
+    EXPECT_EQ(f.in_state(fg::kVoxelTarget), want);
+    EXPECT_EQ(f.in_state(fg::kVoxelFree), std::set<uint32_t>{});
+    EXPECT_EQ(f.in_state(fg::kVoxelVisited).size(), s.cells.size() - want.size());
+    EXPECT_EQ(f.in_state(fg::kVoxelVisited).count(0), 1u);  // F is one of the others now
+  }
+}
+
+TEST(Cluster, RetargetFindsNoCoverAndChangesNothing) {
+  const FallbackScene s(false);  // F and B only: B is larger, its footprint elsewhere
+  Fixture f(s.cells);
+  const ClusterResult r = f.run(s.p);
+  ASSERT_EQ(r.target_size, 9u);
+  const std::vector<uint8_t> state = f.state;
+  const std::vector<uint32_t> target = f.target;
+  EXPECT_EQ(fg::retarget_to_cover(*f.grid, f.state.data(), f.queue.data(), s.p, f.target.data(), 9, s.p.centre_x,
+                                  s.p.centre_y, f.target.data(), 1000),
+            0u);
+  EXPECT_EQ(f.state, state);
+  EXPECT_EQ(f.target, target);
 }
 
 }  // namespace

@@ -33,4 +33,19 @@ ClusterResult cluster_and_pick(const VoxelGrid& grid, uint8_t* state, uint32_t* 
                                const ClusterParams& params, uint32_t* target,
                                uint32_t target_capacity);
 
+//! The target-fragment fall-back (docs/method.md A.6), after cluster_and_pick: among
+//! the components of the voxels marked kVoxelVisited (the clusters not picked), the
+//! largest of at least min_points and more than `old_size` voxels, at most
+//! `target_capacity`, whose x-y footprint (the x-y box of its cells: its voxel centres
+//! grown by half a voxel) contains (cx, cy), the old target's x-y centroid: the old
+//! target is a fragment over or beside it. Ties go to the component found first. When
+//! there is one, the old target's voxels (old_target[0, old_size)) become
+//! kVoxelVisited, the new target's kVoxelTarget, its voxel indices go to `target` in
+//! breadth-first order and its size is returned; else 0, and every state is as it
+//! was. `old_target` may be `target`. `queue` needs grid.size() entries.
+//! O(voxels * neighbours): every non-target voxel is walked once, the new target twice.
+uint32_t retarget_to_cover(const VoxelGrid& grid, uint8_t* state, uint32_t* queue,
+                           const ClusterParams& params, const uint32_t* old_target, uint32_t old_size,
+                           float cx, float cy, uint32_t* target, uint32_t target_capacity);
+
 }  // namespace fg

@@ -36,7 +36,8 @@ struct PlannerConfig {
   float single_sensor_arc_rad = 1.5707963f;  //!< +-90 deg with one sensor
   float vertical_snap_rad = 0.2617994f;      //!< principal axis within 15 deg of z -> z
   float axis_ratio_min = 1.3f;       //!< largest/middle eigenvalue below this -> axis = z
-  bool extend_search = true;         //!< rest of the circle + other PCA axes when the arc fails
+  bool extend_search = true;         //!< rest of the circle + other PCA axes when the arc fails;
+                                     //!< the target-fragment fall-back (docs/method.md A.6)
   float extension_dtheta_rad = 0.1745329f;  //!< 10 deg viewpoint step of those families
   float approach_view_max_rad = 1.0471976f;  //!< approach within 60 deg of a sensor's sight line
 

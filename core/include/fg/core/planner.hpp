@@ -136,7 +136,12 @@ class Planner {
   Status add_depth_image(SensorRole role, const uint16_t* depth_mm, uint16_t width,
                          uint16_t height, const PinholeIntrinsics& k, const Pose& world_T_sensor);
 
-  //! Plans on everything added since reset().
+  //! Plans on everything added since reset(). When the target cluster yields no grasp
+  //! and lies over the footprint of a larger cluster, that cluster is searched once
+  //! more (the target-fragment fall-back, docs/method.md A.6). The result's
+  //! viewpoints, candidates, rejections and stage times then cover both searches; when
+  //! both fail, its reason, message and points are the first target's, while the
+  //! inspection below shows the last search (the fall-back cluster).
   Status plan(PlanResult& out);
 
   //! The message of the last add_* or plan failure (static text).
@@ -171,6 +176,8 @@ class Planner {
   Status check_pose(const Pose& p);
   Status ingest_begin(SensorRole role, const Pose& world_T_sensor);
   Status end_ingest(uint32_t offered, uint32_t finite, uint32_t kept, uint64_t t0, Status st);
+  void load_target(uint32_t size, uint32_t* storage);
+  uint32_t search_grasp(PlanResult& out, NoGraspReason& reason, const char*& why);
   bool build_object_frame(Vec3 axes[3], Vec3& X0);
   bool support_frame(Vec3 axes[3]) const;
   uint32_t add_family(ViewFamily fam, const Vec3& axis, const Vec3& X0, float from, float to,
