@@ -555,6 +555,46 @@ bool sphere_case(CaseInput& out, uint32_t points, bool over, std::string& err) {
   return true;
 }
 
+// The target-fragment fall-back at its most (docs/method.md A.6): views_max's options
+// and sphere shell, moved 2 cells off the workspace centre, with a fragment nearer the
+// centre: a flat square plate of 21 x 21 cells (wider than the opening both ways)
+// inside the shell at its centre height, added first. The plate is the target and
+// yields no grasp (its edge grasps hit the shell); it lies over the sphere's footprint,
+// so the plan walks the other clusters again and searches the sphere in full too.
+bool fallback_views_max(CaseInput& out, uint32_t points, std::string& err) {
+  set(out, "dtheta", 0.0087f, out.cfg.dtheta_rad);
+  set(out, "extension_dtheta", 0.0087f, out.cfg.extension_dtheta_rad);
+  set(out, "approach_view_max", 3.1416f, out.cfg.approach_view_max_rad);
+  set(out, "delta", 0.0005f, out.cfg.scan_delta_m);
+  set(out, "hull_cell", 0.0005f, out.cfg.hull_cell_m);
+  set(out, "candidates_per_view", 16u, out.cfg.candidates_per_view);
+  Builder b(out.cfg, 0.8f);
+  const Grid& g = b.grid();
+  const float cx = out.cfg.workspace_centre_x_m, cy = out.cfg.workspace_centre_y_m;
+  const Vec3 base(cx + 2.f * g.leaf, cy, 0.02f);
+  const float r = shell_radius(g, base, kMaxObjectPoints, false);
+  const Vec3 c = base + Vec3(0.f, 0.f, r);
+  if (c.z() + r > b.z_hi() || r < 0.09f) {
+    err = "sphere does not fit the height range, or the plate does not fit inside it";
+    return false;
+  }
+  const int half = std::min(10, static_cast<int>(r / g.leaf) - 6);
+  const int ic = g.cell_x(cx), jc = g.cell_y(cy), kc = g.cell_z(c.z());
+  for (int a = -half; a <= half; ++a)
+    for (int d = -half; d <= half; ++d) b.add(a < 0 ? 0 : 1, ic + a, jc + d, kc, 0.f);
+  const uint32_t plate = b.distinct();
+  sphere_shell(g, c, r, [&](int i, int j, int k) { b.add(g.centre(i, j, k).y() < c.y() ? 0 : 1, i, j, k); });
+  const uint32_t sphere = b.distinct() - plate;
+  if (sphere > kMaxObjectPoints) {
+    err = "sphere size search failed";
+    return false;
+  }
+  b.finish(out, points);
+  out.note = fmt("plate of %u voxels inside a sphere shell r = %.1f mm of %u voxels", plate,
+                 static_cast<double>(r * 1000.f), sphere);
+  return true;
+}
+
 // The most candidates and checks: an upright tube (every viewpoint sees a tall
 // narrow rectangle: all scan lines kept, many windows, each a candidate, so
 // kMaxCandidates fill up), a ring around it at finger distance that every candidate's
@@ -683,6 +723,7 @@ const std::vector<CaseInfo>& case_list() {
       {"object_overflow", "cluster", "a target of kMaxObjectPoints + 1 voxels: the capacity is exceeded", false, true},
       {"views_max", "frame, xoy", "the most viewpoints and scan lines (smallest steps, sphere too wide)", false, false},
       {"candidates_max", "xoz, select", "kMaxCandidates candidates, each rejected late by the collision scan", false, false},
+      {"fallback_views_max", "cluster, frame, xoy", "views_max's sphere under a fragment target: the fall-back searches both", false, false},
       {"hash_collide", "ingest, reset", "kMaxVoxels cells colliding in the voxel hash (pathological)", false, false},
       // The reference typical input planned with the options an adversarial case
       // changes: the ratio of that case at the same configuration.
@@ -690,6 +731,7 @@ const std::vector<CaseInfo>& case_list() {
       {"typical_at_hull_degenerate", "(reference)", "the reference typical input with hull_degenerate's options", true, false},
       {"typical_at_views_max", "(reference)", "the reference typical input with views_max's options", true, false},
       {"typical_at_candidates_max", "(reference)", "the reference typical input with candidates_max's options", true, false},
+      {"typical_at_fallback_views_max", "(reference)", "the reference typical input with fallback_views_max's options", true, false},
   };
   return list;
 }
@@ -730,6 +772,7 @@ bool make_case(const std::string& name, uint32_t points, CaseInput& out, std::st
   if (name == "views_max") return sphere_case(out, points, false, error);
   if (name == "object_overflow") return sphere_case(out, points, true, error);
   if (name == "candidates_max") return candidates_max(out, points, error);
+  if (name == "fallback_views_max") return fallback_views_max(out, points, error);
   if (name == "hash_collide") return hash_collide(out, points, hash_cells == 0 ? kMaxVoxels : std::min(hash_cells, kMaxVoxels), error);
   error = "unknown case " + name;
   return false;
