@@ -402,6 +402,7 @@ bool Planner::unseen_side_clear(const Vec3& pos, const ViewFrame& f, int side) {
   // Least squares over the deepest seen bins: outward extent against depth.
   float sz = 0.f, sx = 0.f, szz = 0.f, szx = 0.f, x_last = 0.f, z_last = 0.f, x_max = -1e9f;
   int m = 0, unseen_bins = 0;
+  const bool top_down = plane_found_ && -f.Z.dot(plane_.n) >= kTopDownCos;
   for (int b = 0; b < kProfileBins; ++b) x_max = std::max(x_max, out[b]);
   for (int b = kProfileBins - 1; b >= 0 && m < kSlopeBins; --b) {
     if (out[b] < -1e8f) continue;
@@ -409,8 +410,11 @@ bool Planner::unseen_side_clear(const Vec3& pos, const ViewFrame& f, int side) {
     // The bin shows this side only where the sensors saw no matter in front of the space
     // between its outermost point and the open finger: a point with hidden space beyond
     // it (another part of the object, the wall under a seen top) bounds nothing.
+    // Straight down the side beside the top is taken for a wall standing on the plane
+    // (fingers_in_seen_space): the top's rim bounds it, with the space under the top
+    // hidden from every sensor above it.
     bool bounds = true;
-    const float face = 0.5f * g.max_opening_m;  // the open finger's inner face
+    const float face = top_down ? -1e9f : 0.5f * g.max_opening_m;  // the open finger's inner face
     for (int k = 1; k <= kBeyondSteps && bounds; ++k) {
       const float x = out[b] + static_cast<float>(k) * kBeyondSide;
       if (x > face) break;
