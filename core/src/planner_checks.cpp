@@ -24,6 +24,10 @@ constexpr uint32_t kSeenFingerHidden = 2;
 constexpr int kProfileBins = 8;
 constexpr int kSlopeBins = 3;  // the deepest seen bins that give its last slope
 constexpr float kHiddenBulge = 0.005f;
+// A profile bin's outermost point bounds the side when no probe between it and the open
+// finger, a voxel apart (centroids lie up to half a voxel inside the surface), is hidden.
+constexpr float kBeyondSide = 0.005f;
+constexpr int kBeyondSteps = 40;  // at most this many probes per bin (more than 85 mm / 5 mm)
 // Straight down: an approach within 5 deg (half the extension families' 10 deg step) of
 // the support plane's downward normal.
 constexpr float kTopDownCos = 0.9962f;
@@ -378,6 +382,9 @@ int Planner::fingers_in_seen_space(const Vec3& pos, const ViewFrame& f, uint32_t
 // pad's footprint. A convex side bends back, so the line along its last seen slope
 // bounds what lies unseen deeper down; it must stay clear of the open finger there.
 // A flat side (a box's face) has no slope; a side seen in one bin only counts as flat.
+// A bin shows the side only when no space between its outermost point and the finger is
+// hidden: otherwise its points are another part of the object (the far wall of a can
+// seen across a chord), and the side there is unseen. Points with none such: not clear.
 bool Planner::unseen_side_clear(const Vec3& pos, const ViewFrame& f, int side) {
   const GripperGeometry& g = cfg_.gripper;
   const float half_fd = 0.5f * g.finger_depth_m, bin = g.finger_depth_m / kProfileBins;
@@ -394,11 +401,29 @@ bool Planner::unseen_side_clear(const Vec3& pos, const ViewFrame& f, int side) {
   }
   // Least squares over the deepest seen bins: outward extent against depth.
   float sz = 0.f, sx = 0.f, szz = 0.f, szx = 0.f, x_last = 0.f, z_last = 0.f, x_max = -1e9f;
-  int m = 0;
+  int m = 0, unseen_bins = 0;
+  const bool top_down = plane_found_ && -f.Z.dot(plane_.n) >= kTopDownCos;
   for (int b = 0; b < kProfileBins; ++b) x_max = std::max(x_max, out[b]);
   for (int b = kProfileBins - 1; b >= 0 && m < kSlopeBins; --b) {
     if (out[b] < -1e8f) continue;
     const float z = -half_fd + (static_cast<float>(b) + 0.5f) * bin;
+    // The bin shows this side only where the sensors saw no matter in front of the space
+    // between its outermost point and the open finger: a point with hidden space beyond
+    // it (another part of the object, the wall under a seen top) bounds nothing.
+    // Straight down the side beside the top is taken for a wall standing on the plane
+    // (fingers_in_seen_space): the top's rim bounds it, with the space under the top
+    // hidden from every sensor above it.
+    bool bounds = true;
+    const float face = top_down ? -1e9f : 0.5f * g.max_opening_m;  // the open finger's inner face
+    for (int k = 1; k <= kBeyondSteps && bounds; ++k) {
+      const float x = out[b] + static_cast<float>(k) * kBeyondSide;
+      if (x > face) break;
+      bounds = visibility(pos + f.X * (sign * x) + f.Z * z) >= 0;
+    }
+    if (!bounds) {
+      ++unseen_bins;
+      continue;
+    }
     if (m == 0) {
       x_last = out[b];
       z_last = z;
@@ -409,7 +434,7 @@ bool Planner::unseen_side_clear(const Vec3& pos, const ViewFrame& f, int side) {
     szx += z * out[b];
     ++m;
   }
-  if (m == 0) return true;
+  if (m == 0) return unseen_bins == 0;
   float slope = 0.f;
   const float den = static_cast<float>(m) * szz - sz * sz;
   if (m >= 2 && den > 1e-12f) slope = std::max(0.f, (static_cast<float>(m) * szx - sz * sx) / den);

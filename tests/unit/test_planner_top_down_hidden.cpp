@@ -30,7 +30,10 @@ TEST(PlannerTopDownHidden, TallBoxesAreGraspedFromAboveAndTheGraspsHold) {
   std::printf("grasps %d held %d:%s\n", r.grasps, r.held, r.failures.c_str());
   // Measured: 35 of 36 grasps hold (seed 32: an open finger 1 mm into the box on a
   // tilted approach, as before the rule). Without the top-down deferral: 32 of 33, the
-  // other 7 no_grasp with every candidate's far finger in hidden space.
+  // other 7 no_grasp with every candidate's far finger in hidden space. Since the seen
+  // side under a partly hidden finger counts only where no hidden space lies beyond it
+  // (check 4): 33 of 34 hold, 2 tilted grasps that held became no_grasp (their far
+  // side's profile had been the near face's points, seen through the box).
   EXPECT_LE(r.grasps - r.held, 1) << "grasps that do not hold:" << r.failures;
-  EXPECT_GE(r.held, 35) << "grasps that do not hold:" << r.failures;
+  EXPECT_GE(r.held, 33) << "grasps that do not hold:" << r.failures;
 }
