@@ -515,15 +515,19 @@ void table_slab(Builder& b, uint32_t cells, float z) {
       if (b.add(0, i0 + a, j0 + c, g.cell_z(z), 0.2f)) ++n;
 }
 
+// views_max's options: the smallest viewpoint steps, every approach, the smallest
+// scan-line spacing and hull cell, the most candidates per viewpoint.
+void set_views_max_options(CaseInput& out) {
+  set(out, "dtheta", 0.0087f, out.cfg.dtheta_rad);
+  set(out, "extension_dtheta", 0.0087f, out.cfg.extension_dtheta_rad);
+  set(out, "approach_view_max", 3.1416f, out.cfg.approach_view_max_rad);
+  set(out, "delta", 0.0005f, out.cfg.scan_delta_m);
+  set(out, "hull_cell", 0.0005f, out.cfg.hull_cell_m);
+  set(out, "candidates_per_view", 16u, out.cfg.candidates_per_view);
+}
+
 bool sphere_case(CaseInput& out, uint32_t points, bool over, std::string& err) {
-  if (!over) {
-    set(out, "dtheta", 0.0087f, out.cfg.dtheta_rad);
-    set(out, "extension_dtheta", 0.0087f, out.cfg.extension_dtheta_rad);
-    set(out, "approach_view_max", 3.1416f, out.cfg.approach_view_max_rad);
-    set(out, "delta", 0.0005f, out.cfg.scan_delta_m);
-    set(out, "hull_cell", 0.0005f, out.cfg.hull_cell_m);
-    set(out, "candidates_per_view", 16u, out.cfg.candidates_per_view);
-  }
+  if (!over) set_views_max_options(out);
   Builder b(out.cfg, 0.8f);
   const Grid& g = b.grid();
   // object_overflow: the sphere floats 2 cm above a table (the table is the plane RANSAC
@@ -562,12 +566,7 @@ bool sphere_case(CaseInput& out, uint32_t points, bool over, std::string& err) {
 // yields no grasp (its edge grasps hit the shell); it lies over the sphere's footprint,
 // so the plan walks the other clusters again and searches the sphere in full too.
 bool fallback_views_max(CaseInput& out, uint32_t points, std::string& err) {
-  set(out, "dtheta", 0.0087f, out.cfg.dtheta_rad);
-  set(out, "extension_dtheta", 0.0087f, out.cfg.extension_dtheta_rad);
-  set(out, "approach_view_max", 3.1416f, out.cfg.approach_view_max_rad);
-  set(out, "delta", 0.0005f, out.cfg.scan_delta_m);
-  set(out, "hull_cell", 0.0005f, out.cfg.hull_cell_m);
-  set(out, "candidates_per_view", 16u, out.cfg.candidates_per_view);
+  set_views_max_options(out);
   Builder b(out.cfg, 0.8f);
   const Grid& g = b.grid();
   const float cx = out.cfg.workspace_centre_x_m, cy = out.cfg.workspace_centre_y_m;
