@@ -18,8 +18,12 @@
 #include <vector>
 
 #include "fg/core/planner.hpp"
+#include "synthetic_scene.hpp"
 
 namespace {
+
+using fg::test::add_box;
+using fg::test::add_table;
 
 using fg::NoGraspReason;
 using fg::PlannerConfig;
@@ -68,39 +72,6 @@ PlannerConfig world_frame_config() {
   PlannerConfig c;
   c.range_min_m = 0.0f;
   return c;
-}
-
-// A 0.8 x 0.8 table top centred at (0.5, 0) at z = 0, sampled every `step` with a
-// small jitter, leaving out the footprint [x0, x1] x [y0, y1] (hidden under an object).
-void add_table(std::vector<Vec3>& pts, std::mt19937& rng, float step, float x0 = 1, float x1 = 0, float y0 = 1,
-               float y1 = 0) {
-  std::uniform_real_distribution<float> j(-0.3f * step, 0.3f * step);
-  for (float x = 0.1f + 0.5f * step; x < 0.9f; x += step)
-    for (float y = -0.4f + 0.5f * step; y < 0.4f; y += step) {
-      const float px = x + j(rng), py = y + j(rng);
-      if (px >= x0 && px <= x1 && py >= y0 && py <= y1) continue;
-      pts.push_back(Vec3(px, py, 0.f));
-    }
-}
-
-// The five visible faces of an axis-aligned box standing on z = 0 (sizes sx, sy, sz),
-// centred at (cx, cy), sampled every `step`.
-void add_box(std::vector<Vec3>& pts, std::mt19937& rng, float cx, float cy, float sx, float sy, float sz, float step) {
-  std::uniform_real_distribution<float> u(0.f, 1.f);
-  auto face = [&](const Vec3& o, const Vec3& a, const Vec3& b) {
-    const int na = static_cast<int>(std::ceil(a.norm() / step)), nb = static_cast<int>(std::ceil(b.norm() / step));
-    for (int i = 0; i < na; ++i)
-      for (int k = 0; k < nb; ++k)
-        pts.push_back(o + a * ((static_cast<float>(i) + u(rng)) / static_cast<float>(na)) +
-                      b * ((static_cast<float>(k) + u(rng)) / static_cast<float>(nb)));
-  };
-  const Vec3 lo(cx - 0.5f * sx, cy - 0.5f * sy, 0.f);
-  const Vec3 X(sx, 0, 0), Y(0, sy, 0), Z(0, 0, sz);
-  face(lo + Z, X, Y);      // top
-  face(lo, X, Z);          // y = min
-  face(lo + Y, X, Z);      // y = max
-  face(lo, Y, Z);          // x = min
-  face(lo + X, Y, Z);      // x = max
 }
 
 // A sx x sy x 0.12 m box standing at (0.5, 0) on the table (world frame).

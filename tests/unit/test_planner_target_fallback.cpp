@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "fg/core/planner.hpp"
+#include "synthetic_scene.hpp"
 
 namespace {
 
@@ -22,6 +23,8 @@ using fg::Pose;
 using fg::SensorRole;
 using fg::Status;
 using fg::Vec3;
+using fg::test::add_box;
+using fg::test::add_table;
 
 std::unique_ptr<fg::Planner> make_planner() {
   PlannerConfig c;
@@ -44,38 +47,6 @@ Status plan_on(fg::Planner& pl, const std::vector<Vec3>& pts, PlanResult& r) {
   return pl.plan(r);
 }
 
-// A 0.8 x 0.8 table top centred at (0.5, 0) at z = 0, leaving out [x0, x1] x [y0, y1].
-void add_table(std::vector<Vec3>& pts, std::mt19937& rng, float x0, float x1, float y0, float y1) {
-  const float step = 0.003f;
-  std::uniform_real_distribution<float> j(-0.3f * step, 0.3f * step);
-  for (float x = 0.1f + 0.5f * step; x < 0.9f; x += step)
-    for (float y = -0.4f + 0.5f * step; y < 0.4f; y += step) {
-      const float px = x + j(rng), py = y + j(rng);
-      if (px >= x0 && px <= x1 && py >= y0 && py <= y1) continue;
-      pts.push_back(Vec3(px, py, 0.f));
-    }
-}
-
-// The five visible faces of an axis-aligned box standing on z = 0, centred at (cx, cy).
-void add_box(std::vector<Vec3>& pts, std::mt19937& rng, float cx, float cy, float sx, float sy, float sz) {
-  const float step = 0.0015f;
-  std::uniform_real_distribution<float> u(0.f, 1.f);
-  auto face = [&](const Vec3& o, const Vec3& a, const Vec3& b) {
-    const int na = static_cast<int>(std::ceil(a.norm() / step)), nb = static_cast<int>(std::ceil(b.norm() / step));
-    for (int i = 0; i < na; ++i)
-      for (int k = 0; k < nb; ++k)
-        pts.push_back(o + a * ((static_cast<float>(i) + u(rng)) / static_cast<float>(na)) +
-                      b * ((static_cast<float>(k) + u(rng)) / static_cast<float>(nb)));
-  };
-  const Vec3 lo(cx - 0.5f * sx, cy - 0.5f * sy, 0.f);
-  const Vec3 X(sx, 0, 0), Y(0, sy, 0), Z(0, 0, sz);
-  face(lo + Z, X, Y);
-  face(lo, X, Z);
-  face(lo + Y, X, Z);
-  face(lo, Y, Z);
-  face(lo + X, Y, Z);
-}
-
 // A thin horizontal plate (one voxel layer) of side `side` at height z centred at
 // (cx, cy): wider than the opening from above, thinner than the smallest width seen
 // edge-on, so it yields no grasp from any viewpoint.
@@ -96,10 +67,10 @@ std::vector<Vec3> scene(uint32_t seed, bool with_box, float bx, float by, float 
   std::mt19937 rng(seed);
   std::vector<Vec3> pts;
   if (with_box) {
-    add_table(pts, rng, bx - 0.5f * sx, bx + 0.5f * sx, by - 0.5f * sy, by + 0.5f * sy);
-    add_box(pts, rng, bx, by, sx, sy, kBoxH);
+    add_table(pts, rng, 0.003f, bx - 0.5f * sx, bx + 0.5f * sx, by - 0.5f * sy, by + 0.5f * sy);
+    add_box(pts, rng, bx, by, sx, sy, kBoxH, 0.0015f);
   } else {
-    add_table(pts, rng, 1.f, 0.f, 1.f, 0.f);
+    add_table(pts, rng, 0.003f);
   }
   add_plate(pts, rng, 0.5f, 0.f, kPlateSide, kPlateZ);
   return pts;
