@@ -484,8 +484,11 @@ TEST(BestWindows, InvalidArguments) {
   EXPECT_EQ(fg::best_windows(l.data(), 300, 0.004f, 1, 0.f, 0.f, out.data(), 4), 0u);
   EXPECT_EQ(fg::best_windows(l.data(), 300, 0.004f, 0, 0.f, 0.f, out.data(), 4), 0u);
   EXPECT_EQ(fg::best_windows(l.data(), 4, 0.004f, 5, 0.f, 0.f, out.data(), 4), 0u);
-  EXPECT_EQ(fg::best_windows(l.data(), 300, 0.004f, 257, 0.f, 0.f, out.data(), 4), 0u);
-  EXPECT_EQ(fg::best_windows(l.data(), 300, 0.004f, 256, 0.f, 0.f, out.data(), 4), 4u);
+  // Any k up to the line count: the windows are fitted from running sums, with no
+  // per-window buffer to bound k.
+  EXPECT_EQ(fg::best_windows(l.data(), 300, 0.004f, 300, 0.f, 0.f, out.data(), 4), 1u);
+  EXPECT_EQ(fg::best_windows(l.data(), 300, 0.004f, 301, 0.f, 0.f, out.data(), 4), 0u);
+  EXPECT_EQ(fg::best_windows(l.data(), 300, 0.004f, 257, 0.f, 0.f, out.data(), 4), 4u);
   EXPECT_EQ(fg::best_windows(l.data(), 300, 0.004f, 2, 0.f, 0.f, out.data(), 4), 4u);
 }
 
@@ -568,6 +571,81 @@ TEST(BestWindows, MatchesBruteForceOnRandomLineSets) {
       EXPECT_EQ(out[i].count, k);
     }
   }
+}
+
+// The running sums over a long region (kMaxScanLines lines, the finest line spacing,
+// wide windows: views_max and candidates_max) against the two-pass closed form of
+// every window: slopes, intercepts and beta stay within float precision of it.
+TEST(BestWindows, SlidingFitsMatchTheClosedFormOverLongRegions) {
+  std::mt19937 rng(77);
+  std::uniform_real_distribution<float> u(-1.f, 1.f);
+  const uint32_t n = fg::kMaxScanLines;
+  for (int trial = 0; trial < 6; ++trial) {
+    std::vector<ScanLine> l(n);
+    // Curved sides (a sphere-like bulge) plus noise, all within the jump threshold.
+    for (uint32_t j = 0; j < n; ++j) {
+      const float y = -0.128f + 0.0005f * static_cast<float>(j);
+      const float bulge = 0.03f * std::sqrt(std::max(0.f, 1.f - (y / 0.13f) * (y / 0.13f)));
+      l[j] = ScanLine{y, 0.2f - bulge + 0.0003f * u(rng), 0.2f + bulge + 0.0003f * u(rng), true, true};
+    }
+    const uint32_t k = 44 + static_cast<uint32_t>(trial) * 20;
+    std::vector<SideFit> out(n);
+    const uint32_t got = fg::best_windows(l.data(), n, 0.004f, k, 0.f, 0.f, out.data(), n);
+    ASSERT_EQ(got, n - k + 1);
+    for (uint32_t i = 0; i < got; ++i) {
+      const uint32_t s = out[i].first;
+      std::vector<float> y, L, R;
+      for (uint32_t m = s; m < s + k; ++m) {
+        y.push_back(l[m].y);
+        L.push_back(l[m].left);
+        R.push_back(l[m].right);
+      }
+      double aL, bL, aR, bR;
+      closed_form(y, L, aL, bL);
+      closed_form(y, R, aR, bR);
+      EXPECT_NEAR(out[i].a_left, aL, 1e-6 * (1.0 + std::fabs(aL))) << "window " << s;
+      EXPECT_NEAR(out[i].a_right, aR, 1e-6 * (1.0 + std::fabs(aR))) << "window " << s;
+      EXPECT_NEAR(out[i].b_left, bL, 1e-6) << "window " << s;
+      EXPECT_NEAR(out[i].b_right, bR, 1e-6) << "window " << s;
+      EXPECT_NEAR(out[i].beta, std::fabs(std::atan(aL) - std::atan(aR)), 2e-6) << "window " << s;
+    }
+  }
+}
+
+// A side at one x over a window has slope 0 and that x exactly, wherever the window
+// lies in its region (after steps below the threshold), as the two-pass fit gives it:
+// windows mirrored about y_ref keep equal ranks, and the earlier one stays first.
+TEST(BestWindows, ConstantSidesFitExactlyAfterSteps) {
+  auto l = sides(40, -0.039f, 0.002f, 0.f, -0.021f, 0.f, 0.019f);
+  for (uint32_t j = 10; j < 30; ++j) {
+    l[j].left = -0.0237f;  // steps of 2.7 mm in, then out
+    l[j].right = 0.0213f;
+  }
+  std::vector<SideFit> out(64);
+  const uint32_t k = 6;
+  const uint32_t n = fg::best_windows(l.data(), 40, 0.004f, k, 0.f, 0.f, out.data(), 64);
+  ASSERT_EQ(n, 40u - k + 1);
+  uint32_t flat = 0;
+  for (uint32_t i = 0; i < n; ++i) {
+    const SideFit& w = out[i];
+    const bool inside = w.first >= 10 && w.first + k <= 30;
+    const bool before = w.first + k <= 10, after = w.first >= 30;
+    if (!(inside || before || after)) continue;
+    ++flat;
+    EXPECT_EQ(w.a_left, 0.f) << "window " << w.first;
+    EXPECT_EQ(w.a_right, 0.f) << "window " << w.first;
+    EXPECT_EQ(w.beta, 0.f) << "window " << w.first;
+    EXPECT_EQ(w.b_left, l[w.first].left) << "window " << w.first;
+    EXPECT_EQ(w.b_right, l[w.first].right) << "window " << w.first;
+  }
+  EXPECT_EQ(flat, 5u + 15u + 5u);
+  // With a centre weight, the flat windows rank by distance alone: ties keep line order.
+  const uint32_t n2 = fg::best_windows(l.data(), 40, 0.004f, k, -0.001f, 1.f, out.data(), 64);
+  ASSERT_EQ(n2, n);
+  for (uint32_t i = 1; i < n2; ++i)
+    if (out[i].rank == out[i - 1].rank) {
+      EXPECT_LT(out[i - 1].first, out[i].first);
+    }
 }
 
 }  // namespace
