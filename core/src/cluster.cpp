@@ -65,6 +65,37 @@ uint32_t flood(const VoxelGrid& grid, uint8_t* state, uint32_t* queue, uint32_t 
   }
   return tail;
 }
+// Keeps `c` in the list of the largest clusters (size descending, ties in the order
+// found); the size of whatever falls off the end goes to largest_dropped.
+void keep_largest(ClusterResult& res, const ClusterSummary& c) {
+  uint32_t pos = res.n_largest;
+  while (pos > 0 && c.size > res.largest[pos - 1].size) --pos;
+  const uint32_t cap = ClusterResult::kLargestKept;
+  if (pos >= cap) {
+    res.largest_dropped = c.size > res.largest_dropped ? c.size : res.largest_dropped;
+    return;
+  }
+  if (res.n_largest == cap) {
+    const uint32_t evicted = res.largest[cap - 1].size;
+    res.largest_dropped = evicted > res.largest_dropped ? evicted : res.largest_dropped;
+  }
+  const uint32_t last = res.n_largest < cap ? res.n_largest : cap - 1;
+  for (uint32_t i = last; i > pos; --i) res.largest[i] = res.largest[i - 1];
+  res.largest[pos] = c;
+  if (res.n_largest < cap) ++res.n_largest;
+}
+
+// The cluster's x-y footprint (its cells' x-y box: the cell centres grown by half a
+// voxel) contains (cx, cy).
+bool footprint_covers(const VoxelGrid& grid, const ClusterSummary& c, float cx, float cy) {
+  const float leaf = grid.leaf();
+  const Vec3& origin = grid.origin();
+  const float x0 = origin.x() + leaf * static_cast<float>(c.x0);
+  const float x1 = origin.x() + leaf * static_cast<float>(c.x1 + 1u);
+  const float y0 = origin.y() + leaf * static_cast<float>(c.y0);
+  const float y1 = origin.y() + leaf * static_cast<float>(c.y1 + 1u);
+  return cx >= x0 && cx <= x1 && cy >= y0 && cy <= y1;
+}
 }  // namespace
 
 ClusterResult cluster_and_pick(const VoxelGrid& grid, uint8_t* state, uint32_t* queue,
@@ -84,6 +115,7 @@ ClusterResult cluster_and_pick(const VoxelGrid& grid, uint8_t* state, uint32_t* 
     free_total += size;
     if (size < prm.min_points) continue;
     ++res.clusters;
+    keep_largest(res, ClusterSummary{i, size, w.x0, w.x1, w.y0, w.y1});
     float score;
     if (prm.rule == TargetRule::largest) {
       score = -static_cast<float>(size);
@@ -126,29 +158,37 @@ ClusterResult cluster_and_pick(const VoxelGrid& grid, uint8_t* state, uint32_t* 
 
 uint32_t retarget_to_cover(const VoxelGrid& grid, uint8_t* state, uint32_t* queue,
                            const ClusterParams& prm, const uint32_t* old_target, uint32_t old_size,
-                           float cx, float cy, uint32_t* target, uint32_t target_capacity) {
+                           float cx, float cy, uint32_t* target, uint32_t target_capacity,
+                           const ClusterResult* labelled) {
   Offset off[128];
   const uint32_t n_off = make_offsets(prm.cells > 2 ? 2u : prm.cells, off);
   const uint32_t n = grid.size();
-  const float leaf = grid.leaf();
-  const Vec3& origin = grid.origin();
-  // Every component of the clusters not picked, walked once (visited -> free): the
-  // largest that covers (cx, cy) wins, the first found on ties.
+  // The largest that covers (cx, cy) wins, the first found on ties.
   uint32_t best_seed = VoxelGrid::kNone, best_size = 0;
+  const auto consider = [&](const ClusterSummary& c) {
+    if (c.size < prm.min_points || c.size <= old_size || c.size > target_capacity || c.size <= best_size) return;
+    if (!footprint_covers(grid, c, cx, cy)) return;
+    best_seed = c.seed;
+    best_size = c.size;
+  };
+  if (labelled != nullptr && labelled->largest_dropped <= old_size) {
+    // Every cluster larger than the old target is in the labelling's list, in the
+    // order a walk would find them among equals: no walk. The new target goes from
+    // visited to target directly.
+    for (uint32_t k = 0; k < labelled->n_largest; ++k) consider(labelled->largest[k]);
+    if (best_seed == VoxelGrid::kNone) return 0;
+    for (uint32_t k = 0; k < old_size; ++k) state[old_target[k]] = kVoxelVisited;
+    Walk w;
+    (void)flood(grid, state, queue, best_seed, off, n_off, kVoxelVisited, kVoxelTarget, w);
+    for (uint32_t k = 0; k < best_size; ++k) target[k] = queue[k];
+    return best_size;
+  }
+  // Every component of the clusters not picked, walked once (visited -> free).
   for (uint32_t i = 0; i < n; ++i) {
     if (state[i] != kVoxelVisited) continue;
     Walk w;
     const uint32_t size = flood(grid, state, queue, i, off, n_off, kVoxelVisited, kVoxelFree, w);
-    if (size < prm.min_points || size <= old_size || size > target_capacity || size <= best_size) continue;
-    // The footprint: the x-y box of the cells, i.e. of the cell centres grown by half
-    // a voxel.
-    const float x0 = origin.x() + leaf * static_cast<float>(w.x0);
-    const float x1 = origin.x() + leaf * static_cast<float>(w.x1 + 1u);
-    const float y0 = origin.y() + leaf * static_cast<float>(w.y0);
-    const float y1 = origin.y() + leaf * static_cast<float>(w.y1 + 1u);
-    if (!(cx >= x0 && cx <= x1 && cy >= y0 && cy <= y1)) continue;
-    best_seed = i;
-    best_size = size;
+    consider(ClusterSummary{i, size, w.x0, w.x1, w.y0, w.y1});
   }
   if (best_seed != VoxelGrid::kNone) {
     // The old target joins the other objects before `target` (which may be the same

@@ -149,10 +149,10 @@ Status Planner::plan(PlanResult& out) {
   // The breadth-first queue borrows the voxel count storage, idle after finalize().
   uint32_t* const queue = grid_.lend_count_storage();
   uint32_t clusters = 0;
+  ClusterResult cr;  // kept for the fall-back: its list of the largest clusters
   {
     StageTimer t(stage(out, Stage::cluster));
-    const ClusterResult cr =
-        cluster_and_pick(grid_, state_, queue, cp, object_voxel_, kMaxObjectPoints);
+    cr = cluster_and_pick(grid_, state_, queue, cp, object_voxel_, kMaxObjectPoints);
     if (cr.target_size == 0)
       return finish(Status::no_grasp, NoGraspReason::no_object,
                     plane_found_ ? "no cluster large enough stands on the support plane"
@@ -188,7 +188,7 @@ Status Planner::plan(PlanResult& out) {
       // The walks use the near list's storage as their queue: without a fall-back
       // nothing checks collisions after this, and with one load_target rebuilds it.
       size = retarget_to_cover(grid_, state_, queue, cp, object_voxel_, first_size, cx, cy, object_voxel_,
-                               kMaxObjectPoints);
+                               kMaxObjectPoints, &cr);
       if (size > 0) load_target(size, queue);
     }
     if (size > 0) {

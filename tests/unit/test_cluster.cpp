@@ -509,4 +509,69 @@ TEST(Cluster, RetargetFindsNoCoverAndChangesNothing) {
   EXPECT_EQ(f.target, target);
 }
 
+// retarget_to_cover from cluster_and_pick's list of the largest clusters against the
+// walk over every voxel (no list): the same new target, in the same breadth-first
+// order, and the same states, on random scenes of blobs around and under a small
+// target; with more than kLargestKept clusters larger than the target the list is
+// incomplete and the walk runs.
+TEST(Cluster, RetargetFromTheLabellingMatchesTheWalk) {
+  std::mt19937 rng(2024);
+  const int cx = cell_at(0.5f), cy = cell_at(0.f) + 200;
+  uint32_t from_list = 0, walked = 0, found = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    std::set<Cell> unique;
+    std::vector<Cell> cells;
+    const auto add = [&](const std::vector<Cell>& b) {
+      for (const Cell& c : b)
+        if (unique.insert(c).second) cells.push_back(c);
+    };
+    add(box_cells(cx - 1, cy - 1, 40, 2, 2, 1));  // the fragment nearest the centre
+    const int blobs = 1 + static_cast<int>(rng() % 14);
+    int nx = 0, ny = 0, nz = 0, x0 = 0, y0 = 0;
+    for (int b = 0; b < blobs; ++b) {
+      // Now and then a copy of the previous blob above it: clusters of equal size over
+      // the same footprint, where the one found first must win.
+      if (b == 0 || rng() % 3 != 0) {
+        nx = 2 + static_cast<int>(rng() % 4);
+        ny = 2 + static_cast<int>(rng() % 4);
+        nz = 1 + static_cast<int>(rng() % 4);
+        x0 = cx - 6 + static_cast<int>(rng() % 12) - nx / 2;
+        y0 = cy - 6 + static_cast<int>(rng() % 12) - ny / 2;
+      }
+      add(box_cells(x0, y0, 2 + 6 * b, nx, ny, nz));
+    }
+    // Two copies of the scene: one retargets from the labelling, one walks.
+    ClusterParams p;
+    p.min_points = 3;
+    p.centre_x = (static_cast<float>(cx) + 0.f) * kLeaf;
+    p.centre_y = (static_cast<float>(cy) + 0.f) * kLeaf;
+    Fixture a(cells), b(cells);
+    const ClusterResult ra = a.run(p), rb = b.run(p);
+    ASSERT_EQ(ra.target_size, rb.target_size);
+    if (ra.target_size == 0) continue;
+    ASSERT_EQ(a.state, b.state);
+    double sx = 0, sy = 0;
+    for (uint32_t k = 0; k < ra.target_size; ++k) {
+      const Vec3 c = a.grid->centroid(a.target[k]);
+      sx += c.x();
+      sy += c.y();
+    }
+    const float tx = static_cast<float>(sx / ra.target_size), ty = static_cast<float>(sy / ra.target_size);
+    const uint32_t cap = static_cast<uint32_t>(a.target.size());
+    const uint32_t ga = fg::retarget_to_cover(*a.grid, a.state.data(), a.queue.data(), p, a.target.data(),
+                                              ra.target_size, tx, ty, a.target.data(), cap, &ra);
+    const uint32_t gb = fg::retarget_to_cover(*b.grid, b.state.data(), b.queue.data(), p, b.target.data(),
+                                              rb.target_size, tx, ty, b.target.data(), cap);
+    ASSERT_EQ(ga, gb) << "trial " << trial;
+    EXPECT_EQ(a.state, b.state) << "trial " << trial;
+    EXPECT_TRUE(std::equal(a.target.begin(), a.target.begin() + ga, b.target.begin())) << "trial " << trial;
+    found += ga > 0 ? 1u : 0u;
+    (ra.largest_dropped <= ra.target_size ? from_list : walked) += 1;
+  }
+  // Both paths ran, and retargets happened.
+  EXPECT_GT(from_list, 20u);
+  EXPECT_GT(walked, 5u);
+  EXPECT_GT(found, 20u);
+}
+
 }  // namespace

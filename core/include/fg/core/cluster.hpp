@@ -17,10 +17,25 @@ struct ClusterParams {
   TargetRule rule = TargetRule::nearest_to_centre;
 };
 
+//! One cluster as the labelling found it: its first voxel (lowest index), its size
+//! and the x-y box of its cells (key indices).
+struct ClusterSummary {
+  uint32_t seed = 0, size = 0;
+  uint32_t x0 = 0, x1 = 0, y0 = 0, y1 = 0;
+};
+
 struct ClusterResult {
   uint32_t clusters = 0;        //!< clusters of at least min_points
   uint32_t target_size = 0;     //!< voxels in the target (0: none)
   uint32_t other_points = 0;    //!< non-removed voxels outside the target
+  //! The largest clusters of at least min_points (the target among them), largest
+  //! first, ties in the order found; a cluster that did not fit in the list leaves its
+  //! size in largest_dropped. retarget_to_cover reads its candidates from here instead
+  //! of walking every voxel again when none larger than the target was dropped.
+  static constexpr uint32_t kLargestKept = 8;
+  ClusterSummary largest[kLargestKept];
+  uint32_t n_largest = 0;
+  uint32_t largest_dropped = 0;
 };
 
 //! Labels the connected components of the voxels whose state is kVoxelFree, picks the
@@ -43,9 +58,12 @@ ClusterResult cluster_and_pick(const VoxelGrid& grid, uint8_t* state, uint32_t* 
 //! kVoxelVisited, the new target's kVoxelTarget, its voxel indices go to `target` in
 //! breadth-first order and its size is returned; else 0, and every state is as it
 //! was. `old_target` may be `target`. `queue` needs grid.size() entries.
+//! With `labelled` (cluster_and_pick's result for this state) holding every cluster
+//! larger than old_size, only the new target is walked; otherwise (or with nullptr)
 //! O(voxels * neighbours): every non-target voxel is walked once, the new target twice.
 uint32_t retarget_to_cover(const VoxelGrid& grid, uint8_t* state, uint32_t* queue,
                            const ClusterParams& params, const uint32_t* old_target, uint32_t old_size,
-                           float cx, float cy, uint32_t* target, uint32_t target_capacity);
+                           float cx, float cy, uint32_t* target, uint32_t target_capacity,
+                           const ClusterResult* labelled = nullptr);
 
 }  // namespace fg
