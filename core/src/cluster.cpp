@@ -65,6 +65,7 @@ uint32_t flood(const VoxelGrid& grid, uint8_t* state, uint32_t* queue, uint32_t 
   }
   return tail;
 }
+
 // Keeps `c` in the list of the largest clusters (size descending, ties in the order
 // found); the size of whatever falls off the end goes to largest_dropped.
 void keep_largest(ClusterResult& res, const ClusterSummary& c) {
@@ -171,36 +172,33 @@ uint32_t retarget_to_cover(const VoxelGrid& grid, uint8_t* state, uint32_t* queu
     best_seed = c.seed;
     best_size = c.size;
   };
-  if (labelled != nullptr && labelled->largest_dropped <= old_size) {
-    // Every cluster larger than the old target is in the labelling's list, in the
-    // order a walk would find them among equals: no walk. The new target goes from
-    // visited to target directly.
+  // Every cluster larger than the old target in the labelling's list, in the order a
+  // walk would find them among equals: no walk. Otherwise every component of the
+  // clusters not picked, walked once (visited -> free).
+  const bool from_list = labelled != nullptr && labelled->largest_dropped <= old_size;
+  if (from_list) {
     for (uint32_t k = 0; k < labelled->n_largest; ++k) consider(labelled->largest[k]);
-    if (best_seed == VoxelGrid::kNone) return 0;
-    for (uint32_t k = 0; k < old_size; ++k) state[old_target[k]] = kVoxelVisited;
-    Walk w;
-    (void)flood(grid, state, queue, best_seed, off, n_off, kVoxelVisited, kVoxelTarget, w);
-    for (uint32_t k = 0; k < best_size; ++k) target[k] = queue[k];
-    return best_size;
-  }
-  // Every component of the clusters not picked, walked once (visited -> free).
-  for (uint32_t i = 0; i < n; ++i) {
-    if (state[i] != kVoxelVisited) continue;
-    Walk w;
-    const uint32_t size = flood(grid, state, queue, i, off, n_off, kVoxelVisited, kVoxelFree, w);
-    consider(ClusterSummary{i, size, w.x0, w.x1, w.y0, w.y1});
+  } else {
+    for (uint32_t i = 0; i < n; ++i) {
+      if (state[i] != kVoxelVisited) continue;
+      Walk w;
+      const uint32_t size = flood(grid, state, queue, i, off, n_off, kVoxelVisited, kVoxelFree, w);
+      consider(ClusterSummary{i, size, w.x0, w.x1, w.y0, w.y1});
+    }
   }
   if (best_seed != VoxelGrid::kNone) {
     // The old target joins the other objects before `target` (which may be the same
-    // array) is overwritten; it is a component of its own, so the walk below, over
-    // the free voxels, never reaches it.
+    // array) is overwritten; it is a component of its own, so the walk below never
+    // reaches it.
     for (uint32_t k = 0; k < old_size; ++k) state[old_target[k]] = kVoxelVisited;
     Walk w;
-    (void)flood(grid, state, queue, best_seed, off, n_off, kVoxelFree, kVoxelTarget, w);
+    (void)flood(grid, state, queue, best_seed, off, n_off, from_list ? kVoxelVisited : kVoxelFree, kVoxelTarget,
+                w);
     for (uint32_t k = 0; k < best_size; ++k) target[k] = queue[k];
   }
-  for (uint32_t i = 0; i < n; ++i)
-    if (state[i] == kVoxelFree) state[i] = kVoxelVisited;
+  if (!from_list)
+    for (uint32_t i = 0; i < n; ++i)
+      if (state[i] == kVoxelFree) state[i] = kVoxelVisited;
   return best_size;
 }
 

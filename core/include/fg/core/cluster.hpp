@@ -55,12 +55,12 @@ ClusterResult cluster_and_pick(const VoxelGrid& grid, uint8_t* state, uint32_t* 
 //! grown by half a voxel) contains (cx, cy), the old target's x-y centroid: the old
 //! target is a fragment over or beside it. Ties go to the component found first. When
 //! there is one, the old target's voxels (old_target[0, old_size)) become
-//! kVoxelVisited, the new target's kVoxelTarget, its voxel indices go to `target` in
+//! kVoxelVisited, the chosen cluster's kVoxelTarget, its voxel indices go to `target` in
 //! breadth-first order and its size is returned; else 0, and every state is as it
 //! was. `old_target` may be `target`. `queue` needs grid.size() entries.
 //! With `labelled` (cluster_and_pick's result for this state) holding every cluster
-//! larger than old_size, only the new target is walked; otherwise (or with nullptr)
-//! O(voxels * neighbours): every non-target voxel is walked once, the new target twice.
+//! larger than old_size, only the chosen cluster is walked; otherwise (or with nullptr)
+//! O(voxels * neighbours): every non-target voxel is walked once, the chosen cluster twice.
 uint32_t retarget_to_cover(const VoxelGrid& grid, uint8_t* state, uint32_t* queue,
                            const ClusterParams& params, const uint32_t* old_target, uint32_t old_size,
                            float cx, float cy, uint32_t* target, uint32_t target_capacity,
