@@ -124,13 +124,16 @@ uint32_t best_windows(const ScanLine* lines, uint32_t n, float dx_threshold, uin
   uint32_t found = 0;
   uint32_t j = 0;
   while (j < n) {
-    if (!lines[j].kept) {
+    if (!lines[j].kept || !std::isfinite(lines[j].y)) {
       ++j;
       continue;
     }
-    // Region [j, e): consecutive kept lines without a jump on either side.
+    // Region [j, e): consecutive kept lines without a jump on either side (a NaN or
+    // infinite side is a jump; so is a line without a finite y, which would spoil the
+    // running sums of the windows after it).
     uint32_t e = j + 1;
-    while (e < n && lines[e].kept && std::fabs(lines[e].left - lines[e - 1].left) <= dx_threshold &&
+    while (e < n && lines[e].kept && std::isfinite(lines[e].y) &&
+           std::fabs(lines[e].left - lines[e - 1].left) <= dx_threshold &&
            std::fabs(lines[e].right - lines[e - 1].right) <= dx_threshold)
       ++e;
     if (e - j >= k) {

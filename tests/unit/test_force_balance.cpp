@@ -648,4 +648,32 @@ TEST(BestWindows, ConstantSidesFitExactlyAfterSteps) {
     }
 }
 
+// A kept line with a NaN or infinite y or side (a caller's bad input; build_scan_lines
+// never keeps one) splits its region like a dropped line: the windows on either side
+// of it are fitted as without it.
+TEST(BestWindows, NonFiniteLinesSplitTheirRegion) {
+  const uint32_t k = 5;
+  const auto clean = sides(30, 0.f, 0.002f, 0.1f, -0.02f, -0.1f, 0.02f);
+  auto dropped = clean;
+  dropped[12].kept = false;
+  std::vector<SideFit> want(64);
+  const uint32_t n_want = fg::best_windows(dropped.data(), 30, 0.004f, k, 0.f, 0.f, want.data(), 64);
+  ASSERT_EQ(n_want, (12 - k + 1) + (17 - k + 1));
+  const float bad[] = {kNaN, std::numeric_limits<float>::infinity()};
+  for (int field = 0; field < 3; ++field)
+    for (float v : bad) {
+      auto l = clean;
+      (field == 0 ? l[12].y : field == 1 ? l[12].left : l[12].right) = v;
+      std::vector<SideFit> out(64);
+      const uint32_t n = fg::best_windows(l.data(), 30, 0.004f, k, 0.f, 0.f, out.data(), 64);
+      ASSERT_EQ(n, n_want) << "field " << field << " value " << v;
+      for (uint32_t i = 0; i < n; ++i) {
+        EXPECT_EQ(out[i].first, want[i].first) << "field " << field;
+        EXPECT_EQ(out[i].beta, want[i].beta) << "field " << field;
+        EXPECT_EQ(out[i].a_left, want[i].a_left) << "field " << field;
+        EXPECT_EQ(out[i].b_right, want[i].b_right) << "field " << field;
+      }
+    }
+}
+
 }  // namespace
