@@ -145,7 +145,7 @@ uint32_t best_windows(const ScanLine* lines, uint32_t n, float dx_threshold, uin
       // the steps of each side inside the window are counted as it slides.
       const double y0 = lines[j].y, l0 = lines[j].left, r0 = lines[j].right;
       double sy = 0, syy = 0, sl = 0, syl = 0, sr = 0, syr = 0;
-      uint32_t steps_l = 0, steps_r = 0;  // i in (s, s + k) with a side unlike line i - 1's
+      int steps_l = 0, steps_r = 0;  // i in (s, s + k) with a side unlike line i - 1's
       const auto add = [&](uint32_t i, double sign) {
         const ScanLine& L = lines[i];
         const double y = L.y - y0, l = L.left - l0, r = L.right - r0;
@@ -156,23 +156,22 @@ uint32_t best_windows(const ScanLine* lines, uint32_t n, float dx_threshold, uin
         sr += sign * r;
         syr += sign * y * r;
       };
-      const auto step = [&](uint32_t i, uint32_t& count_l, uint32_t& count_r, bool in) {
-        const uint32_t dl = lines[i].left != lines[i - 1].left ? 1u : 0u;
-        const uint32_t dr = lines[i].right != lines[i - 1].right ? 1u : 0u;
-        count_l = in ? count_l + dl : count_l - dl;
-        count_r = in ? count_r + dr : count_r - dr;
+      // The pair (i - 1, i) enters (+1) or leaves (-1) the window's step counts.
+      const auto step = [&](uint32_t i, int sign) {
+        steps_l += lines[i].left != lines[i - 1].left ? sign : 0;
+        steps_r += lines[i].right != lines[i - 1].right ? sign : 0;
       };
       for (uint32_t i = 0; i < k; ++i) {
         add(j + i, 1.0);
-        if (i > 0) step(j + i, steps_l, steps_r, true);
+        if (i > 0) step(j + i, 1);
       }
       const double inv_k = 1.0 / static_cast<double>(k);
       for (uint32_t s = j; s + k <= e; ++s) {
         if (s > j) {
           add(s - 1, -1.0);
           add(s + k - 1, 1.0);
-          step(s, steps_l, steps_r, false);
-          step(s + k - 1, steps_l, steps_r, true);
+          step(s, -1);
+          step(s + k - 1, 1);
         }
         const double my = sy * inv_k;
         const double vyy = syy - sy * my;  // k * var(y)

@@ -414,8 +414,8 @@ bool Planner::unseen_side_clear(const Vec3& pos, const ViewFrame& f, int side) {
     // (fingers_in_seen_space): the top's rim bounds it, with the space under the top
     // hidden from every sensor above it.
     bool bounds = true;
-    const float face = top_down ? -1e9f : 0.5f * g.max_opening_m;  // the open finger's inner face
-    for (int k = 1; k <= kBeyondSteps && bounds; ++k) {
+    const float face = 0.5f * g.max_opening_m;  // the open finger's inner face
+    for (int k = 1; !top_down && k <= kBeyondSteps && bounds; ++k) {
       const float x = out[b] + static_cast<float>(k) * kBeyondSide;
       if (x > face) break;
       bounds = visibility(pos + f.X * (sign * x) + f.Z * z) >= 0;
