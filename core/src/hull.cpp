@@ -6,12 +6,21 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 namespace fg {
 namespace {
 
-bool is_finite(const Vec2& p) { return std::isfinite(p.x) && std::isfinite(p.y); }
+//! Both coordinates finite: neither exponent field is all ones (one test per point,
+//! no branch; the hull's passes over the points make this hot).
+bool is_finite(const Vec2& p) {
+  uint32_t bx, by;
+  std::memcpy(&bx, &p.x, sizeof bx);
+  std::memcpy(&by, &p.y, sizeof by);
+  constexpr uint32_t kExp = 0x7F800000u;
+  return ((bx & kExp) != kExp) & ((by & kExp) != kExp);
+}
 
 bool same(const Vec2& a, const Vec2& b) { return a.x == b.x && a.y == b.y; }
 
@@ -28,30 +37,35 @@ double cross(const Vec2& o, const Vec2& a, const Vec2& b) {
 
 // ----------------------------------------------------------------------------------
 // Raster concave hull helpers. Cell flag bits (ConcaveHullScratch::cells):
-//   binning       : bit0 occupied
+//   binning       : bit0 occupied, bits1-7 a full cell's slot + 1 (0: none)
 //   after closing : bit0 foreground (F), bit1 visited, bits2-4 DFS parent direction,
 //                   bit5 "current component" mark used by the exact recount
-// ConcaveHullScratch::temp holds the number of points per cell, saturated at 255;
+// ConcaveHullScratch::temp holds the number of points per cell, saturated at 255, and
+// ConcaveHullScratch::full the exact counts of the saturated ("full") cells;
 // ConcaveHullScratch::rows holds the closing's images, one bit per cell.
 constexpr uint8_t kOcc = 0x01;
+constexpr uint8_t kSlotShift = 1;
 
 constexpr uint8_t kFg = 0x01;
 constexpr uint8_t kVisited = 0x02;
 constexpr uint8_t kParentShift = 2;
 constexpr uint8_t kParentMask = 0x1C;
 constexpr uint8_t kCurrent = 0x20;
+constexpr uint64_t kBytes01 = 0x0101010101010101u;  // bit 0 of each of 8 cells read as one word
 
 // 8 directions, counter-clockwise from east. 4-connectivity uses the even ones.
 constexpr int kDx8[8] = {1, 1, 0, -1, -1, -1, 0, 1};
 constexpr int kDy8[8] = {0, 1, 1, 1, 0, -1, -1, -1};
 
-//! Geometry of the raster: cell (i, j) spans [vx(i), vx(i+1)) x [vy(j), vy(j+1)),
-//! row-major with index j * w + i, row 0 at the smallest y.
+//! Geometry of the raster: cell (i, j) spans [xs[i], xs[i+1]] x [ys[j], ys[j+1]],
+//! row-major with index j * w + i, row 0 at the smallest y. The corners are the exact
+//! grid (origin + i * cell, in double) rounded to the nearest float; a point's cell is
+//! its truncated offset from the origin in cells, computed in double.
 struct Raster {
-  double origin_x;
+  double origin_x;  // the exact lower-left corner of cell (0, 0)
   double origin_y;
   double cell;
-  double inv_cell;  // 1 / cell: the first guess of a point's cell multiplies
+  double inv_cell;
   uint32_t w;
   uint32_t h;
   float* xs;  // xs[i] = vx(i) for i = 0..w, ys[j] = vy(j) for j = 0..h (set by corners())
@@ -60,7 +74,7 @@ struct Raster {
   float vx(int64_t i) const { return static_cast<float>(origin_x + static_cast<double>(i) * cell); }
   float vy(int64_t j) const { return static_cast<float>(origin_y + static_cast<double>(j) * cell); }
 
-  //! Tabulates the float corner coordinates, so a point's cell is found by lookups.
+  //! Tabulates the float corner coordinates (the polygon's vertices).
   void corners(float* x_table, float* y_table) {
     xs = x_table;
     ys = y_table;
@@ -68,28 +82,25 @@ struct Raster {
     for (uint32_t j = 0; j <= h; ++j) ys[j] = vy(j);
   }
 
-  //! The cell of a finite point, decided against the same float corner coordinates
-  //! the polygon is written with, so a point is never outside its own cell.
+  //! The cell (column, row) of a finite point of the raster's span: no point lies
+  //! outside its own cell's float corners. The column is the truncated double
+  //! (x - origin) / cell, whose threshold T_i for column i is the exact corner to
+  //! within ~1e-15 relative; the float corner is T_i rounded to nearest. A float x
+  //! below xs[i] is at least one float step below it, so below T_i: it is never put
+  //! in column i; likewise a float above xs[i+1] is in column i + 1 or more. So the
+  //! points of cell i lie in [xs[i], xs[i+1]] (one exactly on a corner may go to
+  //! either cell, and lies on both). The points lie at least a cell inside the raster
+  //! (its margin); the clamps only keep a broken caller's point from indexing outside.
+  void cell_of(const Vec2& p, uint32_t& col, uint32_t& row) const {
+    const int64_t i = static_cast<int64_t>((static_cast<double>(p.x) - origin_x) * inv_cell);
+    const int64_t j = static_cast<int64_t>((static_cast<double>(p.y) - origin_y) * inv_cell);
+    col = static_cast<uint32_t>(i < 0 ? 0 : (i >= static_cast<int64_t>(w) ? w - 1 : i));
+    row = static_cast<uint32_t>(j < 0 ? 0 : (j >= static_cast<int64_t>(h) ? h - 1 : j));
+  }
   uint32_t index_of(const Vec2& p) const {
-    // A first guess, truncated (points lie above the origin, and the clamp and the
-    // corrections below absorb any rounding); the loop makes it exact.
-    int64_t i = static_cast<int64_t>((static_cast<double>(p.x) - origin_x) * inv_cell);
-    int64_t j = static_cast<int64_t>((static_cast<double>(p.y) - origin_y) * inv_cell);
-    i = std::min<int64_t>(std::max<int64_t>(i, 0), static_cast<int64_t>(w) - 1);
-    j = std::min<int64_t>(std::max<int64_t>(j, 0), static_cast<int64_t>(h) - 1);
-    for (int it = 0; it < 2; ++it) {  // correct the guess's rounding (at most one cell)
-      if (i > 0 && p.x < xs[i]) {
-        --i;
-      } else if (i + 1 < static_cast<int64_t>(w) && p.x >= xs[i + 1]) {
-        ++i;
-      }
-      if (j > 0 && p.y < ys[j]) {
-        --j;
-      } else if (j + 1 < static_cast<int64_t>(h) && p.y >= ys[j + 1]) {
-        ++j;
-      }
-    }
-    return static_cast<uint32_t>(j) * w + static_cast<uint32_t>(i);
+    uint32_t col, row;
+    cell_of(p, col, row);
+    return row * w + col;
   }
 };
 
@@ -155,9 +166,36 @@ struct BitRows {
   }
 };
 
+//! Points per cell: the saturated counts of `temp`, exact through the full cells'
+//! table (sorted by cell) where a count saturated.
+struct CellCounts {
+  const uint8_t* counts;
+  const ConcaveHullScratch::FullCell* full;
+  uint32_t n_full;
+
+  //! The points in cell k; `uncounted` is set when its count saturated and the table
+  //! did not have room for it (the result, 255, is then a lower bound).
+  uint32_t at(uint32_t k, bool& uncounted) const {
+    const uint32_t c = counts[k];
+    if (c != 255) return c;
+    uint32_t lo = 0, hi = n_full;  // bisection: the first entry with cell >= k
+    while (lo < hi) {
+      const uint32_t mid = (lo + hi) / 2;
+      if (full[mid].cell < k) {
+        lo = mid + 1;
+      } else {
+        hi = mid;
+      }
+    }
+    if (lo < n_full && full[lo].cell == k) return full[lo].points;
+    uncounted = true;
+    return c;
+  }
+};
+
 struct DfsResult {
-  uint64_t points;  //!< sum of the saturated per-cell point counts
-  bool saturated;   //!< some cell's count was saturated: `points` is a lower bound
+  uint64_t points;  //!< sum of the per-cell point counts
+  bool saturated;   //!< some cell's count was not kept: `points` is a lower bound
   bool ok;          //!< false only if the step bound was hit (a bug)
 };
 
@@ -168,7 +206,7 @@ struct DfsResult {
 //! interior (off the raster's outer ring): the callers make the ring fail its test
 //! (background for a foreground flood, marked before a background flood), so a
 //! neighbour is one index offset away, with no bounds test.
-DfsResult flood(uint8_t* g, const uint8_t* counts, uint32_t w, uint32_t h, uint32_t start,
+DfsResult flood(uint8_t* g, const CellCounts* counts, uint32_t w, uint32_t h, uint32_t start,
                 bool want_fg, int dir_step, uint8_t mark) {
   DfsResult res{0, false, true};
   const uint64_t cells = static_cast<uint64_t>(w) * h;
@@ -178,10 +216,7 @@ DfsResult flood(uint8_t* g, const uint8_t* counts, uint32_t w, uint32_t h, uint3
   const uint8_t want = want_fg ? kFg : 0;
   int64_t cur = start;
   g[cur] = static_cast<uint8_t>((g[cur] & ~kParentMask) | mark);
-  if (counts != nullptr) {
-    res.points += counts[cur];
-    res.saturated = res.saturated || counts[cur] == 255;
-  }
+  if (counts != nullptr) res.points += counts->at(static_cast<uint32_t>(cur), res.saturated);
   int dir_from = 0;
   for (uint64_t step = 0; step < max_steps; ++step) {
     bool moved = false;
@@ -191,10 +226,7 @@ DfsResult flood(uint8_t* g, const uint8_t* counts, uint32_t w, uint32_t h, uint3
       if ((v & kFg) != want || (v & mark) != 0) continue;
       const int back = (d + 4) & 7;  // direction from this cell back to its parent
       g[nb] = static_cast<uint8_t>((v & ~kParentMask) | mark | (back << kParentShift));
-      if (counts != nullptr) {
-        res.points += counts[nb];
-        res.saturated = res.saturated || counts[nb] == 255;
-      }
+      if (counts != nullptr) res.points += counts->at(static_cast<uint32_t>(nb), res.saturated);
       cur = nb;
       dir_from = 0;
       moved = true;
@@ -233,13 +265,14 @@ void run_union(HullRun* runs, uint32_t a, uint32_t b) {
 //! runs, with their points summed from `counts`, joined to the runs of the row below
 //! that touch them (overlap, or meet diagonally). n_runs receives the count; false
 //! when the raster has more runs than `runs` holds (nothing else is then valid).
-bool label_runs(const uint8_t* g, const uint8_t* counts, uint32_t w, uint32_t h, HullRun* runs,
+//! The sums must stay below 2^31 (bit 31 marks an uncounted cell).
+bool label_runs(const uint8_t* g, const CellCounts& counts, uint32_t w, uint32_t h, HullRun* runs,
                 uint32_t* row_first, uint32_t& n_runs) {
   n_runs = 0;
   for (uint32_t j = 0; j < h; ++j) {
     row_first[j] = n_runs;
     const uint8_t* line = g + j * w;
-    const uint8_t* cnt = counts + j * w;
+    const uint8_t* cnt = counts.counts + j * w;
     for (uint32_t i = 0; i < w;) {
       if ((line[i] & kFg) == 0) {
         ++i;
@@ -248,9 +281,22 @@ bool label_runs(const uint8_t* g, const uint8_t* counts, uint32_t w, uint32_t h,
       const uint32_t x0 = i;
       uint32_t pts = 0;
       bool sat = false;
-      for (; i < w && (line[i] & kFg) != 0; ++i) {
-        pts += cnt[i];
-        sat = sat || cnt[i] == 255;
+      for (;;) {
+        // Eight foreground cells at a time while none of them is full: their counts
+        // summed as one word (bytes -> 16-bit lanes -> one sum, at most 8 * 254).
+        for (; i + 8 <= w; i += 8) {
+          uint64_t fg8, cnt8;
+          std::memcpy(&fg8, line + i, sizeof fg8);
+          std::memcpy(&cnt8, cnt + i, sizeof cnt8);
+          const uint64_t inv = ~cnt8;  // a count of 255 is a zero byte here
+          const bool full = ((inv - kBytes01) & ~inv & (kBytes01 << 7)) != 0;
+          if ((fg8 & kBytes01) != kBytes01 || full) break;
+          const uint64_t lanes = (cnt8 & 0x00FF00FF00FF00FFu) + ((cnt8 >> 8) & 0x00FF00FF00FF00FFu);
+          pts += static_cast<uint32_t>((lanes * 0x0001000100010001u) >> 48);
+        }
+        if (i >= w || (line[i] & kFg) == 0) break;
+        pts += cnt[i] != 255 ? cnt[i] : counts.at(j * w + i, sat);
+        ++i;
       }
       if (n_runs == ConcaveHullScratch::kMaxRuns) return false;
       runs[n_runs] = HullRun{n_runs, pts | (sat ? 0x80000000u : 0u), static_cast<uint16_t>(x0),
@@ -361,25 +407,22 @@ Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& 
   if (params.closing_cells > kMaxClosing) return Status::invalid_argument;
 
   // Bounding box of the finite points.
-  uint32_t finite = 0;
-  float xmin = 0.0f, xmax = 0.0f, ymin = 0.0f, ymax = 0.0f;
-  for (uint32_t i = 0; i < n; ++i) {
-    const Vec2& p = points[i];
-    if (!is_finite(p)) continue;
-    if (finite == 0) {
-      xmin = xmax = p.x;
-      ymin = ymax = p.y;
-    } else {
-      xmin = std::min(xmin, p.x);
-      xmax = std::max(xmax, p.x);
-      ymin = std::min(ymin, p.y);
-      ymax = std::max(ymax, p.y);
-    }
-    ++finite;
-  }
-  if (finite == 0) {
+  uint32_t first = 0;
+  while (first < n && !is_finite(points[first])) ++first;
+  if (first == n) {
     all_inside = true;
     return Status::ok;
+  }
+  uint32_t finite = 1;
+  float xmin = points[first].x, xmax = xmin, ymin = points[first].y, ymax = ymin;
+  for (uint32_t i = first + 1; i < n; ++i) {
+    const Vec2 p = points[i];
+    if (!is_finite(p)) continue;
+    xmin = p.x < xmin ? p.x : xmin;
+    xmax = p.x > xmax ? p.x : xmax;
+    ymin = p.y < ymin ? p.y : ymin;
+    ymax = p.y > ymax ? p.y : ymax;
+    ++finite;
   }
 
   // Cell size: large enough that the occupied span plus a margin of r + 1 empty
@@ -438,14 +481,43 @@ Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& 
   const BitRows occ{scratch.rows[0], words, h, tail_bits == 64 ? ~uint64_t{0} : (uint64_t{1} << tail_bits) - 1};
   const BitRows tmp{scratch.rows[1], words, h, occ.last_mask};
   for (uint32_t k = 0; k < words * h; ++k) occ.bits[k] = 0;
+  // Bin the points. A cell reaching 255 points takes a slot of the full cells' table
+  // (its slot + 1 in the cell's high bits) while there is one; the table's counts are
+  // exact. Component sums stay below 2^31 (label_runs) when n does.
+  ConcaveHullScratch::FullCell* const full = scratch.full;
+  const uint32_t full_capacity = n < 0x80000000u ? ConcaveHullScratch::kMaxFullCells : 0;
+  uint32_t n_full = 0;
+  const bool all_finite = finite == n;
   for (uint32_t i = 0; i < n; ++i) {
-    if (!is_finite(points[i])) continue;
-    const uint32_t k = ras.index_of(points[i]);
-    g[k] = kOcc;
-    if (counts[k] < 255) ++counts[k];
-    const uint32_t j = k / w, c = k - j * w;
-    occ.row(j)[c / 64] |= uint64_t{1} << (c % 64);
+    if (!all_finite && !is_finite(points[i])) continue;
+    uint32_t col, row;
+    ras.cell_of(points[i], col, row);
+    const uint32_t k = row * w + col;
+    occ.row(row)[col / 64] |= uint64_t{1} << (col % 64);
+    const uint8_t c = counts[k];
+    if (c < 254) {
+      counts[k] = static_cast<uint8_t>(c + 1);
+      g[k] = kOcc;  // no slot yet: its high bits are 0
+    } else if (c == 254) {
+      counts[k] = 255;
+      g[k] = kOcc;
+      if (n_full < full_capacity) {
+        full[n_full] = ConcaveHullScratch::FullCell{k, 255};
+        g[k] = static_cast<uint8_t>(kOcc | ((n_full + 1) << kSlotShift));
+        ++n_full;
+      }
+    } else if (const uint32_t slot = g[k] >> kSlotShift; slot != 0) {
+      ++full[slot - 1].points;
+    }
   }
+  // Sorted by cell, for the look-ups of the component counts (at most a few dozen).
+  for (uint32_t a = 1; a < n_full; ++a) {
+    const ConcaveHullScratch::FullCell e = full[a];
+    uint32_t b = a;
+    for (; b > 0 && full[b - 1].cell > e.cell; --b) full[b] = full[b - 1];
+    full[b] = e;
+  }
+  const CellCounts cell_counts{counts, full, n_full};
 
   // Closing (dilate then erode) with a (2r+1)^2 square, separably, on bit rows (the
   // occupancy image is overwritten by the steps, ending as the closed image); OR the
@@ -458,8 +530,19 @@ Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& 
   for (uint32_t j = 0; j < h; ++j) {
     const uint64_t* closed = occ.row(j);
     uint8_t* line = g + j * w;
-    for (uint32_t c = 0; c < w; ++c)
-      line[c] = (((closed[c / 64] >> (c % 64)) & 1u) != 0 || (line[c] & kOcc) != 0) ? kFg : 0;
+    static_assert(kFg == 1 && kOcc == 1, "the closed bit and the occupied bit are both bit 0");
+    static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "8 cells are read as one little-endian word");
+    uint32_t c = 0;
+    for (; c + 8 <= w; c += 8) {  // 8 cells at a time: bit b of the byte -> byte b (0 or 1)
+      const uint64_t byte = (closed[c / 64] >> (c % 64)) & 0xFFu;
+      const uint64_t picked = (byte * kBytes01) & 0x8040201008040201u;
+      const uint64_t spread = ((picked + 0x7F7F7F7F7F7F7F7Fu) >> 7) & kBytes01;
+      uint64_t cells8;
+      std::memcpy(&cells8, line + c, sizeof cells8);  // little-endian: byte b is cell c + b
+      cells8 = (cells8 | spread) & kBytes01;
+      std::memcpy(line + c, &cells8, sizeof cells8);
+    }
+    for (; c < w; ++c) line[c] = static_cast<uint8_t>(((closed[c / 64] >> (c % 64)) | line[c]) & kFg);
   }
   // The dilation cannot reach the outer ring of cells; make that an invariant: the ring
   // is background, and marked visited for the hole filling below.
@@ -487,8 +570,9 @@ Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& 
   for (uint32_t k = 0; k < cells; ++k) g[k] = ((g[k] & kFg) || !(g[k] & kVisited)) ? kFg : 0;
 
   // Components (8-connected) in raster order; keep the one with the most points
-  // (ties: the earlier one). Counts come from the saturated per-cell counts and are
-  // recounted exactly when a cell saturated. Labelled by runs of the rows; a raster
+  // (ties: the earlier one). Counts come from the per-cell counts and the full cells'
+  // table; a component with a full cell the table had no room for is recounted over
+  // the points (only inputs beyond kMaxObjectPoints). Labelled by runs of the rows; a raster
   // with more runs than the scratch holds is flooded component by component instead.
   uint64_t best_points = 0;
   uint32_t best_start = cells;
@@ -504,7 +588,7 @@ Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& 
   HullRun* const runs = scratch.runs;
   uint32_t row_first[kDim + 1];
   uint32_t n_runs = 0;
-  if (label_runs(g, counts, w, h, runs, row_first, n_runs)) {
+  if (label_runs(g, cell_counts, w, h, runs, row_first, n_runs)) {
     for (uint32_t j = 0; j < h; ++j) {
       for (uint32_t q = row_first[j]; q < row_first[j + 1]; ++q) {
         if (runs[q].parent != q) continue;  // not a component's first run
@@ -526,7 +610,7 @@ Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& 
   } else {
     for (uint32_t k = 0; k < cells; ++k) {
       if (!(g[k] & kFg) || (g[k] & kVisited)) continue;
-      const DfsResult comp = flood(g, counts, w, h, k, true, 1, kVisited);
+      const DfsResult comp = flood(g, &cell_counts, w, h, k, true, 1, kVisited);
       if (!comp.ok) return Status::internal_error;
       uint64_t pts = comp.points;
       if (comp.saturated) {

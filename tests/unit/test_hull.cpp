@@ -487,6 +487,57 @@ TEST(ConcaveHull, CombOfBarsTracesTheBarWithTheMostPoints) {
   EXPECT_GT(30u * 60u, fg::ConcaveHullScratch::kMaxRuns);  // the last comb floods
 }
 
+// Full cells (more than 254 points) counted exactly, whether the scratch's table of
+// full cells has room for them or overflows (then the component is recounted over the
+// points). The comb of the test above, one point per cell; bar R (x = 0.10 m) gets 10
+// cells of 254 points and one of 11, bar H (x = 0.30 m) 10 cells of 500: counting a
+// full cell as 255 would tie them and hand the win to R, the first in raster order; H
+// holds 2,450 points more. "Filler" full cells (2 per bar in the bars right of x = 0.40 m, 255 + 1
+// points each, far below H's total) come before or after H's points, so the table is
+// full before H's cells reach it, or not. The oracle: the per-bar totals by
+// construction.
+TEST(ConcaveHull, FullCellsCountExactlyWithAndWithoutRoomInTheTable) {
+  FG_NEED_RASTER(128u);
+  const int cols = 60;
+  const uint32_t table = fg::ConcaveHullScratch::kMaxFullCells;
+  for (const int rows : {20, 30}) {
+    for (const bool fillers_first : {true, false}) {
+      const int n_fillers = static_cast<int>(table) + 4;  // more than the table holds
+      ASSERT_LE(n_fillers, 2 * (cols - 21)) << "too few bars for the fillers";
+      auto cell = [](int c, int j) { return Vec2{0.02f * static_cast<float>(c), 0.01f * static_cast<float>(j)}; };
+      std::vector<Vec2> base, heavy, fillers;
+      for (int j = 0; j < rows; ++j)
+        for (int c = 0; c < cols; ++c) base.push_back(cell(c, j));
+      for (int k = 0; k < 10; ++k) base.push_back(cell(5, 10));      // R: 1 + 10 in its 11th cell
+      for (int j = 0; j < 10; ++j) {
+        for (int k = 0; k < 253; ++k) base.push_back(cell(5, j));    // R: 1 + 253 = 254 per cell
+        for (int k = 0; k < 499; ++k) heavy.push_back(cell(15, j));  // H: 1 + 499 = 500 per cell
+      }
+      for (int f = 0; f < n_fillers; ++f)
+        for (int k = 0; k < 255; ++k) fillers.push_back(cell(21 + f / 2, f % 2));
+      std::vector<Vec2> pts = base;
+      const std::vector<Vec2>& first = fillers_first ? fillers : heavy;
+      const std::vector<Vec2>& second = fillers_first ? heavy : fillers;
+      pts.insert(pts.end(), first.begin(), first.end());
+      pts.insert(pts.end(), second.begin(), second.end());
+      // Oracle: each bar's points; the most wins (ties: the leftmost).
+      std::vector<long> per_bar(cols, rows);
+      per_bar[5] += 10 * 253 + 10;
+      per_bar[15] += 10 * 499;
+      for (int f = 0; f < n_fillers; ++f) per_bar[21 + f / 2] += 255;
+      const int winner = static_cast<int>(std::max_element(per_bar.begin(), per_bar.end()) - per_bar.begin());
+      ASSERT_EQ(winner, 15);
+      const Concave r = concave(pts, 0.01f, 0);
+      const std::string what = std::to_string(rows) + (fillers_first ? " fillers first" : " fillers last");
+      ASSERT_EQ(r.status, Status::ok) << what;
+      ASSERT_EQ(r.poly.size(), 4u) << what;
+      EXPECT_TRUE(inside_or_on(r.poly, cell(winner, 0))) << what;
+      EXPECT_FALSE(inside_or_on(r.poly, cell(5, 0))) << what;
+      EXPECT_NEAR(fg::polygon_area(r.poly.data(), 4) / (0.01 * 0.01), rows, 1e-3) << what;
+    }
+  }
+}
+
 // An arch: two legs joined only by a top row, so its left and right halves are labelled
 // apart until that row. The polygon starts at the lower-left corner of the component's
 // lowest, then leftmost cell: the left leg's foot.
@@ -567,6 +618,40 @@ TEST(ConcaveHull, RandomBlobsContainEveryPoint) {
     dense_closed += (closing >= 2 && points_per_cell >= 0.5 && r.all_inside) ? 1 : 0;
   }
   EXPECT_GE(dense_closed, 10);  // the property above was exercised
+}
+
+// Points on the cell corners and one float step either side of them are binned with
+// the corners the polygon is written with: every point lies inside or exactly on the
+// polygon, with no tolerance. The corners come from a first hull of the blob; the
+// second hull adds the 9 points at and around each of its vertices (the blob's
+// component grows into the neighbouring cells, so all of them are traced).
+TEST(ConcaveHull, PointsAtAndBesideCellCornersLieInTheirCells) {
+  std::mt19937 rng(515u);
+  for (const float centre : {0.05f, -3.0f, 700.0f}) {
+    for (const uint32_t closing : {0u, 2u}) {
+      std::vector<Vec2> pts = random_blob(rng, 1500, Vec2{centre, -centre}, 0.04f);
+      const Concave first = concave(pts, 0.0025f, 2);
+      ASSERT_EQ(first.status, Status::ok);
+      for (const Vec2& v : first.poly)
+        for (const float x : {std::nextafter(v.x, -1e30f), v.x, std::nextafter(v.x, 1e30f)})
+          for (const float y : {std::nextafter(v.y, -1e30f), v.y, std::nextafter(v.y, 1e30f)}) pts.push_back({x, y});
+      const Concave r = concave(pts, 0.0025f, closing);
+      SCOPED_TRACE("centre " + std::to_string(centre) + " closing " + std::to_string(closing));
+      ASSERT_EQ(r.status, Status::ok);
+      check_contour_structure(r.poly, r.cell);
+      size_t outside = 0, traced = 0;
+      for (const Vec2& p : pts) {
+        const bool in = inside_or_on(r.poly, p, 0.0);
+        traced += in ? 1 : 0;
+        outside += (!in && r.all_inside) ? 1 : 0;
+      }
+      EXPECT_EQ(outside, 0u);
+      if (closing == 2) {
+        EXPECT_TRUE(r.all_inside);
+      }
+      EXPECT_GT(traced, pts.size() / 2);
+    }
+  }
 }
 
 TEST(ConcaveHull, TwoFarApartBlobsTraceTheBiggerOne) {

@@ -43,6 +43,17 @@ struct ConcaveHullScratch {
     uint64_t rows[2][kHullGridDim * kRowWords];
     HullRun runs[kMaxRuns];
   };
+  // Cells holding more than 254 points (their count in `temp` stays at 255) keep
+  // their exact count here, so a component is counted without another pass over the
+  // points. Room for every full cell of kMaxObjectPoints points; a larger input that
+  // fills more cells falls back to that pass.
+  static constexpr uint32_t kMaxFullCells =
+      kMaxObjectPoints / 255 + 1 < 127 ? kMaxObjectPoints / 255 + 1 : 127;  // slot + 1 fits 7 bits
+  struct FullCell {
+    uint32_t cell;    //!< raster index
+    uint32_t points;  //!< exact count (at least 255)
+  };
+  FullCell full[kMaxFullCells];
 };
 
 //! Parameters of the raster concave hull.
@@ -76,8 +87,10 @@ struct ConcaveHullParams {
 //! closing_cells too large); capacity_exceeded (more than out_capacity vertices);
 //! numeric_failure (the raster's corners overflow float: coordinates near FLT_MAX).
 //! out_n = 0 whenever the status is not ok. Time: O(n + raster cells) (the raster
-//! is at most kHullGridDim^2 cells); each component holding a cell with more than
-//! 255 points costs one extra pass over the points and the raster (exact recount).
+//! is at most kHullGridDim^2 cells). Cells with more than 254 points keep an exact
+//! count in the scratch (up to ConcaveHullScratch::kMaxFullCells of them: every
+//! input of kMaxObjectPoints points); only beyond that does a component holding
+//! such an uncounted cell cost one extra pass over the points and the raster.
 Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& params,
                        ConcaveHullScratch& scratch, Vec2* out, uint32_t out_capacity,
                        uint32_t& out_n, float& out_cell_m, bool& all_inside);
