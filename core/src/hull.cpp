@@ -3,6 +3,7 @@
 // plus small polygon queries. No allocation, no exceptions; every loop is bounded by
 // n, the raster size or a small constant.
 #include "fg/core/hull.hpp"
+#include "fg/core/vec4.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -415,14 +416,37 @@ Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& 
   }
   uint32_t finite = 1;
   float xmin = points[first].x, xmax = xmin, ymin = points[first].y, ymax = ymin;
-  for (uint32_t i = first + 1; i < n; ++i) {
-    const Vec2 p = points[i];
-    if (!is_finite(p)) continue;
-    xmin = p.x < xmin ? p.x : xmin;
-    xmax = p.x > xmax ? p.x : xmax;
-    ymin = p.y < ymin ? p.y : ymin;
-    ymax = p.y > ymax ? p.y : ymax;
-    ++finite;
+  {
+    // Two points (x, y, x, y) per step while both are finite (one lane test); a pair
+    // with a non-finite coordinate goes point by point.
+    V4f lo{xmin, ymin, xmin, ymin}, hi = lo;
+    uint32_t i = first + 1;
+    auto one = [&](const Vec2& p) {
+      if (!is_finite(p)) return;
+      lo = V4f{p.x < lo[0] ? p.x : lo[0], p.y < lo[1] ? p.y : lo[1], lo[2], lo[3]};
+      hi = V4f{p.x > hi[0] ? p.x : hi[0], p.y > hi[1] ? p.y : hi[1], hi[2], hi[3]};
+      ++finite;
+    };
+    for (; i + 2 <= n; i += 2) {
+      V4f v;
+      std::memcpy(&v, points + i, sizeof v);
+      V4i bits;
+      std::memcpy(&bits, &v, sizeof bits);
+      const V4i exp = bits & 0x7F800000;
+      if (!all_lanes(exp != 0x7F800000)) {
+        one(points[i]);
+        one(points[i + 1]);
+        continue;
+      }
+      lo = v < lo ? v : lo;
+      hi = v > hi ? v : hi;
+      finite += 2;
+    }
+    if (i < n) one(points[i]);
+    xmin = lo[2] < lo[0] ? lo[2] : lo[0];
+    ymin = lo[3] < lo[1] ? lo[3] : lo[1];
+    xmax = hi[2] > hi[0] ? hi[2] : hi[0];
+    ymax = hi[3] > hi[1] ? hi[3] : hi[1];
   }
 
   // Cell size: large enough that the occupied span plus a margin of r + 1 empty

@@ -473,8 +473,12 @@ void Planner::project(const ViewFrame& f) {
   for (uint32_t i = 0; i < n; ++i) {
     const Vec3 d = object_[i] - centroid_;
     proj_[i] = Vec2{f.X.dot(d), f.Y.dot(d)};
-    depth_[i] = f.Z.dot(d);
   }
+}
+
+void Planner::project_depth(const ViewFrame& f) {
+  const uint32_t n = object_.size();
+  for (uint32_t i = 0; i < n; ++i) depth_[i] = f.Z.dot(object_[i] - centroid_);
 }
 
 // D.1-D.8 for one viewpoint: projection, concave hull, scan lines, width filter and the
@@ -536,6 +540,7 @@ void Planner::analyse_views(uint32_t first, uint32_t last, PlanResult& out) {
         continue;
     }
     StageTimer t(stage(out, Stage::xoz));
+    if (n_windows > 0) project_depth(f);  // only views with windows look along Z
     for (uint32_t w = 0; w < n_windows && n_candidates_ < kMaxCandidates; ++w) {
       Candidate c;
       c.view = vi;
