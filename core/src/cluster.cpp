@@ -39,7 +39,7 @@ uint32_t flood(const VoxelGrid& grid, uint8_t* state, uint32_t* queue, uint32_t 
   queue[tail++] = seed;
   state[seed] = mark;
   w = Walk{};
-  const bool filtered = grid.lookup_filter_on();
+  const VoxelGrid::LookupFilter filter = grid.lookup_filter();
   while (head < tail) {  // bounded: each voxel enters the queue at most once
     const uint32_t i = queue[head++];
     const Vec3 c = grid.centroid(i);
@@ -56,7 +56,7 @@ uint32_t flood(const VoxelGrid& grid, uint8_t* state, uint32_t* queue, uint32_t 
     w.y1 = ky > w.y1 ? ky : w.y1;
     const uint64_t kh = VoxelGrid::filter_hash(k);
     for (uint32_t o = 0; o < n_off; ++o) {
-      if (filtered && !grid.filter_may_hold(kh + off[o].hash)) continue;  // most absent cells
+      if (filter.words != nullptr && !filter.may_hold(kh + off[o].hash)) continue;  // most absent cells
       const uint32_t j = grid.find_in_table(k + off[o].delta);
       if (j == VoxelGrid::kNone || state[j] != from) continue;
       state[j] = mark;

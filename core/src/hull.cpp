@@ -37,11 +37,11 @@ double cross(const Vec2& o, const Vec2& a, const Vec2& b) {
 }
 
 // ----------------------------------------------------------------------------------
-// Raster concave hull helpers. Cell flag bits (ConcaveHullScratch::cells):
+// Raster concave hull helpers. Cell flag bits (the first half of ConcaveHullScratch::raster):
 //   binning       : bit0 occupied, bits1-7 a full cell's slot + 1 (0: none)
 //   after closing : bit0 foreground (F), bit1 visited, bits2-4 DFS parent direction,
 //                   bit5 "current component" mark used by the exact recount
-// ConcaveHullScratch::temp holds the number of points per cell, saturated at 255, and
+// The second half holds the number of points per cell, saturated at 255, and
 // ConcaveHullScratch::full the exact counts of the saturated ("full") cells;
 // ConcaveHullScratch::rows holds the closing's images, one bit per cell.
 constexpr uint8_t kOcc = 0x01;
@@ -494,8 +494,8 @@ Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& 
   const uint32_t w = ras.w;
   const uint32_t h = ras.h;
   const uint32_t cells = w * h;
-  uint8_t* const g = scratch.cells;
-  uint8_t* const counts = scratch.temp;
+  uint8_t* const g = scratch.raster;
+  uint8_t* const counts = scratch.raster + ConcaveHullScratch::kRasterCells;
   for (uint32_t k = 0; k < cells; ++k) {
     g[k] = 0;
     counts[k] = 0;

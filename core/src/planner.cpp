@@ -136,7 +136,10 @@ Status Planner::plan(PlanResult& out) {
     // only: take the support plane out of the hash.
     static_assert(kVoxelRemoved == 0, "state_ doubles as the keep flags");
     if (removed > 0) grid_.keep_in_index_only(state_);
-    grid_.prepare_lookups(state_);
+    // The clustering's lookups get the larger filter the hull's idle raster holds
+    // (fewer false positives, each a cache miss in the table); it goes back to the
+    // grid's own memory before any view uses the raster.
+    grid_.prepare_lookups(state_, view_words_, kViewWorkWordBits);
   }
 
   // A.6 target cluster
@@ -153,6 +156,7 @@ Status Planner::plan(PlanResult& out) {
   {
     StageTimer t(stage(out, Stage::cluster));
     cr = cluster_and_pick(grid_, state_, queue, cp, object_voxel_, kMaxObjectPoints);
+    grid_.prepare_lookups(state_);  // the raster's memory back to the hull (same kept set)
     if (cr.target_size == 0)
       return finish(Status::no_grasp, NoGraspReason::no_object,
                     plane_found_ ? "no cluster large enough stands on the support plane"
@@ -472,13 +476,13 @@ void Planner::project(const ViewFrame& f) {
   const uint32_t n = object_.size();
   for (uint32_t i = 0; i < n; ++i) {
     const Vec3 d = object_[i] - centroid_;
-    proj_[i] = Vec2{f.X.dot(d), f.Y.dot(d)};
+    view_.proj[i] = Vec2{f.X.dot(d), f.Y.dot(d)};
   }
 }
 
 void Planner::project_depth(const ViewFrame& f) {
   const uint32_t n = object_.size();
-  for (uint32_t i = 0; i < n; ++i) depth_[i] = f.Z.dot(object_[i] - centroid_);
+  for (uint32_t i = 0; i < n; ++i) view_.depth[i] = f.Z.dot(object_[i] - centroid_);
 }
 
 // D.1-D.8 for one viewpoint: projection, concave hull, scan lines, width filter and the
@@ -493,7 +497,7 @@ Status Planner::silhouette_windows(const ViewFrame& f, Vec2* contour, uint32_t& 
   hp.closing_cells = cfg_.hull_closing_cells;
   float cell = 0.f;
   bool inside = false;
-  const Status s = concave_hull_2d(proj_, object_.size(), hp, hull_scratch_, contour,
+  const Status s = concave_hull_2d(view_.proj, object_.size(), hp, view_.hull, contour,
                                    kMaxContourVertices, n_contour, cell, inside);
   if (s != Status::ok || n_contour < 3) return s;
   float ymin = contour[0].y, ymax = contour[0].y;
@@ -521,7 +525,7 @@ Status Planner::analyze_view(uint32_t view_index, ViewDetail& out) {
   const Status s = silhouette_windows(ViewFrame{v.X, v.Y, v.Z}, out.contour, out.n_contour,
                                       out.lines, out.n_lines, &out.best, 1, n_windows);
   const uint32_t n = object_.size();
-  for (uint32_t i = 0; i < n; ++i) out.points[i] = proj_[i];
+  for (uint32_t i = 0; i < n; ++i) out.points[i] = view_.proj[i];
   out.n_points = n;
   out.has_best = n_windows > 0;
   return s;
@@ -577,10 +581,10 @@ bool Planner::xoz(const ViewFrame& f, const SideFit& w, Candidate& c) {
   uint32_t nl = 0, nr = 0;
   float z_first_palm = 1e9f;
   for (uint32_t i = 0; i < n; ++i) {
-    const float x = proj_[i].x, y = proj_[i].y - yc, z = depth_[i];
+    const float x = view_.proj[i].x, y = view_.proj[i].y - yc, z = view_.depth[i];
     if (std::fabs(y) <= half_palm && std::fabs(x - xc) <= half_outer) z_first_palm = std::min(z_first_palm, z);
     if (std::fabs(y) > half_pad) continue;
-    const float yy = proj_[i].y;
+    const float yy = view_.proj[i].y;
     if (x <= w.a_left * yy + w.b_left + cfg_.contact_band_m) {
       zl += z;
       ++nl;
@@ -620,9 +624,9 @@ bool Planner::xoz(const ViewFrame& f, const SideFit& w, Candidate& c) {
   // Contacts within the pads' reach at that depth.
   float xmin = 1e9f, xmax = -1e9f;
   for (uint32_t i = 0; i < n; ++i) {
-    if (std::fabs(proj_[i].y - yc) > half_pad || std::fabs(depth_[i] - pos_z) > half_fd) continue;
-    xmin = std::min(xmin, proj_[i].x);
-    xmax = std::max(xmax, proj_[i].x);
+    if (std::fabs(view_.proj[i].y - yc) > half_pad || std::fabs(view_.depth[i] - pos_z) > half_fd) continue;
+    xmin = std::min(xmin, view_.proj[i].x);
+    xmax = std::max(xmax, view_.proj[i].x);
   }
   if (!(xmax >= xmin)) return false;
   const float width = xmax - xmin;
@@ -634,13 +638,13 @@ bool Planner::xoz(const ViewFrame& f, const SideFit& w, Candidate& c) {
   zl = zr = 0;
   nl = nr = 0;
   for (uint32_t i = 0; i < n; ++i) {
-    if (std::fabs(proj_[i].y - yc) > half_pad || std::fabs(depth_[i] - pos_z) > half_fd) continue;
-    if (proj_[i].x <= xmin + cfg_.contact_band_m) {
-      zl += depth_[i];
+    if (std::fabs(view_.proj[i].y - yc) > half_pad || std::fabs(view_.depth[i] - pos_z) > half_fd) continue;
+    if (view_.proj[i].x <= xmin + cfg_.contact_band_m) {
+      zl += view_.depth[i];
       ++nl;
     }
-    if (proj_[i].x >= xmax - cfg_.contact_band_m) {
-      zr += depth_[i];
+    if (view_.proj[i].x >= xmax - cfg_.contact_band_m) {
+      zr += view_.depth[i];
       ++nr;
     }
   }

@@ -13,6 +13,8 @@ void VoxelGrid::reset(const Vec3& origin, float leaf_m) {
   for (uint32_t s = 0; s < kVoxelHashSlots; ++s) slots_[s] = 0u;
   finalized_ = false;
   filter_on_ = false;
+  wide_ = nullptr;
+  filter_word_bits_ = kCacheBits;
   size_ = 0;
   indexed_ = kIndexAll;
   for (uint32_t i = 0; i < (1u << kCacheBits); ++i) cache_[i] = CacheEntry{0xFFFFFFFFu, 0u};
@@ -21,11 +23,13 @@ void VoxelGrid::reset(const Vec3& origin, float leaf_m) {
 void VoxelGrid::build_filter(const uint8_t* keep) {
   // keep, when given, is the set the index was pruned to (prepare_lookups' caller
   // passes the same flags as keep_in_index_only).
-  for (uint32_t w = 0; w < (1u << kCacheBits); ++w) filter_[w] = 0u;
+  uint64_t* const words = wide_ != nullptr ? wide_ : filter_;
+  const uint32_t shift = 64u - filter_word_bits_;
+  for (uint32_t w = 0; w < (1u << filter_word_bits_); ++w) words[w] = 0u;
   for (uint32_t i = 0; i < size_; ++i) {
     if (keep != nullptr && keep[i] == 0) continue;
-    const uint64_t h = filter_hash(keys_[i]);
-    filter_[filter_word(h)] |= filter_bits(h);
+    const uint64_t g = filter_mix(filter_hash(keys_[i]));
+    words[g >> shift] |= filter_bits(g);
   }
   filter_on_ = true;
 }
@@ -118,17 +122,26 @@ void VoxelGrid::keep_in_index_only(const uint8_t* keep) {
   // back: inserted in the same order, a subset of keys never probes farther there than
   // the whole set did, so each finds its slot within kMaxProbe again.
   filter_on_ = false;
+  wide_ = nullptr;
+  filter_word_bits_ = kCacheBits;
   for (uint32_t s = 0; s < (1u << kCacheBits); ++s) cache_[s] = CacheEntry{0xFFFFFFFFu, 0u};
   if (!rebuild_index(keep, bits)) (void)rebuild_index(keep, kSlotBits);
   indexed_ = kept;
 }
 
-void VoxelGrid::prepare_lookups(const uint8_t* keep) {
+void VoxelGrid::prepare_lookups(const uint8_t* keep, uint64_t* wide, uint32_t wide_bits) {
+  filter_on_ = false;
+  wide_ = nullptr;
+  filter_word_bits_ = kCacheBits;
   // Below half load an absent key's walk is about two slots: the filter would cost
   // more than it saves.
   const bool pruned = indexed_ != kIndexAll;
   const uint32_t n = pruned ? indexed_ : size_;
   if (!finalized_ || 2u * n <= slot_mask_ + 1u) return;
+  if (wide != nullptr && wide_bits > kCacheBits && wide_bits <= kMaxFilterWordBits) {
+    wide_ = wide;
+    filter_word_bits_ = wide_bits;
+  }
   // A filter of every voxel is a superset of a pruned index's: still exact.
   build_filter(pruned ? keep : nullptr);
 }

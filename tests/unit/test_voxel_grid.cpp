@@ -397,6 +397,68 @@ TEST(VoxelGrid, FindAfterFinalizeAndPruningAgreesWithBruteForce) {
   check_all(&keep);
 }
 
+// prepare_lookups() with the caller's wide memory: the filter lives there (lookups stay
+// exact, and it settles more absent keys than the grid's own: false positives counted
+// on every absent neighbour of a lattice); the next prepare_lookups() without it stops
+// reading it (the memory is then scribbled over and every lookup must still be right).
+TEST(VoxelGrid, WideLookupFilterIsExactSettlesMoreAndIsReturned) {
+  std::mt19937 rng(43);
+  const Vec3 origin(0.f, 0.f, 0.f);
+  const float leaf = 0.005f;
+  const uint32_t want = fg::kMaxVoxels * 3 / 4;
+  std::vector<Vec3> pts;
+  std::set<Cell> cells;
+  std::uniform_int_distribution<int> u(1, 120);
+  while (pts.size() < want) {
+    const Cell c{4 + 2 * u(rng), 4 + 2 * u(rng), 4 + 2 * u(rng)};
+    if (!cells.insert(c).second) continue;
+    pts.push_back(Vec3((static_cast<float>(std::get<0>(c)) + 0.5f) * leaf, (static_cast<float>(std::get<1>(c)) + 0.5f) * leaf,
+                       (static_cast<float>(std::get<2>(c)) + 0.5f) * leaf));
+  }
+  auto g = make_grid(origin, leaf);
+  insert_all(*g, pts);
+  g->finalize();
+  // Lookups right, and the filter's false positives among the absent neighbours.
+  const auto check = [&](const char* what) {
+    uint32_t wrong = 0, absent = 0, passed = 0;
+    const VoxelGrid::LookupFilter f = g->lookup_filter();
+    for (uint32_t i = 0; i < g->size(); ++i) {
+      if (g->find(g->key(i)) != i) ++wrong;
+      const uint32_t x = VoxelGrid::key_x(g->key(i)), y = VoxelGrid::key_y(g->key(i)), z = VoxelGrid::key_z(g->key(i));
+      for (int d = 0; d < 27; ++d) {
+        if (d == 13) continue;
+        const uint32_t k = VoxelGrid::pack(x + d % 3 - 1, y + (d / 3) % 3 - 1, z + d / 9 - 1);
+        ++absent;
+        if (g->find(k) != VoxelGrid::kNone) ++wrong;
+        if (f.words != nullptr && f.may_hold(VoxelGrid::filter_hash(k))) ++passed;
+      }
+    }
+    EXPECT_EQ(wrong, 0u) << what;
+    return static_cast<double>(passed) / absent;
+  };
+  g->prepare_lookups(nullptr);
+  ASSERT_TRUE(g->lookup_filter_on());
+  const double own = check("own filter");
+  const uint32_t bits = fg::floor_log2(4u * ((uint64_t{1} << fg::kVoxelCacheBits)));  // 4x the own filter
+  std::vector<uint64_t> wide(size_t{1} << bits, ~uint64_t{0});
+  g->prepare_lookups(nullptr, wide.data(), bits);
+  ASSERT_TRUE(g->lookup_filter_on());
+  EXPECT_EQ(g->lookup_filter().words, wide.data());
+  const double in_wide = check("wide filter");
+  EXPECT_LT(in_wide, 0.5 * own) << own;
+  EXPECT_LT(in_wide, 0.03) << own;
+  g->prepare_lookups(nullptr);  // back to the grid's own memory
+  std::fill(wide.begin(), wide.end(), uint64_t{0});  // a wide filter read now would miss every key
+  EXPECT_NE(g->lookup_filter().words, wide.data());
+  EXPECT_NEAR(check("own filter again"), own, 1e-12);
+  // Too small or too large a wide memory is not used.
+  g->prepare_lookups(nullptr, wide.data(), fg::kVoxelCacheBits);
+  EXPECT_NE(g->lookup_filter().words, wide.data());
+  g->prepare_lookups(nullptr, wide.data(), 40);
+  EXPECT_NE(g->lookup_filter().words, wide.data());
+  check("oversized wide memory refused");
+}
+
 // The clustering forms a neighbour's filter hash as the voxel's plus the offset's: the
 // hash must be exactly linear over every offset within two cells, for keys anywhere in
 // the packed range (negative offsets included), or the flood would miss neighbours.

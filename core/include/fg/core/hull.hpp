@@ -30,8 +30,9 @@ struct HullRun {
 
 //! Work memory of the concave hull (a silhouette raster). Large: keep it in a workspace.
 struct ConcaveHullScratch {
-  uint8_t cells[kHullGridDim * kHullGridDim];
-  uint8_t temp[kHullGridDim * kHullGridDim];
+  // The cell flags, then the per-cell point counts.
+  static constexpr uint32_t kRasterCells = kHullGridDim * kHullGridDim;
+  uint8_t raster[2 * kRasterCells];
   float corner_x[kHullGridDim + 1];  // the raster's cell corners
   float corner_y[kHullGridDim + 1];
   // The closing works on rows as bit sets (64 cells per word): two images. The

@@ -70,4 +70,7 @@ static_assert(kMaxCheckedCandidates >= 1 && kMaxCheckedCandidates <= kMaxCandida
               "checked candidates: 1 .. FG_MAX_CANDIDATES");
 static_assert(kSightBins >= 16 && kSightBins <= 1024, "sight map size out of range");
 static_assert(kVoxelCacheBits >= 4 && kVoxelCacheBits <= 16, "voxel cache size out of range");
+
+//! floor(log2(v)) for v >= 1 (0 for v <= 1), at compile time: power-of-two sizing.
+constexpr uint32_t floor_log2(uint64_t v) { return v <= 1 ? 0 : 1 + floor_log2(v / 2); }
 }  // namespace fg

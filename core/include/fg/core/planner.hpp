@@ -183,8 +183,8 @@ class Planner {
   uint32_t add_family(ViewFamily fam, const Vec3& axis, const Vec3& X0, float from, float to,
                       bool skip_arc, float arc_from, float arc_to);
   void analyse_views(uint32_t first, uint32_t last, PlanResult& out);
-  void project(const ViewFrame& f);        // proj_: the object points in the view's XOY
-  void project_depth(const ViewFrame& f);  // depth_: their Z (for the views with windows)
+  void project(const ViewFrame& f);        // view_.proj: the object points in the view's XOY
+  void project_depth(const ViewFrame& f);  // view_.depth: their Z (for the views with windows)
   Status silhouette_windows(const ViewFrame& f, Vec2* contour, uint32_t& n_contour, ScanLine* lines,
                             uint32_t& n_lines, SideFit* windows, uint32_t max_windows,
                             uint32_t& n_windows);
@@ -246,10 +246,19 @@ class Planner {
   uint32_t n_views_ = 0;
   int32_t chosen_view_ = -1;
 
-  // D/E. per-viewpoint work memory
-  Vec2 proj_[kMaxObjectPoints];
-  float depth_[kMaxObjectPoints];
-  ConcaveHullScratch hull_scratch_;
+  // D/E. per-viewpoint work memory: the object's projection and the hull's raster.
+  // Idle before the views, so the clustering's voxel lookup filter borrows it as
+  // 64-bit words (plan()).
+  struct ViewWork {
+    Vec2 proj[kMaxObjectPoints];
+    float depth[kMaxObjectPoints];
+    ConcaveHullScratch hull;
+  };
+  static constexpr uint32_t kViewWorkWordBits = floor_log2(sizeof(ViewWork) / sizeof(uint64_t));
+  union {
+    ViewWork view_;
+    uint64_t view_words_[sizeof(ViewWork) / sizeof(uint64_t)];
+  };
   Vec2 contour_[kMaxContourVertices];
   ScanLine lines_[kMaxScanLines];
   SideFit windows_[16];

@@ -94,7 +94,11 @@ class VoxelGrid {
   //! index in use is more than half full, find() gets a filter that settles most
   //! lookups of absent keys without walking the table. `keep`: the flags last given
   //! to keep_in_index_only(), or null when the index holds every voxel.
-  void prepare_lookups(const uint8_t* keep);
+  //! `wide`: optional caller memory of 2^wide_bits 64-bit words, idle until the next
+  //! prepare_lookups() or reset() (which stop using it); when larger than the grid's
+  //! own it holds the filter, whose false positives (each a walk of the table, a cache
+  //! miss) then fall roughly with the square of its size.
+  void prepare_lookups(const uint8_t* keep, uint64_t* wide = nullptr, uint32_t wide_bits = 0);
   bool lookup_filter_on() const { return filter_on_; }
   //! After finalize(): lends the storage the counts used, past the packed centroids
   //! (size() entries), as caller scratch, valid until reset(). nullptr before.
@@ -117,12 +121,21 @@ class VoxelGrid {
   //! neighbour (d: a packed offset as a signed sum; voxel keys never wrap).
   static uint64_t filter_hash(uint32_t key) { return static_cast<uint64_t>(key) * kFilterMul; }
   static uint64_t filter_hash_of_offset(int64_t d) { return static_cast<uint64_t>(d) * kFilterMul; }
-  //! For neighbour loops that test the filter themselves (filter_may_hold, with the
-  //! flag read once): false means absent for sure; true, ask find_in_table().
-  bool filter_may_hold(uint64_t h) const {
-    const uint64_t m = filter_bits(h);
-    return (filter_[filter_word(h)] & m) == m;
+  //! The filter as neighbour loops test it themselves, read once: may_hold() false
+  //! means absent for sure; true, ask find_in_table(). `words` is null when off.
+  struct LookupFilter {
+    const uint64_t* words;
+    uint32_t shift;  // 64 - log2(word count)
+    bool may_hold(uint64_t h) const {
+      const uint64_t g = filter_mix(h);
+      const uint64_t m = filter_bits(g);
+      return (words[g >> shift] & m) == m;
+    }
+  };
+  LookupFilter lookup_filter() const {
+    return LookupFilter{filter_on_ ? (wide_ != nullptr ? wide_ : filter_) : nullptr, 64u - filter_word_bits_};
   }
+  bool filter_may_hold(uint64_t h) const { return lookup_filter().may_hold(h); }
   //! The index walk of find() without the filter.
   uint32_t find_in_table(uint32_t key) const;
 
@@ -191,13 +204,18 @@ class VoxelGrid {
   // load. Word and bits come from disjoint fields of the product's upper half (its
   // best-mixed bits).
   static constexpr uint64_t kFilterMul = 0x9E3779B97F4A7C15ull;  // 2^64 / golden ratio, odd
-  static_assert(kCacheBits <= 26, "filter word and bit fields are disjoint");
-  static uint32_t filter_word(uint64_t h) { return static_cast<uint32_t>(h >> (64 - kCacheBits)); }
-  static uint64_t filter_bits(uint64_t h) {
-    return (uint64_t{1} << ((h >> 32) & 63u)) | (uint64_t{1} << ((h >> 26) & 63u));
+  static constexpr uint32_t kMaxFilterWordBits = 20;  // word and bit fields disjoint
+  static_assert(kCacheBits <= kMaxFilterWordBits, "filter word and bit fields are disjoint");
+  // The sum hash is linear, so structured keys (a lattice of cells) give correlated
+  // fields; one xor-shift and multiply per test decorrelates word and bits.
+  static uint64_t filter_mix(uint64_t h) { return (h ^ (h >> 32)) * 0xD6E8FEB86659FD93ull; }
+  static uint64_t filter_bits(uint64_t g) {
+    return (uint64_t{1} << ((g >> 32) & 63u)) | (uint64_t{1} << ((g >> 26) & 63u));
   }
   void build_filter(const uint8_t* keep);  // keep null: every voxel
   bool filter_on_ = false;
+  uint64_t* wide_ = nullptr;  // the caller's memory holding the filter, or null: filter_
+  uint32_t filter_word_bits_ = kCacheBits;
   static constexpr uint32_t kIndexAll = 0xFFFFFFFFu;
   uint32_t indexed_ = kIndexAll;  // voxels in the index when pruned (kIndexAll: every one)
   bool finalized_ = false;
