@@ -133,11 +133,15 @@ void VoxelGrid::prepare_lookups(const uint8_t* keep, uint64_t* wide, uint32_t wi
   filter_on_ = false;
   wide_ = nullptr;
   filter_word_bits_ = kCacheBits;
-  // Below half load an absent key's walk is about two slots: the filter would cost
-  // more than it saves.
+  // The filter pays when the table is more than half full (an absent key's walk
+  // averages about 8 slots at 3/4 load) or larger than kSmallTableSlots (its walks are
+  // cache misses, a filter test is one load of a smaller array). A small table at most
+  // half full (the example's, pruned to its objects) does without: an absent key's
+  // walk there is about two slots in the fast caches.
   const bool pruned = indexed_ != kIndexAll;
   const uint32_t n = pruned ? indexed_ : size_;
-  if (!finalized_ || 2u * n <= slot_mask_ + 1u) return;
+  const uint32_t slots = slot_mask_ + 1u;
+  if (!finalized_ || n == 0 || (2u * n <= slots && slots <= kSmallTableSlots)) return;
   if (wide != nullptr && wide_bits > kCacheBits && wide_bits <= kMaxFilterWordBits) {
     wide_ = wide;
     filter_word_bits_ = wide_bits;

@@ -100,6 +100,10 @@ class VoxelGrid {
   //! miss) then fall roughly with the square of its size.
   void prepare_lookups(const uint8_t* keep, uint64_t* wide = nullptr, uint32_t wide_bits = 0);
   bool lookup_filter_on() const { return filter_on_; }
+  //! Tables of at most this many slots (64 KiB) stay in the fast caches: at most half
+  //! full they get no filter (prepare_lookups).
+  static constexpr uint32_t kSmallTableSlots = 1u << 14;
+  uint32_t table_slots() const { return slot_mask_ + 1u; }
   //! After finalize(): lends the storage the counts used, past the packed centroids
   //! (size() entries), as caller scratch, valid until reset(). nullptr before.
   uint32_t* lend_count_storage();
