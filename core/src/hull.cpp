@@ -167,8 +167,8 @@ struct BitRows {
   }
 };
 
-//! Points per cell: the saturated counts of `temp`, exact through the full cells'
-//! table (sorted by cell) where a count saturated.
+//! Points per cell: the saturated counts (the raster's second half), exact through the
+//! full cells' table (sorted by cell) where a count saturated.
 struct CellCounts {
   const uint8_t* counts;
   const ConcaveHullScratch::FullCell* full;

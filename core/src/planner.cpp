@@ -136,9 +136,9 @@ Status Planner::plan(PlanResult& out) {
     // only: take the support plane out of the hash.
     static_assert(kVoxelRemoved == 0, "state_ doubles as the keep flags");
     if (removed > 0) grid_.keep_in_index_only(state_);
-    // The clustering's lookups get the larger filter the hull's idle raster holds
+    // The clustering's lookups get the larger filter the idle per-view memory holds
     // (fewer false positives, each a cache miss in the table); it goes back to the
-    // grid's own memory before any view uses the raster.
+    // grid's own memory before any view uses that memory.
     grid_.prepare_lookups(state_, view_words_, kViewWorkWordBits);
   }
 
@@ -156,7 +156,7 @@ Status Planner::plan(PlanResult& out) {
   {
     StageTimer t(stage(out, Stage::cluster));
     cr = cluster_and_pick(grid_, state_, queue, cp, object_voxel_, kMaxObjectPoints);
-    grid_.prepare_lookups(state_);  // the raster's memory back to the hull (same kept set)
+    grid_.prepare_lookups(state_);  // the per-view memory back to the views (same kept set)
     if (cr.target_size == 0)
       return finish(Status::no_grasp, NoGraspReason::no_object,
                     plane_found_ ? "no cluster large enough stands on the support plane"

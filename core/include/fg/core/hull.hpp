@@ -76,8 +76,8 @@ struct ConcaveHullParams {
 //! the component holding the most points (exact count; ties: the component whose
 //! first cell comes first in row-major order from the smallest y) is traced.
 //! Guarantees: every finite point of the traced component lies inside or on the
-//! polygon (cells are assigned against the same float corner coordinates the
-//! polygon is written with); holes are filled (a ring gives its outer circle);
+//! polygon (a point's cell is one whose float corners, the polygon's vertices,
+//! enclose it); holes are filled (a ring gives its outer circle);
 //! concavities wider than about 2 * closing_cells cells are followed (L and U
 //! shapes). Where two cells of the component touch only diagonally the polygon
 //! touches itself at that corner (weakly simple). `all_inside` is false when some

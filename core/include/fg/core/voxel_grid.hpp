@@ -91,8 +91,8 @@ class VoxelGrid {
   //! plane this way: the later neighbour searches then probe a nearly empty table.
   void keep_in_index_only(const uint8_t* keep);
   //! After finalize(), before many lookups (the clustering, the normals): when the
-  //! index in use is more than half full, find() gets a filter that settles most
-  //! lookups of absent keys without walking the table. `keep`: the flags last given
+  //! index in use is more than half full or larger than kSmallTableSlots, find() gets
+  //! a filter that settles most lookups of absent keys without walking the table. `keep`: the flags last given
   //! to keep_in_index_only(), or null when the index holds every voxel.
   //! `wide`: optional caller memory of 2^wide_bits 64-bit words, idle until the next
   //! prepare_lookups() or reset() (which stop using it); when larger than the grid's
@@ -205,10 +205,9 @@ class VoxelGrid {
     uint64_t filter_[1u << kCacheBits];
   };
   // A blocked Bloom filter: each key sets two bits of one 64-bit word, so a test is one
-  // load. Word and bits come from disjoint fields of the product's upper half (its
-  // best-mixed bits).
+  // load. Word and bits come from disjoint fields of the mixed hash (filter_mix).
   static constexpr uint64_t kFilterMul = 0x9E3779B97F4A7C15ull;  // 2^64 / golden ratio, odd
-  static constexpr uint32_t kMaxFilterWordBits = 20;  // word and bit fields disjoint
+  static constexpr uint32_t kMaxFilterWordBits = 26;  // word bits [38, 64), bit fields [26, 38)
   static_assert(kCacheBits <= kMaxFilterWordBits, "filter word and bit fields are disjoint");
   // The sum hash is linear, so structured keys (a lattice of cells) give correlated
   // fields; one xor-shift and multiply per test decorrelates word and bits.
