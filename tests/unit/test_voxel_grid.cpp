@@ -337,6 +337,24 @@ TEST(VoxelGrid, FinalizeKeepsCentroidsAndLendsCounts) {
     EXPECT_EQ(std::memcmp(g->centroid(i).data(), before[i].data(), sizeof(float) * 3), 0);
 }
 
+// A finalized grid of `want` cells two apart on a lattice (no two touch), inserted in
+// random order; `cells` receives them.
+std::unique_ptr<VoxelGrid> finalized_lattice(std::mt19937& rng, uint32_t want, std::set<Cell>& cells) {
+  const float leaf = 0.005f;
+  std::vector<Vec3> pts;
+  std::uniform_int_distribution<int> u(1, 120);
+  while (pts.size() < want) {
+    const Cell c{4 + 2 * u(rng), 4 + 2 * u(rng), 4 + 2 * u(rng)};
+    if (!cells.insert(c).second) continue;
+    pts.push_back(Vec3((static_cast<float>(std::get<0>(c)) + 0.5f) * leaf, (static_cast<float>(std::get<1>(c)) + 0.5f) * leaf,
+                       (static_cast<float>(std::get<2>(c)) + 0.5f) * leaf));
+  }
+  auto g = make_grid(Vec3(0.f, 0.f, 0.f), leaf);
+  insert_all(*g, pts);
+  g->finalize();
+  return g;
+}
+
 // keep_in_index_only(): find() sees exactly the kept voxels, indices and centroids do
 // not move, and a reset brings back a complete index.
 // After finalize() find() consults a Bloom filter of the indexed keys before the
@@ -345,23 +363,10 @@ TEST(VoxelGrid, FinalizeKeepsCentroidsAndLendsCounts) {
 // again after the index is pruned to a subset (the filter rebuilt for the subset).
 TEST(VoxelGrid, FindAfterFinalizeAndPruningAgreesWithBruteForce) {
   std::mt19937 rng(41);
-  const Vec3 origin(0.f, 0.f, 0.f);
-  const float leaf = 0.005f;
   const uint32_t want = fg::kMaxVoxels * 3 / 4;
-  // Cells two apart on a lattice (no two touch), in random order.
-  std::vector<Vec3> pts;
   std::set<Cell> cells;
-  std::uniform_int_distribution<int> u(1, 120);
-  while (pts.size() < want) {
-    const Cell c{4 + 2 * u(rng), 4 + 2 * u(rng), 4 + 2 * u(rng)};
-    if (!cells.insert(c).second) continue;
-    pts.push_back(Vec3((static_cast<float>(std::get<0>(c)) + 0.5f) * leaf, (static_cast<float>(std::get<1>(c)) + 0.5f) * leaf,
-                       (static_cast<float>(std::get<2>(c)) + 0.5f) * leaf));
-  }
-  auto g = make_grid(origin, leaf);
-  insert_all(*g, pts);
+  auto g = finalized_lattice(rng, want, cells);
   ASSERT_EQ(g->size(), want);
-  g->finalize();
   g->prepare_lookups(nullptr);
   EXPECT_TRUE(g->lookup_filter_on());  // 3/4 of kMaxVoxels: the table is more than half full
   const auto check_all = [&](const std::vector<uint8_t>* keep) {
@@ -405,21 +410,8 @@ TEST(VoxelGrid, FindAfterFinalizeAndPruningAgreesWithBruteForce) {
 // reading it (the memory is then scribbled over and every lookup must still be right).
 TEST(VoxelGrid, WideLookupFilterIsExactSettlesMoreAndIsReturned) {
   std::mt19937 rng(43);
-  const Vec3 origin(0.f, 0.f, 0.f);
-  const float leaf = 0.005f;
-  const uint32_t want = fg::kMaxVoxels * 3 / 4;
-  std::vector<Vec3> pts;
   std::set<Cell> cells;
-  std::uniform_int_distribution<int> u(1, 120);
-  while (pts.size() < want) {
-    const Cell c{4 + 2 * u(rng), 4 + 2 * u(rng), 4 + 2 * u(rng)};
-    if (!cells.insert(c).second) continue;
-    pts.push_back(Vec3((static_cast<float>(std::get<0>(c)) + 0.5f) * leaf, (static_cast<float>(std::get<1>(c)) + 0.5f) * leaf,
-                       (static_cast<float>(std::get<2>(c)) + 0.5f) * leaf));
-  }
-  auto g = make_grid(origin, leaf);
-  insert_all(*g, pts);
-  g->finalize();
+  auto g = finalized_lattice(rng, fg::kMaxVoxels * 3 / 4, cells);
   // Lookups right, and the filter's false positives among the absent neighbours.
   const auto check = [&](const char* what) {
     uint32_t wrong = 0, absent = 0, passed = 0;
