@@ -337,6 +337,12 @@ TEST(VoxelGrid, FinalizeKeepsCentroidsAndLendsCounts) {
     EXPECT_EQ(std::memcmp(g->centroid(i).data(), before[i].data(), sizeof(float) * 3), 0);
 }
 
+// The key of neighbour d (0..26 over dz, dy, dx in -1..1; 13 is the key itself).
+uint32_t neighbour_key(uint32_t key, int d) {
+  return VoxelGrid::pack(VoxelGrid::key_x(key) + d % 3 - 1, VoxelGrid::key_y(key) + (d / 3) % 3 - 1,
+                         VoxelGrid::key_z(key) + d / 9 - 1);
+}
+
 // A finalized grid of `want` cells two apart on a lattice (no two touch), inserted in
 // random order; `cells` receives them.
 std::unique_ptr<VoxelGrid> finalized_lattice(std::mt19937& rng, uint32_t want, std::set<Cell>& cells) {
@@ -375,12 +381,10 @@ TEST(VoxelGrid, FindAfterFinalizeAndPruningAgreesWithBruteForce) {
     for (uint32_t i = 0; i < g->size(); ++i) {
       const bool kept = keep == nullptr || (*keep)[i] != 0;
       if (g->find(g->key(i)) != (kept ? i : VoxelGrid::kNone)) ++wrong;
-      const uint32_t x = VoxelGrid::key_x(g->key(i)), y = VoxelGrid::key_y(g->key(i)), z = VoxelGrid::key_z(g->key(i));
       for (int d = 0; d < 27; ++d) {
         if (d == 13) continue;
-        const uint32_t k = VoxelGrid::pack(x + d % 3 - 1, y + (d / 3) % 3 - 1, z + d / 9 - 1);
         ++absent;
-        if (g->find(k) != VoxelGrid::kNone) ++wrong;
+        if (g->find(neighbour_key(g->key(i), d)) != VoxelGrid::kNone) ++wrong;
       }
     }
     EXPECT_EQ(wrong, 0u) << absent << " absent lookups";
@@ -418,10 +422,9 @@ TEST(VoxelGrid, WideLookupFilterIsExactSettlesMoreAndIsReturned) {
     const VoxelGrid::LookupFilter f = g->lookup_filter();
     for (uint32_t i = 0; i < g->size(); ++i) {
       if (g->find(g->key(i)) != i) ++wrong;
-      const uint32_t x = VoxelGrid::key_x(g->key(i)), y = VoxelGrid::key_y(g->key(i)), z = VoxelGrid::key_z(g->key(i));
       for (int d = 0; d < 27; ++d) {
         if (d == 13) continue;
-        const uint32_t k = VoxelGrid::pack(x + d % 3 - 1, y + (d / 3) % 3 - 1, z + d / 9 - 1);
+        const uint32_t k = neighbour_key(g->key(i), d);
         ++absent;
         if (g->find(k) != VoxelGrid::kNone) ++wrong;
         if (f.words != nullptr && f.may_hold(VoxelGrid::filter_hash(k))) ++passed;
