@@ -6,6 +6,7 @@
 
 #include "fg/core/eigen_sym3.hpp"
 #include "fg/core/gjk.hpp"
+#include "fg/core/near_list.hpp"
 #include "fg/core/planner.hpp"
 
 namespace fg {
@@ -76,9 +77,7 @@ constexpr float kMarginTurn = 0.05f;
 }  // namespace
 
 namespace {
-struct Box {
-  float x0, x1, y0, y1, z0, z1;
-};
+using Box = FrameBox;
 // Fingers open and palm, swept from the pre-grasp to the grasp (grasp frame).
 void gripper_boxes(const PlannerConfig& cfg, Box out[3]) {
   const GripperGeometry& g = cfg.gripper;
@@ -92,11 +91,14 @@ void gripper_boxes(const PlannerConfig& cfg, Box out[3]) {
 }
 }  // namespace
 
+
 // The voxels a gripper at any candidate could touch: candidates sit within the
 // object's bounding sphere (plus a finger depth, the most the depth rule puts them
 // past a surface), and no box corner lies farther than `reach` from the grasp point.
-// Stored in the lent count storage, idle after clustering: the collision check then
-// scans these instead of every voxel of the scene.
+// Stored in the lent count storage, idle after clustering, and sorted by their cell of
+// a coarse grid over the cube around that sphere (in the idle per-view memory): the
+// collision check then reads only the cells under each box, instead of every voxel of
+// the scene.
 void Planner::build_near_list(uint32_t* storage) {
   near_ = storage;
   n_near_ = 0;
@@ -119,6 +121,13 @@ void Planner::build_near_list(uint32_t* storage) {
   const Vec3* centroids = grid_.centroids();
   for (uint32_t i = 0; i < grid_.size(); ++i)
     if (state_[i] != kVoxelRemoved && (centroids[i] - near_centre_).squaredNorm() <= r * r) near_[n_near_++] = i;
+  // About one entry per coarse cell, within what the per-view memory holds.
+  uint32_t cell_bits = 3;
+  while (cell_bits < kNearCellBits && (1u << cell_bits) < n_near_) ++cell_bits;
+  const NearGrid g = NearGrid::around(near_centre_, r, cell_bits);
+  for (uint32_t k = 0; k < n_near_; ++k) near_[k] |= g.cell_of(centroids[near_[k]]) << kNearIndexBits;
+  sort_by_cell(near_, n_near_, kNearIndexBits, cell_bits, near_tables_, near_tables_ + (1u << kNearCellBits));
+  near_grid_ = g;
 }
 
 // The checks in order; returns 0 when all pass, else the number of the first failing
@@ -139,10 +148,16 @@ int Planner::first_failed_check(const Candidate& c) {
   // boxes: those of the near list when the candidate lies where that list assumes.
   const float tol = cfg_.collision_tolerance_m;
   const bool use_near = near_ != nullptr && (c.position - near_centre_).norm() <= near_slack_;
-  const uint32_t nv = use_near ? n_near_ : grid_.size();
   const Vec3* centroids = grid_.centroids();
-  for (uint32_t k = 0; k < nv; ++k) {
-    const uint32_t i = use_near ? near_[k] : k;
+  if (use_near) {
+    const Vec3 axes[3] = {f.X, f.Y, f.Z};
+    // Entries of voxels since removed are skipped (state 0, kVoxelRemoved).
+    for (const Box& b : boxes)
+      if (near_list_hits(near_, n_near_, kNearIndexBits, near_grid_, centroids, state_, c.position, axes, b, tol))
+        return 2;
+  }
+  const uint32_t nv = use_near ? 0u : grid_.size();
+  for (uint32_t i = 0; i < nv; ++i) {
     if (state_[i] == kVoxelRemoved) continue;
     const Vec3 d = centroids[i] - c.position;
     const float x = f.X.dot(d), y = f.Y.dot(d), z = f.Z.dot(d);

@@ -11,6 +11,7 @@
 #include "fg/core/grasp_check.hpp"
 #include "fg/core/hull.hpp"
 #include "fg/core/limits.hpp"
+#include "fg/core/near_list.hpp"
 #include "fg/core/plane.hpp"
 #include "fg/core/point_buffer.hpp"
 #include "fg/core/status.hpp"
@@ -255,9 +256,16 @@ class Planner {
     ConcaveHullScratch hull;
   };
   static constexpr uint32_t kViewWorkWordBits = floor_log2(sizeof(ViewWork) / sizeof(uint64_t));
+  // The near list (below) is sorted with two tables of 2^kNearCellBits words, which
+  // borrow this memory too (build_near_list, between the clustering and the views).
+  static constexpr uint32_t kNearIndexBits = floor_log2(kMaxVoxels - 1u) + 1u;
+  static constexpr uint32_t kNearCellBits =
+      kViewWorkWordBits < 32u - kNearIndexBits ? kViewWorkWordBits : 32u - kNearIndexBits;
+  static_assert(kNearCellBits >= 3, "the near list needs at least one bit of cell per axis");
   union {
     ViewWork view_;
     uint64_t view_words_[sizeof(ViewWork) / sizeof(uint64_t)];
+    uint32_t near_tables_[2u << kNearCellBits];
   };
   Vec2 contour_[kMaxContourVertices];
   ScanLine lines_[kMaxScanLines];
@@ -270,11 +278,14 @@ class Planner {
   uint16_t deferred_list_[kMaxCandidates];  // candidates deferred by rank_and_check
   uint32_t n_deferred_ = 0;
   // Voxels within the gripper's reach of the object (build_near_list), in the lent
-  // count storage of the grid.
+  // count storage of the grid, sorted by their cell of a coarse grid over the cube
+  // around the reach sphere (near_list.hpp): an entry is cell << kNearIndexBits |
+  // voxel index, so the collision check reads only the cells under each box.
   uint32_t* near_ = nullptr;
   uint32_t n_near_ = 0;
   Vec3 near_centre_ = Vec3::Zero();
   float near_slack_ = 0.f;
+  NearGrid near_grid_{};
   uint16_t order_[kMaxCandidates];
 
   // Normals of object points, computed on demand for the friction test.
