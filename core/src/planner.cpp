@@ -27,6 +27,9 @@ const char* to_string(Stage s) {
 
 namespace {
 constexpr float kPi = 3.14159265358979f;
+// A surface beside a pad standing out this far past its contact is met by the pad's
+// corner first (xoz).
+constexpr float kCornerStandOut = 0.002f;
 // Approaches pointing up more steeply than this come from below the object: skipped.
 constexpr float kMaxApproachUp = 0.5f;
 // Two family axes closer than 10 deg (the extension's step) search the same circle.
@@ -629,6 +632,21 @@ bool Planner::xoz(const ViewFrame& f, const SideFit& w, Candidate& c) {
     xmax = std::max(xmax, view_.proj[i].x);
   }
   if (!(xmax >= xmin)) return false;
+  // The pads' edges: a surface just beyond a pad's footprint that stands out past the
+  // contact meets the pad's corner first (a lying bat's blade beside its handle). Its
+  // voxels' centroids lie up to half a voxel beyond the footprint. Such a grasp waits
+  // for the second pass (rank_and_check): on real captures a mixed pixel at the
+  // silhouette's edge stands out as far (2-7 mm), and may be all a can shows.
+  c.corners_clear = true;
+  {
+    const float band = half_pad + 0.5f * cfg_.voxel_leaf_m;
+    for (uint32_t i = 0; i < n && c.corners_clear; ++i) {
+      const float dy = std::fabs(view_.proj[i].y - yc);
+      if (dy <= half_pad || dy > band || std::fabs(view_.depth[i] - pos_z) > half_fd) continue;
+      const float x = view_.proj[i].x;
+      if (x < xmin - kCornerStandOut || x > xmax + kCornerStandOut) c.corners_clear = false;
+    }
+  }
   const float width = xmax - xmin;
   if (width < g.min_opening_m || width > g.max_opening_m - cfg_.width_margin_m) return false;
   // The silhouette's width must be within the pads' reach: when the points in reach
@@ -682,7 +700,7 @@ uint32_t Planner::rank_and_check(uint32_t first, PlanResult& out) {
   // At most kMaxCheckedCandidates checked per plan(): the checks dominate the worst case.
   // Grasps with a finger partly in hidden space wait, in rank order, for
   // check_deferred(): every family is searched for one whose fingers lie in seen space.
-  strict_sight_ = true;
+  first_pass_ = true;
   for (uint32_t i = 0; i < m && checks_left_ > 0; ++i, --checks_left_) {
     Candidate& c = candidates_[order_[i]];
     if (executable(c, out)) return order_[i];
@@ -695,7 +713,7 @@ uint32_t Planner::rank_and_check(uint32_t first, PlanResult& out) {
 // samples the visibility check allows.
 uint32_t Planner::check_deferred(PlanResult& out) {
   StageTimer t(stage(out, Stage::select));
-  strict_sight_ = false;
+  first_pass_ = false;
   for (uint32_t i = 0; i < n_deferred_ && checks_left_ > 0; ++i, --checks_left_) {
     Candidate& c = candidates_[deferred_list_[i]];
     if (executable(c, out)) return deferred_list_[i];

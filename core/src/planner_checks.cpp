@@ -132,7 +132,7 @@ void Planner::build_near_list(uint32_t* storage) {
 
 // The checks in order; returns 0 when all pass, else the number of the first failing
 // one: 1 support plane, 2 collision, 3 local hull, 4 visibility, 5 friction, 7 a finger
-// partly in hidden space (only while strict_sight_ is set).
+// partly in hidden space (only while first_pass_ is set).
 int Planner::first_failed_check(const Candidate& c) {
   const ViewFrame f{c.X, c.Y, c.Z};
   Box boxes[3];
@@ -172,11 +172,11 @@ int Planner::first_failed_check(const Candidate& c) {
   // sphere), and the hull of the points around the hand fills in the unseen interior.
   if (!fingers_clear_of_hull(c.position, f)) return 3;
   // The open fingers must not sit in space the sensors saw only from behind a surface;
-  // while strict_sight_ is set, a finger with a few hidden samples waits too (7).
+  // while first_pass_ is set, a finger with a few hidden samples waits too (7).
   uint32_t hidden_sides = 0;
   const int sight = fingers_in_seen_space(c.position, f, hidden_sides);
   if (sight == 2) return 4;
-  if (sight == 1 && strict_sight_) return 7;
+  if (sight == 1 && first_pass_) return 7;
   // Such a finger may meet the object's unseen side, which bulges past what was seen
   // (rounded objects, tilted approaches): only a balanced grasp whose seen side,
   // extended along its last slope, stays clear of the open finger.
@@ -186,6 +186,8 @@ int Planner::first_failed_check(const Candidate& c) {
   // Each fitted side's normal within the cone in XOY (beta alone only compares the two
   // sides), and the contact normals in 3D.
   if (cfg_.friction_mu > 0.f && (!c.sides_in_cone || !friction_ok(c.position, f, c.width))) return 5;
+  // A surface beside a pad that stands out past its contact (xoz): the grasp waits too.
+  if (!c.corners_clear && first_pass_) return 7;
   return 0;
 }
 

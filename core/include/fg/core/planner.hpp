@@ -169,6 +169,7 @@ class Planner {
     Vec3 X, Y, Z;   //!< grasp frame (closing, across, approach): the viewpoint's, or refined
     bool balanced;  //!< beta <= beta_max
     bool sides_in_cone;  //!< both fitted sides within atan(mu) of the closing normal (XOY)
+    bool corners_clear;  //!< nothing beside the pads stands out past their contacts (xoz)
   };
   struct ViewFrame {
     Vec3 X, Y, Z;
@@ -273,7 +274,7 @@ class Planner {
   Candidate candidates_[kMaxCandidates];
   uint32_t n_candidates_ = 0;
   uint32_t checks_left_ = 0;  // candidates the checks may still examine in this plan()
-  bool strict_sight_ = false;  // first pass: partly hidden fingers wait (check 7)
+  bool first_pass_ = false;  // partly hidden fingers and pads whose corners meet a surface wait (check 7)
   bool deferred_ = false;      // the last executable() call deferred its candidate
   uint16_t deferred_list_[kMaxCandidates];  // candidates deferred by rank_and_check
   uint32_t n_deferred_ = 0;
