@@ -632,31 +632,30 @@ bool Planner::xoz(const ViewFrame& f, const SideFit& w, Candidate& c) {
     xmax = std::max(xmax, view_.proj[i].x);
   }
   if (!(xmax >= xmin)) return false;
-  // The pads' edges: a surface just beyond a pad's footprint that stands out past the
-  // contact meets the pad's corner first (a lying bat's blade beside its handle). Its
-  // voxels' centroids lie up to half a voxel beyond the footprint. Such a grasp waits
-  // for the second pass (rank_and_check): on real captures a mixed pixel at the
-  // silhouette's edge stands out as far (2-7 mm), and may be all a can shows.
-  c.corners_clear = true;
-  {
-    const float band = half_pad + 0.5f * cfg_.voxel_leaf_m;
-    for (uint32_t i = 0; i < n && c.corners_clear; ++i) {
-      const float dy = std::fabs(view_.proj[i].y - yc);
-      if (dy <= half_pad || dy > band || std::fabs(view_.depth[i] - pos_z) > half_fd) continue;
-      const float x = view_.proj[i].x;
-      if (x < xmin - kCornerStandOut || x > xmax + kCornerStandOut) c.corners_clear = false;
-    }
-  }
   const float width = xmax - xmin;
   if (width < g.min_opening_m || width > g.max_opening_m - cfg_.width_margin_m) return false;
   // The silhouette's width must be within the pads' reach: when the points in reach
   // span much less, the object's widest part lies beyond the fingertips (or only a
   // sliver of it is seen there), and the width the pads would meet is unknown.
   if (width < cfg_.reach_width_ratio * w.width) return false;
+  // The contact regions at that depth, and the pads' edges: a surface just beyond a
+  // pad's footprint that stands out past the contact meets the pad's corner first (a
+  // lying bat's blade beside its handle). Its voxels' centroids lie up to half a voxel
+  // beyond the footprint. Such a grasp waits for the second pass (rank_and_check): on
+  // real captures a mixed pixel at the silhouette's edge stands out as far (2-7 mm),
+  // and may be all a can shows.
   zl = zr = 0;
   nl = nr = 0;
+  c.corners_clear = true;
+  const float band = half_pad + 0.5f * cfg_.voxel_leaf_m;
   for (uint32_t i = 0; i < n; ++i) {
-    if (std::fabs(view_.proj[i].y - yc) > half_pad || std::fabs(view_.depth[i] - pos_z) > half_fd) continue;
+    const float dy = std::fabs(view_.proj[i].y - yc);
+    if (dy > band || std::fabs(view_.depth[i] - pos_z) > half_fd) continue;
+    if (dy > half_pad) {
+      const float x = view_.proj[i].x;
+      if (x < xmin - kCornerStandOut || x > xmax + kCornerStandOut) c.corners_clear = false;
+      continue;
+    }
     if (view_.proj[i].x <= xmin + cfg_.contact_band_m) {
       zl += view_.depth[i];
       ++nl;
