@@ -697,8 +697,9 @@ uint32_t Planner::rank_and_check(uint32_t first, PlanResult& out) {
   std::sort_heap(order_, order_ + m, before);
   if (!cfg_.executability_checks) return m > 0 ? order_[0] : kMaxCandidates;
   // At most kMaxCheckedCandidates checked per plan(): the checks dominate the worst case.
-  // Grasps with a finger partly in hidden space wait, in rank order, for
-  // check_deferred(): every family is searched for one whose fingers lie in seen space.
+  // Grasps with a finger partly in hidden space, or a pad whose corner meets a surface
+  // beside it, wait in rank order for check_deferred(): every family is searched for
+  // one without either.
   first_pass_ = true;
   for (uint32_t i = 0; i < m && checks_left_ > 0; ++i, --checks_left_) {
     Candidate& c = candidates_[order_[i]];
@@ -709,7 +710,7 @@ uint32_t Planner::rank_and_check(uint32_t first, PlanResult& out) {
 }
 
 // The grasps rank_and_check deferred, in the order they were met, with the hidden
-// samples the visibility check allows.
+// samples the visibility check allows and the pads' corners let be.
 uint32_t Planner::check_deferred(PlanResult& out) {
   StageTimer t(stage(out, Stage::select));
   first_pass_ = false;

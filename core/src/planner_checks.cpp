@@ -91,7 +91,6 @@ void gripper_boxes(const PlannerConfig& cfg, Box out[3]) {
 }
 }  // namespace
 
-
 // The voxels a gripper at any candidate could touch: candidates sit within the
 // object's bounding sphere (plus a finger depth, the most the depth rule puts them
 // past a surface), and no box corner lies farther than `reach` from the grasp point.
@@ -132,7 +131,8 @@ void Planner::build_near_list(uint32_t* storage) {
 
 // The checks in order; returns 0 when all pass, else the number of the first failing
 // one: 1 support plane, 2 collision, 3 local hull, 4 visibility, 5 friction, 7 a finger
-// partly in hidden space (only while first_pass_ is set).
+// partly in hidden space or a pad whose corner meets a surface beside it (only while
+// first_pass_ is set).
 int Planner::first_failed_check(const Candidate& c) {
   const ViewFrame f{c.X, c.Y, c.Z};
   Box boxes[3];
