@@ -41,7 +41,7 @@ bool near_list_hits(const uint32_t* entries, uint32_t n, uint32_t index_bits, co
                     const FrameBox& b, float tol) {
   const float x0 = b.x0 + tol, x1 = b.x1 - tol, y0 = b.y0 + tol, y1 = b.y1 - tol, z0 = b.z0 + tol,
               z1 = b.z1 - tol;
-  if (!(x0 < x1 && y0 < y1 && z0 < z1)) return false;
+  if (!(x0 < x1 && y0 < y1 && z0 < z1)) return false;  // shrunk to nothing
   const Vec3 centre = pos + axes[0] * (0.5f * (x0 + x1)) + axes[1] * (0.5f * (y0 + y1)) + axes[2] * (0.5f * (z0 + z1));
   const Vec3 half = axes[0].cwiseAbs() * (0.5f * (x1 - x0)) + axes[1].cwiseAbs() * (0.5f * (y1 - y0)) +
                     axes[2].cwiseAbs() * (0.5f * (z1 - z0));
@@ -52,19 +52,21 @@ bool near_list_hits(const uint32_t* entries, uint32_t n, uint32_t index_bits, co
   const uint32_t cz0 = g.axis(lo.z(), 2), cz1 = g.axis(hi.z(), 2);
   const uint32_t mask = (1u << index_bits) - 1u;
   const uint32_t* const end = entries + n;
+  // Columns are visited in increasing cell order, so each search starts where the last
+  // column's scan stopped.
+  const uint32_t* from = entries;
   for (uint32_t cx = cx0; cx <= cx1; ++cx) {
     for (uint32_t cy = cy0; cy <= cy1; ++cy) {
       const uint64_t first = static_cast<uint64_t>(g.cell(cx, cy, cz0)) << index_bits;
       const uint64_t last = static_cast<uint64_t>(g.cell(cx, cy, cz1) + 1u) << index_bits;
-      for (const uint32_t* e = std::lower_bound(entries, end, first,
-                                                [](uint32_t v, uint64_t key) { return v < key; });
-           e < end && *e < last; ++e) {
+      const uint32_t* e = std::lower_bound(from, end, first, [](uint32_t v, uint64_t key) { return v < key; });
+      for (; e < end && *e < last; ++e) {
         const uint32_t i = *e & mask;
         if (state[i] == 0) continue;
         const Vec3 d = points[i] - pos;
-        const float x = axes[0].dot(d), y = axes[1].dot(d), z = axes[2].dot(d);
-        if (x > x0 && x < x1 && y > y0 && y < y1 && z > z0 && z < z1) return true;
+        if (b.holds(axes[0].dot(d), axes[1].dot(d), axes[2].dot(d), tol)) return true;
       }
+      from = e;
     }
   }
   return false;

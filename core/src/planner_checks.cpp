@@ -155,16 +155,13 @@ int Planner::first_failed_check(const Candidate& c) {
     for (const Box& b : boxes)
       if (near_list_hits(near_, n_near_, kNearIndexBits, near_grid_, centroids, state_, c.position, axes, b, tol))
         return 2;
-  }
-  const uint32_t nv = use_near ? 0u : grid_.size();
-  for (uint32_t i = 0; i < nv; ++i) {
-    if (state_[i] == kVoxelRemoved) continue;
-    const Vec3 d = centroids[i] - c.position;
-    const float x = f.X.dot(d), y = f.Y.dot(d), z = f.Z.dot(d);
-    for (const Box& b : boxes) {
-      if (x > b.x0 + tol && x < b.x1 - tol && y > b.y0 + tol && y < b.y1 - tol && z > b.z0 + tol &&
-          z < b.z1 - tol)
-        return 2;
+  } else {
+    for (uint32_t i = 0; i < grid_.size(); ++i) {
+      if (state_[i] == kVoxelRemoved) continue;
+      const Vec3 d = centroids[i] - c.position;
+      const float x = f.X.dot(d), y = f.Y.dot(d), z = f.Z.dot(d);
+      for (const Box& b : boxes)
+        if (b.holds(x, y, z, tol)) return 2;
     }
   }
   // The fingers at the open pose stay out of the target's local convex hull: surface

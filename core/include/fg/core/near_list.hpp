@@ -11,6 +11,10 @@ namespace fg {
 //! An axis-aligned box in a frame (a gripper part in the grasp frame): x0 < x1 etc.
 struct FrameBox {
   float x0, x1, y0, y1, z0, z1;
+  //! (x, y, z) lies strictly inside the box shrunk by tol on every side.
+  bool holds(float x, float y, float z, float tol) const {
+    return x > x0 + tol && x < x1 - tol && y > y0 + tol && y < y1 - tol && z > z0 + tol && z < z1 - tol;
+  }
 };
 
 //! The coarse grid: cell (x, y, z) of bits[0..2] bits per axis, x slowest, over the
