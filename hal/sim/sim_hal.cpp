@@ -108,21 +108,30 @@ std::function<Rigid()> mounted_on_tool0(const SimArm& arm, const Rigid& tool0_T_
 // SdfContactModel
 
 SdfContactModel::SdfContactModel(const World& world, std::function<Rigid()> world_T_grasp,
-                                 const fg::GripperGeometry& geometry, int samples_per_side,
+                                 const fg::GripperGeometry& geometry, double sample_spacing_m,
                                  double step_m)
     : world_(world),
       world_T_grasp_(std::move(world_T_grasp)),
       geometry_(geometry),
-      samples_(std::max(2, samples_per_side)),
-      step_m_(step_m > 1e-6 ? step_m : 0.5e-3) {}
+      step_m_(step_m > 1e-6 ? step_m : 0.5e-3) {
+  // Enough samples that neighbours are at most the spacing apart (at least the corners;
+  // at most 64 per side, whatever the spacing asked).
+  const double spacing = sample_spacing_m > 1e-4 ? sample_spacing_m : 2.5e-3;
+  const auto count = [spacing](double length) {
+    const double intervals = std::ceil(std::max(0.0, length) / spacing);
+    return static_cast<int>(std::min(63.0, std::max(1.0, intervals))) + 1;
+  };
+  samples_y_ = count(geometry.finger_width_m);
+  samples_z_ = count(geometry.finger_depth_m);
+}
 
 bool SdfContactModel::pad_touches(const Rigid& G, double face_x_m) const {
   const double fw = geometry_.finger_width_m;
   const double fd = geometry_.finger_depth_m;
-  for (int iy = 0; iy < samples_; ++iy) {
-    const double y = -0.5 * fw + fw * iy / (samples_ - 1);
-    for (int iz = 0; iz < samples_; ++iz) {
-      const double z = -0.5 * fd + fd * iz / (samples_ - 1);
+  for (int iy = 0; iy < samples_y_; ++iy) {
+    const double y = -0.5 * fw + fw * iy / (samples_y_ - 1);
+    for (int iz = 0; iz < samples_z_; ++iz) {
+      const double z = -0.5 * fd + fd * iz / (samples_z_ - 1);
       if (world_.sdf_objects(G.apply(V3(face_x_m, y, z))) <= 0.0) return true;
     }
   }

@@ -115,7 +115,9 @@ class ContactModel {
 };
 
 //! Contact on the true geometry: each pad face (finger_width x finger_depth in the grasp
-//! frame's y and z, centred on its origin) is sampled on a grid and moved inwards along
+//! frame's y and z, centred on its origin) is sampled on a grid (samples at most
+//! sample_spacing_m apart, edges included: a thin part under the fingertips, such as
+//! a pair of scissors lying flat, is touched as a real pad touches it) and moved inwards along
 //! the grasp x axis until one of its samples is inside an object (sdf <= 0). The pads are
 //! judged separately (an off-centre object is touched first by the nearer pad; the
 //! simulated gripper centres on it, as if the object or the wrist gave way). The table is
@@ -127,7 +129,7 @@ class SdfContactModel final : public ContactModel {
   //! one, +z approach, +y = z x x).
   SdfContactModel(const World& world, std::function<Rigid()> world_T_grasp,
                   const fg::GripperGeometry& geometry = fg::GripperGeometry{},
-                  int samples_per_side = 5, double step_m = 0.5e-3);
+                  double sample_spacing_m = 2.5e-3, double step_m = 0.5e-3);
 
   double contact_width(double opening_m) const override;
 
@@ -142,7 +144,7 @@ class SdfContactModel final : public ContactModel {
   const World& world_;
   std::function<Rigid()> world_T_grasp_;
   fg::GripperGeometry geometry_;
-  int samples_;
+  int samples_y_, samples_z_;  // across (grasp y) and along (grasp z) the pad
   double step_m_;
 };
 

@@ -339,6 +339,21 @@ TEST(SimGripper, OffCentreBoxStillGivesItsWidth) {
   EXPECT_NEAR(model2.contact_width(0.085), 0.030, 1e-6);
 }
 
+TEST(SimGripper, TouchesAThinPartUnderTheFingertips) {
+  // A 2 mm slat (30 mm across the closing direction) 14-16 mm past the pads' centre
+  // along the approach: between the rows of a coarse 5 x 5 pad grid (every 10 mm along
+  // the pad), as a flat pair of scissors lies under the fingertips. A pad touches it.
+  const V3 grasp_centre(0.5, 0.0, 0.3);
+  const World w = world_with_box(grasp_centre - V3(0.0, 0.0, 0.015), V3(0.015, 0.02, 0.001));
+  const SdfContactModel model(w, [&] { return grasp_down_at(grasp_centre); });
+  EXPECT_NEAR(model.contact_width(0.085), 0.030, 1e-6);
+  // The same slat narrower than the pad across it (3 mm along grasp y, off the centre
+  // line): touched as well.
+  const World w2 = world_with_box(grasp_centre + V3(0.0, 0.004, -0.015), V3(0.015, 0.0015, 0.001));
+  const SdfContactModel model2(w2, [&] { return grasp_down_at(grasp_centre); });
+  EXPECT_NEAR(model2.contact_width(0.085), 0.030, 1e-6);
+}
+
 TEST(SimGripper, FollowsTheArmThroughAMountedGraspFrame) {
   // The grasp frame 0.15 m in front of tool0; the box sits there for the start pose only.
   SimArm arm(kHomeDown);

@@ -176,6 +176,8 @@ SimTrial run_sim_trial(const std::string& kind_name, uint64_t seed, const SimOpt
     out.angle_left = j.angle_left;
     out.angle_right = j.angle_right;
     out.true_width = j.true_width;
+    out.contact_left = j.contact_left;
+    out.contact_right = j.contact_right;
     if (!j.success) {
       out.verdict = out.fits ? j.reason : "grasp_on_target_that_fits_nowhere:" + j.reason;
     } else if (!way_in_hit.empty()) {
@@ -289,6 +291,10 @@ nlohmann::json run_sim(const SimOptions& opt, const PlannerConfig& cfg, Planner&
                         {"closing", vec(t.grasp.closing)}, {"width", t.grasp.width}, {"beta", t.grasp.beta},
                         {"dz", t.grasp.dz}, {"family", static_cast<int>(t.grasp.family)}};
       r["judge"] = json{{"angle_left", t.angle_left}, {"angle_right", t.angle_right}, {"true_width", t.true_width}};
+      if (t.true_width >= 0.f) {
+        r["judge"]["contact_left"] = vec(t.contact_left);
+        r["judge"]["contact_right"] = vec(t.contact_right);
+      }
     }
     records.push_back(r);
   }

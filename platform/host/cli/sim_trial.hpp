@@ -47,6 +47,7 @@ struct SimTrial {
   Grasp grasp;
   float angle_left = -1.f, angle_right = -1.f;  //!< friction angles at the contacts (rad), -1 unknown
   float true_width = -1.f;                      //!< pad-to-pad width on the true geometry (m), -1 unknown
+  Vec3 contact_left = Vec3::Zero(), contact_right = Vec3::Zero();  //!< first contacts (world), when true_width >= 0
 };
 
 //! Runs one trial with the planner configuration `cfg`. `planner` is reused between
