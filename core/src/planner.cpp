@@ -640,18 +640,20 @@ bool Planner::xoz(const ViewFrame& f, const SideFit& w, Candidate& c) {
   if (width < cfg_.reach_width_ratio * w.width) return false;
   // The contact regions at that depth, and the pads' edges: a surface just beyond a
   // pad's footprint that stands out past the contact meets the pad's corner first (a
-  // lying bat's blade beside its handle). Its voxels' centroids lie up to half a voxel
-  // beyond the footprint. Such a grasp waits for the second pass (rank_and_check): on
-  // real captures a mixed pixel at the silhouette's edge stands out as far (2-7 mm),
-  // and may be all a can shows.
+  // lying bat's blade beside its handle; past the fingertips, a bottle's shoulder under
+  // its cap). Its voxels' centroids lie up to half a voxel beyond the footprint. Such a
+  // grasp waits for the second pass (rank_and_check): on real captures a mixed pixel at
+  // the silhouette's edge stands out as far (2-7 mm), and may be all a can shows.
   zl = zr = 0;
   nl = nr = 0;
   c.corners_clear = true;
   const float band = half_pad + 0.5f * cfg_.voxel_leaf_m;
+  const float tip_band = half_fd + 0.5f * cfg_.voxel_leaf_m;
   for (uint32_t i = 0; i < n; ++i) {
     const float dy = std::fabs(view_.proj[i].y - yc);
-    if (dy > band || std::fabs(view_.depth[i] - pos_z) > half_fd) continue;
-    if (dy > half_pad) {
+    const float dd = view_.depth[i] - pos_z;
+    if (dy > band || dd < -half_fd || dd > tip_band) continue;
+    if (dy > half_pad || dd > half_fd) {
       const float x = view_.proj[i].x;
       if (x < xmin - kCornerStandOut || x > xmax + kCornerStandOut) c.corners_clear = false;
       continue;
@@ -701,8 +703,15 @@ uint32_t Planner::rank_and_check(uint32_t first, PlanResult& out) {
   // beside it, wait in rank order for check_deferred(): every family is searched for
   // one without either.
   first_pass_ = true;
-  for (uint32_t i = 0; i < m && checks_left_ > 0; ++i, --checks_left_) {
+  for (uint32_t i = 0; i < m && checks_left_ > 0; ++i) {
     Candidate& c = candidates_[order_[i]];
+    // A pad's corner meets a surface beside it (xoz): the grasp waits unchecked, so the
+    // budget goes to the others first.
+    if (!c.corners_clear) {
+      deferred_list_[n_deferred_++] = order_[i];
+      continue;
+    }
+    --checks_left_;
     if (executable(c, out)) return order_[i];
     if (deferred_) deferred_list_[n_deferred_++] = order_[i];
   }

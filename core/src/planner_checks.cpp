@@ -131,8 +131,8 @@ void Planner::build_near_list(uint32_t* storage) {
 
 // The checks in order; returns 0 when all pass, else the number of the first failing
 // one: 1 support plane, 2 collision, 3 local hull, 4 visibility, 5 friction, 7 a finger
-// partly in hidden space or a pad whose corner meets a surface beside it (only while
-// first_pass_ is set).
+// partly in hidden space (only while first_pass_ is set). A pad whose edge meets a
+// surface beside it (Candidate::corners_clear) is deferred by rank_and_check unchecked.
 int Planner::first_failed_check(const Candidate& c) {
   const ViewFrame f{c.X, c.Y, c.Z};
   Box boxes[3];
@@ -183,8 +183,6 @@ int Planner::first_failed_check(const Candidate& c) {
   // Each fitted side's normal within the cone in XOY (beta alone only compares the two
   // sides), and the contact normals in 3D.
   if (cfg_.friction_mu > 0.f && (!c.sides_in_cone || !friction_ok(c.position, f, c.width))) return 5;
-  // A surface beside a pad that stands out past its contact (xoz): the grasp waits too.
-  if (!c.corners_clear && first_pass_) return 7;
   return 0;
 }
 

@@ -169,7 +169,7 @@ class Planner {
     Vec3 X, Y, Z;   //!< grasp frame (closing, across, approach): the viewpoint's, or refined
     bool balanced;  //!< beta <= beta_max
     bool sides_in_cone;  //!< both fitted sides within atan(mu) of the closing normal (XOY)
-    bool corners_clear;  //!< nothing beside the pads stands out past their contacts (xoz)
+    bool corners_clear;  //!< nothing beside the pads or just past their tips stands out past their contacts (xoz)
   };
   struct ViewFrame {
     Vec3 X, Y, Z;
