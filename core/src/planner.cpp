@@ -644,8 +644,16 @@ bool Planner::xoz(const ViewFrame& f, const SideFit& w, Candidate& c) {
   // its cap). Its voxels' centroids lie up to half a voxel beyond the footprint. Such a
   // grasp waits for the second pass (rank_and_check): on real captures a mixed pixel at
   // the silhouette's edge stands out as far (2-7 mm), and may be all a can shows.
+  // dZ (paper eq. 8) weighs each contact by how far inside the pads' reach it lies:
+  // 1 from one voxel leaf inside either end of the reach, falling linearly to 0 at the
+  // end. Voxel centroids come in rows one leaf apart, so a hard cut at the reach's ends
+  // takes a row in on one side and out on the other under a sub-millimetre shift and
+  // dZ jumps by up to a leaf; with the ramp a row fades in and dZ moves continuously.
+  // The plain means stand in when a side has all its contacts at the ends.
   zl = zr = 0;
   nl = nr = 0;
+  double wl = 0, wr = 0, wzl = 0, wzr = 0;
+  const float inv_ramp = 1.f / cfg_.voxel_leaf_m;
   c.corners_clear = true;
   const float band = half_pad + 0.5f * cfg_.voxel_leaf_m;
   const float tip_band = half_fd + 0.5f * cfg_.voxel_leaf_m;
@@ -658,16 +666,24 @@ bool Planner::xoz(const ViewFrame& f, const SideFit& w, Candidate& c) {
       if (x < xmin - kCornerStandOut || x > xmax + kCornerStandOut) c.corners_clear = false;
       continue;
     }
+    const float z = view_.depth[i];
+    const float wgt = std::min(1.f, (half_fd - std::fabs(dd)) * inv_ramp);
     if (view_.proj[i].x <= xmin + cfg_.contact_band_m) {
-      zl += view_.depth[i];
+      zl += z;
       ++nl;
+      wl += wgt;
+      wzl += static_cast<double>(wgt) * z;
     }
     if (view_.proj[i].x >= xmax - cfg_.contact_band_m) {
-      zr += view_.depth[i];
+      zr += z;
       ++nr;
+      wr += wgt;
+      wzr += static_cast<double>(wgt) * z;
     }
   }
-  c.dz = static_cast<float>(std::fabs(zl / nl - zr / nr));
+  constexpr double kMinWeight = 1e-3;
+  const double ml = wl > kMinWeight ? wzl / wl : zl / nl, mr = wr > kMinWeight ? wzr / wr : zr / nr;
+  c.dz = static_cast<float>(std::fabs(ml - mr));
   c.sides_in_cone = cfg_.friction_mu <= 0.f ||
                     (std::fabs(w.a_left) <= cfg_.friction_mu && std::fabs(w.a_right) <= cfg_.friction_mu);
   c.width = width;
