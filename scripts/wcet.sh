@@ -3,7 +3,10 @@
 # cortex-m7 capacities (both compiled for this x86-64 host), in build/h-wcet and
 # build/h-wcet-m7 (Release, plus -fstack-usage -fcallgraph-info=su for the stack graph
 # and -g so callgrind can name source files; -g does not change the generated code):
-#   1. time:         fg_wcet --runs N       -> median / max microseconds per stage
+#   1. time:         fg_wcet --runs N       -> median / max microseconds per stage, and
+#                    tests/wcet/interleaved_ratio.py: the whole plan's worst case against
+#                    the typical one with the cases run in interleaved rounds (fair on a
+#                    shared machine) -> interleaved.md
 #   2. instructions: per case, valgrind --tool=callgrind on fg_wcet --case NAME --once --ir
 #                    (the planner's own stage timers count instructions, see
 #                    tests/wcet/wcet_clock.hpp), and a profile run for callgrind_annotate
@@ -12,7 +15,7 @@
 #   4. report:       tests/wcet/wcet_report.py -> build/h-wcet*/wcet/report.md
 #
 # usage: bash scripts/wcet.sh [--runs N] [--config host|cortex-m7|all] [--cases a,b]
-#                             [--no-callgrind] [--no-profile] [--hash-cells N]
+#                             [--no-callgrind] [--no-profile] [--hash-cells N] [--rounds R]
 # Installs what is missing (scripts/install_deps.sh, and valgrind). Takes about
 # 15 minutes on a shared 2-core machine, most of it callgrind.
 set -euo pipefail
@@ -24,6 +27,7 @@ cases=""
 callgrind=1
 profile=1
 hash_cells_host=16384   # hash_collide is O(n^2): 98,304 colliding cells take minutes natively
+rounds=4                # interleaved rounds (0: skip)
 while [ $# -gt 0 ]; do
   case "$1" in
     --runs) runs="$2"; shift 2 ;;
@@ -32,7 +36,8 @@ while [ $# -gt 0 ]; do
     --no-callgrind) callgrind=0; shift ;;
     --no-profile) profile=0; shift ;;
     --hash-cells) hash_cells_host="$2"; shift 2 ;;
-    *) echo "usage: bash scripts/wcet.sh [--runs N] [--config host|cortex-m7|all] [--cases a,b] [--no-callgrind] [--no-profile] [--hash-cells N]" >&2; exit 2 ;;
+    --rounds) rounds="$2"; shift 2 ;;
+    *) echo "usage: bash scripts/wcet.sh [--runs N] [--config host|cortex-m7|all] [--cases a,b] [--no-callgrind] [--no-profile] [--hash-cells N] [--rounds R]" >&2; exit 2 ;;
   esac
 done
 
@@ -86,6 +91,11 @@ for limits in "${todo[@]}"; do
   cut -d' ' -f1-3 /proc/loadavg >"$out/loadavg_before.txt"
   "$exe" --runs "$runs" "${case_args[@]}" "${hash_args[@]}" --json "$out/time.json" --markdown "$out/time.md"
   cut -d' ' -f1-3 /proc/loadavg >"$out/loadavg_after.txt"
+  if [ "$rounds" -gt 0 ] && [ -z "$cases" ]; then
+    echo "-- time, interleaved ($rounds rounds of every case)"
+    python3 tests/wcet/interleaved_ratio.py "$exe" --rounds "$rounds" --json "$out/interleaved.json" >"$out/interleaved.md"
+    tail -1 "$out/interleaved.md"
+  fi
 
   # 2. instructions
   if [ "$callgrind" = 1 ]; then
