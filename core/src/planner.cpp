@@ -644,6 +644,7 @@ bool Planner::xoz(const ViewFrame& f, const SideFit& w, Candidate& c) {
   // its cap). Its voxels' centroids lie up to half a voxel beyond the footprint. Such a
   // grasp waits for the second pass (rank_and_check): on real captures a mixed pixel at
   // the silhouette's edge stands out as far (2-7 mm), and may be all a can shows.
+  //
   // dZ (paper eq. 8) weighs each contact by how far inside the pads' reach it lies:
   // 1 from one voxel leaf inside either end of the reach, falling linearly to 0 at the
   // end. Voxel centroids come in rows one leaf apart, so a hard cut at the reach's ends
