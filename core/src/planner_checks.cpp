@@ -29,6 +29,14 @@ constexpr float kHiddenBulge = 0.005f;
 // finger, a voxel apart (centroids lie up to half a voxel inside the surface), is hidden.
 constexpr float kBeyondSide = 0.005f;
 constexpr int kBeyondSteps = 40;  // at most this many probes per bin (more than 85 mm / 5 mm)
+// A closing direction within 45 deg of the support plane's normal puts a finger under
+// the target (fingers_clear_of_footprint).
+constexpr float kSteepClosingCos = 0.7071f;
+// A partly hidden finger's side with no contact normal at all is taken to mirror the
+// seen side: a flat seen face (a box's), or a curved one within this tilt of the closing
+// line (a cylinder across its axis). A curved seen side tilted more is a chord across a
+// round body, whose unseen end bulges into the open finger.
+constexpr float kBlindMirrorTiltCos = 0.978f;  // 12 deg
 // Straight down: an approach within 5 deg (half the extension families' 10 deg step) of
 // the support plane's downward normal.
 constexpr float kTopDownCos = 0.9962f;
@@ -130,9 +138,10 @@ void Planner::build_near_list(uint32_t* storage) {
 }
 
 // The checks in order; returns 0 when all pass, else the number of the first failing
-// one: 1 support plane, 2 collision, 3 local hull, 4 visibility, 5 friction, 7 a finger
-// partly in hidden space (only while first_pass_ is set). A pad whose edge meets a
-// surface beside it (Candidate::corners_clear) is deferred by rank_and_check unchecked.
+// one: 1 support plane, 2 collision, 3 local hull or under the target, 4 visibility,
+// 5 friction, 7 a finger partly in hidden space (only while first_pass_ is set). A pad
+// whose edge meets a surface beside it (Candidate::corners_clear) is deferred by
+// rank_and_check unchecked.
 int Planner::first_failed_check(const Candidate& c) {
   const ViewFrame f{c.X, c.Y, c.Z};
   Box boxes[3];
@@ -168,6 +177,7 @@ int Planner::first_failed_check(const Candidate& c) {
   // points alone miss a finger that would sit inside the solid (a cap grasp on a big
   // sphere), and the hull of the points around the hand fills in the unseen interior.
   if (!fingers_clear_of_hull(c.position, f)) return 3;
+  if (!fingers_clear_of_footprint(c.position, f, c.width)) return 3;
   // The open fingers must not sit in space the sensors saw only from behind a surface;
   // while first_pass_ is set, a finger with a few hidden samples waits too (7).
   uint32_t hidden_sides = 0;
@@ -180,6 +190,7 @@ int Planner::first_failed_check(const Candidate& c) {
   if (sight == 1 && !c.balanced) return 4;
   for (int side = 0; side < 2; ++side)
     if ((hidden_sides >> side & 1u) != 0u && !unseen_side_clear(c.position, f, side)) return 4;
+  if (hidden_sides != 0u && !blind_side_mirrors_seen(c.position, f, c.width, hidden_sides)) return 4;
   // Each fitted side's normal within the cone in XOY (beta alone only compares the two
   // sides), and the contact normals in 3D.
   if (cfg_.friction_mu > 0.f && (!c.sides_in_cone || !friction_ok(c.position, f, c.width))) return 5;
@@ -332,6 +343,52 @@ bool Planner::fingers_clear_of_hull(const Vec3& pos, const ViewFrame& f) {
   return true;
 }
 
+// A steep closing puts a finger under the target. The target rests on the support
+// plane, so the space under its seen points, down to the plane, is taken as solid: a
+// wall the sensors saw only at a grazing angle (its pixels dropped, so the space in
+// front of it reads as free), the unseen side under a seen top. Each target point's
+// vertical line, from a voxel below it down to the plane, must miss both fingers'
+// sweeps from the open pose to the pads (shrunk by half a voxel: a centroid lies up to
+// that far inside the surface; the pad's face kept a voxel off its contact). Only for
+// steep closings (kSteepClosingCos): sideways, real overhangs (a bat's blade over its
+// handle, a drill's body) lie over the fingers of good grasps.
+bool Planner::fingers_clear_of_footprint(const Vec3& pos, const ViewFrame& f, float width) {
+  if (!plane_found_ || std::fabs(f.X.dot(plane_.n)) < kSteepClosingCos) return true;
+  const GripperGeometry& g = cfg_.gripper;
+  const float half_open = 0.5f * g.max_opening_m, t = g.finger_thickness_m;
+  const float hy = 0.5f * g.finger_width_m, hz = 0.5f * g.finger_depth_m;
+  const float shrink = 0.5f * cfg_.voxel_leaf_m, gap = cfg_.voxel_leaf_m;
+  // Up (the plane's normal) in the grasp frame; the line below q is q - u * up.
+  const float up[3] = {f.X.dot(plane_.n), f.Y.dot(plane_.n), f.Z.dot(plane_.n)};
+  const float lo_yz[2] = {-hy + shrink, -hz + shrink}, hi_yz[2] = {hy - shrink, hz - shrink};
+  const uint32_t n = object_.size();
+  for (uint32_t i = 0; i < n; ++i) {
+    const float h = plane_.height(object_[i]);
+    if (!(h > gap)) continue;
+    const Vec3 d = object_[i] - pos;
+    const float q[3] = {f.X.dot(d), f.Y.dot(d), f.Z.dot(d)};
+    for (int side = 0; side < 2; ++side) {
+      // The finger's sweep from open to closed; its pad's face keeps a voxel clear of the
+      // contact (the side's points scatter about the fitted line).
+      const float lo[3] = {side == 0 ? -half_open - t + shrink : 0.5f * width + gap, lo_yz[0], lo_yz[1]};
+      const float hi[3] = {side == 0 ? -0.5f * width - gap : half_open + t - shrink, hi_yz[0], hi_yz[1]};
+      // Slab test of the segment u in [gap, h].
+      float u0 = gap, u1 = h;
+      for (int a = 0; a < 3 && u0 <= u1; ++a) {
+        if (std::fabs(up[a]) < 1e-6f) {
+          if (q[a] < lo[a] || q[a] > hi[a]) u1 = -1.f;
+          continue;
+        }
+        const float ua = (q[a] - hi[a]) / up[a], ub = (q[a] - lo[a]) / up[a];
+        u0 = std::max(u0, std::min(ua, ub));
+        u1 = std::min(u1, std::max(ua, ub));
+      }
+      if (u0 <= u1) return false;
+    }
+  }
+  return true;
+}
+
 // +1: some sensor saw a return behind q (q is free space); -1: some sensor saw a
 // surface in front of q and none saw through it (q is hidden); 0: no sensor knows.
 int Planner::visibility(const Vec3& q) const {
@@ -387,6 +444,26 @@ int Planner::fingers_in_seen_space(const Vec3& pos, const ViewFrame& f, uint32_t
   if (static_cast<float>(hidden) > kMaxHiddenShare * static_cast<float>(total) && !(one_finger && top_down))
     return 2;
   return partly_hidden != 0 ? 1 : 0;
+}
+
+// Each side under a partly hidden finger that shows no contact normal (contact_normal_stats:
+// its band holds only surfaces facing the approach, or none) must have a seen opposite
+// side it can mirror (kBlindMirrorTiltCos). Straight down, the blind side is the wall
+// under the top's rim (fingers_in_seen_space) and needs no mirror.
+bool Planner::blind_side_mirrors_seen(const Vec3& pos, const ViewFrame& f, float width, uint32_t hidden_sides) {
+  if (plane_found_ && -f.Z.dot(plane_.n) >= kTopDownCos) return true;
+  ContactNormalStats st;
+  contact_normal_stats(pos, f, width, st);
+  bool blind[2] = {false, false};
+  for (int side = 0; side < 2; ++side) blind[side] = (hidden_sides >> side & 1u) != 0u && st.total[side] == 0u;
+  if (!blind[0] && !blind[1]) return true;
+  if (blind[0] && blind[1]) return false;
+  float omc[2];
+  bool valid[2], flat[2];
+  float near_face[2], edge_face[2];
+  contact_tilt(pos, f, omc, valid, flat, near_face, edge_face);
+  const int seen = blind[0] ? 1 : 0;
+  return valid[seen] && (flat[seen] || omc[seen] <= 1.f - kBlindMirrorTiltCos);
 }
 
 // The object's side under a partly hidden finger (0 left, 1 right), as far as it was

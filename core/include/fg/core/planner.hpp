@@ -208,8 +208,10 @@ class Planner {
   void contact_tilt(const Vec3& pos, const ViewFrame& f, float one_minus_cos[2], bool valid[2], bool flat[2],
                     float near_face[2], float edge_face[2]);
   bool fingers_clear_of_hull(const Vec3& pos, const ViewFrame& f);
+  bool fingers_clear_of_footprint(const Vec3& pos, const ViewFrame& f, float width);
   int fingers_in_seen_space(const Vec3& pos, const ViewFrame& f, uint32_t& partly_hidden);
   bool unseen_side_clear(const Vec3& pos, const ViewFrame& f, int side);
+  bool blind_side_mirrors_seen(const Vec3& pos, const ViewFrame& f, float width, uint32_t hidden_sides);
   int visibility(const Vec3& q) const;
   bool normal_at(uint32_t object_index, Vec3& n);
   bool normal_planar(uint32_t object_index) const;  //!< after normal_at returned true
