@@ -349,18 +349,23 @@ bool Planner::fingers_clear_of_hull(const Vec3& pos, const ViewFrame& f) {
 // front of it reads as free), the unseen side under a seen top. Each target point's
 // vertical line, from a voxel below it down to the plane, must miss both fingers'
 // sweeps from the open pose to the pads (shrunk by half a voxel: a centroid lies up to
-// that far inside the surface; the pad's face kept a voxel off its contact). Only for
-// steep closings (kSteepClosingCos): sideways, real overhangs (a bat's blade over its
-// handle, a drill's body) lie over the fingers of good grasps.
+// that far inside the surface). Only for steep closings (kSteepClosingCos): sideways,
+// real overhangs (a bat's blade over its handle, a drill's body) lie over the fingers
+// of good grasps.
 bool Planner::fingers_clear_of_footprint(const Vec3& pos, const ViewFrame& f, float width) {
   if (!plane_found_ || std::fabs(f.X.dot(plane_.n)) < kSteepClosingCos) return true;
   const GripperGeometry& g = cfg_.gripper;
   const float half_open = 0.5f * g.max_opening_m, t = g.finger_thickness_m;
   const float hy = 0.5f * g.finger_width_m, hz = 0.5f * g.finger_depth_m;
   const float shrink = 0.5f * cfg_.voxel_leaf_m, gap = cfg_.voxel_leaf_m;
+  // Each finger's sweep from open to closed, in the grasp frame; its pad's face keeps a
+  // voxel clear of the contact (the side's points scatter about the fitted line).
+  const float lo[2][3] = {{-half_open - t + shrink, -hy + shrink, -hz + shrink},
+                          {0.5f * width + gap, -hy + shrink, -hz + shrink}};
+  const float hi[2][3] = {{-0.5f * width - gap, hy - shrink, hz - shrink},
+                          {half_open + t - shrink, hy - shrink, hz - shrink}};
   // Up (the plane's normal) in the grasp frame; the line below q is q - u * up.
   const float up[3] = {f.X.dot(plane_.n), f.Y.dot(plane_.n), f.Z.dot(plane_.n)};
-  const float lo_yz[2] = {-hy + shrink, -hz + shrink}, hi_yz[2] = {hy - shrink, hz - shrink};
   const uint32_t n = object_.size();
   for (uint32_t i = 0; i < n; ++i) {
     const float h = plane_.height(object_[i]);
@@ -368,18 +373,14 @@ bool Planner::fingers_clear_of_footprint(const Vec3& pos, const ViewFrame& f, fl
     const Vec3 d = object_[i] - pos;
     const float q[3] = {f.X.dot(d), f.Y.dot(d), f.Z.dot(d)};
     for (int side = 0; side < 2; ++side) {
-      // The finger's sweep from open to closed; its pad's face keeps a voxel clear of the
-      // contact (the side's points scatter about the fitted line).
-      const float lo[3] = {side == 0 ? -half_open - t + shrink : 0.5f * width + gap, lo_yz[0], lo_yz[1]};
-      const float hi[3] = {side == 0 ? -0.5f * width - gap : half_open + t - shrink, hi_yz[0], hi_yz[1]};
-      // Slab test of the segment u in [gap, h].
+      // Slab test of the segment u in [gap, h] against the sweep.
       float u0 = gap, u1 = h;
       for (int a = 0; a < 3 && u0 <= u1; ++a) {
         if (std::fabs(up[a]) < 1e-6f) {
-          if (q[a] < lo[a] || q[a] > hi[a]) u1 = -1.f;
+          if (q[a] < lo[side][a] || q[a] > hi[side][a]) u1 = -1.f;
           continue;
         }
-        const float ua = (q[a] - hi[a]) / up[a], ub = (q[a] - lo[a]) / up[a];
+        const float ua = (q[a] - hi[side][a]) / up[a], ub = (q[a] - lo[side][a]) / up[a];
         u0 = std::max(u0, std::min(ua, ub));
         u1 = std::min(u1, std::max(ua, ub));
       }
