@@ -8,6 +8,7 @@
 #include "fg/core/gjk.hpp"
 #include "fg/core/near_list.hpp"
 #include "fg/core/planner.hpp"
+#include "fg/core/segment_box.hpp"
 
 namespace fg {
 namespace {
@@ -372,20 +373,8 @@ bool Planner::fingers_clear_of_footprint(const Vec3& pos, const ViewFrame& f, fl
     if (!(h > gap)) continue;
     const Vec3 d = object_[i] - pos;
     const float q[3] = {f.X.dot(d), f.Y.dot(d), f.Z.dot(d)};
-    for (int side = 0; side < 2; ++side) {
-      // Slab test of the segment u in [gap, h] against the sweep.
-      float u0 = gap, u1 = h;
-      for (int a = 0; a < 3 && u0 <= u1; ++a) {
-        if (std::fabs(up[a]) < 1e-6f) {
-          if (q[a] < lo[side][a] || q[a] > hi[side][a]) u1 = -1.f;
-          continue;
-        }
-        const float ua = (q[a] - hi[side][a]) / up[a], ub = (q[a] - lo[side][a]) / up[a];
-        u0 = std::max(u0, std::min(ua, ub));
-        u1 = std::min(u1, std::max(ua, ub));
-      }
-      if (u0 <= u1) return false;
-    }
+    for (int side = 0; side < 2; ++side)
+      if (segment_meets_box(q, up, gap, h, lo[side], hi[side])) return false;
   }
   return true;
 }
