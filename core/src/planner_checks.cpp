@@ -344,6 +344,10 @@ bool Planner::fingers_clear_of_hull(const Vec3& pos, const ViewFrame& f) {
   return true;
 }
 
+bool Planner::straight_down(const ViewFrame& f) const {
+  return plane_found_ && -f.Z.dot(plane_.n) >= kTopDownCos;
+}
+
 // A steep closing puts a finger under the target. The target rests on the support
 // plane, so the space under its seen points, down to the plane, is taken as solid: a
 // wall the sensors saw only at a grazing angle (its pixels dropped, so the space in
@@ -430,7 +434,7 @@ int Planner::fingers_in_seen_space(const Vec3& pos, const ViewFrame& f, uint32_t
   // where it saw no slope is a wall standing on the plane; on a tilted approach it
   // would be a wall leaning towards the finger.
   const bool one_finger = partly_hidden == 1u || partly_hidden == 2u;
-  const bool top_down = plane_found_ && -f.Z.dot(plane_.n) >= kTopDownCos;
+  const bool top_down = straight_down(f);
   if (static_cast<float>(hidden) > kMaxHiddenShare * static_cast<float>(total) && !(one_finger && top_down))
     return 2;
   return partly_hidden != 0 ? 1 : 0;
@@ -441,7 +445,7 @@ int Planner::fingers_in_seen_space(const Vec3& pos, const ViewFrame& f, uint32_t
 // side it can mirror (kBlindMirrorTiltCos). Straight down, the blind side is the wall
 // under the top's rim (fingers_in_seen_space) and needs no mirror.
 bool Planner::blind_side_mirrors_seen(const Vec3& pos, const ViewFrame& f, float width, uint32_t hidden_sides) {
-  if (plane_found_ && -f.Z.dot(plane_.n) >= kTopDownCos) return true;
+  if (straight_down(f)) return true;
   ContactNormalStats st;
   contact_normal_stats(pos, f, width, st);
   bool blind[2] = {false, false};
@@ -481,7 +485,7 @@ bool Planner::unseen_side_clear(const Vec3& pos, const ViewFrame& f, int side) {
   // Least squares over the deepest seen bins: outward extent against depth.
   float sz = 0.f, sx = 0.f, szz = 0.f, szx = 0.f, x_last = 0.f, z_last = 0.f, x_max = -1e9f;
   int m = 0, unseen_bins = 0;
-  const bool top_down = plane_found_ && -f.Z.dot(plane_.n) >= kTopDownCos;
+  const bool top_down = straight_down(f);
   for (int b = 0; b < kProfileBins; ++b) x_max = std::max(x_max, out[b]);
   for (int b = kProfileBins - 1; b >= 0 && m < kSlopeBins; --b) {
     if (out[b] < -1e8f) continue;
