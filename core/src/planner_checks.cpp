@@ -735,6 +735,9 @@ bool Planner::friction_ok(const Vec3& pos, const ViewFrame& f, float width) {
       continue;
     }
     if (valid[s] && omc[s] <= 1.f - cos_cone) continue;  // in the cone at the extreme
+    // A curved side fitted steep at the extreme that the pad's tip alone reaches: too
+    // few contact normals to overrule the fit leave its verdict standing.
+    if (valid[s] && st.total[s] < 3 && st.z_first[s] > tip) return false;
     if (st.total[s] >= 3 && 3 * st.inside_cone[s] < st.total[s]) return false;
   }
   return true;
