@@ -202,6 +202,7 @@ class Planner {
     Vec3 outward_sum[2] = {Vec3::Zero(), Vec3::Zero()};
     float z_first[2] = {1e9f, 1e9f};   //!< the shallowest contact point along the approach
     uint32_t level[2] = {0, 0};        //!< normals within 30 deg of the support plane's (a top)
+    float top[2] = {-1e9f, -1e9f};     //!< the highest contact point above the support plane
   };
   void contact_normal_stats(const Vec3& pos, const ViewFrame& f, float width, ContactNormalStats& st);
   bool friction_ok(const Vec3& pos, const ViewFrame& f, float width);
