@@ -713,6 +713,13 @@ void Planner::contact_tilt(const Vec3& pos, const ViewFrame& f, float one_minus_
 bool Planner::friction_ok(const Vec3& pos, const ViewFrame& f, float width) {
   ContactNormalStats st;
   contact_normal_stats(pos, f, width, st);
+  // Both pads on a part that stands less than two voxel rows above the band taken for
+  // the table: a contact normal needs a 26-neighbourhood of side voxels, which such a
+  // side does not have, so no normal there is evidence either way (the scissors'
+  // blades and pivot, 10-20 mm high, held 27-31 deg outside the cone by their bevels).
+  // Tested before the tilt fit, which it makes unneeded.
+  const float verifiable = cfg_.object_min_height_m + 2.f * cfg_.voxel_leaf_m;
+  if (plane_found_ && st.top[0] < verifiable && st.top[1] < verifiable) return false;
   float omc[2];
   bool valid[2], flat[2];
   float near_face[2], edge_face[2];
@@ -720,12 +727,6 @@ bool Planner::friction_ok(const Vec3& pos, const ViewFrame& f, float width) {
   const float cos_cone = std::cos(std::atan(cfg_.friction_mu));
   const float cos_flat = std::cos(std::atan(cfg_.friction_mu) - kFlatMargin);
   const float tip = 0.5f * cfg_.gripper.finger_depth_m - kTipReach;
-  // Both pads on a part that stands less than two voxel rows above the band taken for
-  // the table: a contact normal needs a 26-neighbourhood of side voxels, which such a
-  // side does not have, so no normal there is evidence either way (the scissors'
-  // blades and pivot, 10-20 mm high, held 27-31 deg outside the cone by their bevels).
-  const float verifiable = cfg_.object_min_height_m + 2.f * cfg_.voxel_leaf_m;
-  if (plane_found_ && st.top[0] < verifiable && st.top[1] < verifiable) return false;
   for (int s = 0; s < 2; ++s) {
     // Every contact point within kTipReach of the fingertip, some of them on a face
     // parallel to the support plane (a top): the pad overlaps the side by less than

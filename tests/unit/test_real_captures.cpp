@@ -194,27 +194,33 @@ void known_limitation(const std::string& cap_name, int object, float opening, co
   GTEST_SKIP() << "known limitation: " << why << " (" << fg::to_string(o.result.reason) << ")";
 }
 
+// The labelled object's points in the scene's world (z: height above the labelled
+// table plane).
+std::vector<fg::Vec3> object_points_in_world(const Capture& cap, int object) {
+  const fg::Pose pose = scene_pose(cap, object);  // world z is the table's normal
+  const auto& xyz = cap.cloud.xyz;
+  std::vector<fg::Vec3> pts;
+  for (size_t i = 0; i < cap.cloud.size(); ++i) {
+    const fg::Vec3 p(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]);
+    if (p.allFinite() && is_object(cap.cloud.labels[i], object)) pts.push_back(pose.apply(p));
+  }
+  return pts;
+}
+
 // The labelled object's smallest width over horizontal closing directions (its points
 // projected on the labelled table plane, brute force over 0.25 deg steps). What the
 // sensor saw is part of the object, so the object is at least this wide.
 double min_horizontal_width(const Capture& cap, int object) {
-  const fg::Pose pose = scene_pose(cap, object);  // world z is the table's normal
-  const auto& xyz = cap.cloud.xyz;
-  std::vector<Eigen::Vector2d> pts;
-  for (size_t i = 0; i < cap.cloud.size(); ++i) {
-    const fg::Vec3 p(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]);
-    if (!p.allFinite() || !is_object(cap.cloud.labels[i], object)) continue;
-    const fg::Vec3 w = pose.apply(p);
-    pts.emplace_back(w.x(), w.y());
-  }
+  const std::vector<fg::Vec3> pts = object_points_in_world(cap, object);
   double best = 1e9;
   for (int k = 0; k < 720; ++k) {
     const double a = k * 3.14159265358979 / 720.0;
-    const Eigen::Vector2d d(std::cos(a), std::sin(a));
+    const double dx = std::cos(a), dy = std::sin(a);
     double lo = 1e9, hi = -1e9;
-    for (const auto& q : pts) {
-      lo = std::min(lo, q.dot(d));
-      hi = std::max(hi, q.dot(d));
+    for (const fg::Vec3& q : pts) {
+      const double t = dx * q.x() + dy * q.y();
+      lo = std::min(lo, t);
+      hi = std::max(hi, t);
     }
     best = std::min(best, hi - lo);
   }
@@ -251,14 +257,9 @@ TEST(RealCaptures, CansFitTheSmallGripper) { expect_grasp_on_target("learn44", 3
 // linear fit x^2 + y^2 = a x + b y + c, solved by Eigen's QR). The sensor sees an arc
 // of the side, which a circle fit recovers where the arc's chord would not.
 double arc_diameter(const Capture& cap, int object, double z_lo, double z_hi) {
-  const fg::Pose pose = scene_pose(cap, object);
-  const auto& xyz = cap.cloud.xyz;
   std::vector<Eigen::Vector3d> rows;
   std::vector<double> rhs;
-  for (size_t i = 0; i < cap.cloud.size(); ++i) {
-    const fg::Vec3 p(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]);
-    if (!p.allFinite() || !is_object(cap.cloud.labels[i], object)) continue;
-    const fg::Vec3 w = pose.apply(p);
+  for (const fg::Vec3& w : object_points_in_world(cap, object)) {
     if (w.z() < z_lo || w.z() >= z_hi) continue;
     rows.emplace_back(w.x(), w.y(), 1.0);
     rhs.push_back(static_cast<double>(w.x()) * w.x() + static_cast<double>(w.y()) * w.y());
