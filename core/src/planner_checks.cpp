@@ -747,6 +747,10 @@ bool Planner::friction_ok(const Vec3& pos, const ViewFrame& f, float width) {
     // few contact normals to overrule the fit leave its verdict standing.
     if (valid[s] && st.total[s] < 3 && st.z_first[s] > tip) return false;
     if (st.total[s] >= 3 && 3 * st.inside_cone[s] < st.total[s]) return false;
+    // The grasp's only contact normals, at least two on this pad (the other pad shows
+    // none), all off the cone: the one evidence there is says the pads slip, and
+    // nothing says otherwise (a tilted closing across a wide box's top edge).
+    if (st.total[s] >= 2 && st.inside_cone[s] == 0 && st.total[1 - s] == 0) return false;
   }
   return true;
 }
