@@ -720,13 +720,17 @@ bool Planner::friction_ok(const Vec3& pos, const ViewFrame& f, float width) {
   // Tested before the tilt fit, which it makes unneeded.
   const float verifiable = cfg_.object_min_height_m + 2.f * cfg_.voxel_leaf_m;
   if (plane_found_ && st.top[0] < verifiable && st.top[1] < verifiable) return false;
+  const float tip = 0.5f * cfg_.gripper.finger_depth_m - kTipReach;
+  // Both pads reach the target by their tips alone and neither shows a contact normal:
+  // the pads overlap it by less than kTipReach and nothing says they hold (a chord
+  // across the near side of a round body under a tilted approach).
+  if (st.total[0] + st.total[1] == 0 && st.z_first[0] > tip && st.z_first[1] > tip) return false;
   float omc[2];
   bool valid[2], flat[2];
   float near_face[2], edge_face[2];
   contact_tilt(pos, f, omc, valid, flat, near_face, edge_face);
   const float cos_cone = std::cos(std::atan(cfg_.friction_mu));
   const float cos_flat = std::cos(std::atan(cfg_.friction_mu) - kFlatMargin);
-  const float tip = 0.5f * cfg_.gripper.finger_depth_m - kTipReach;
   for (int s = 0; s < 2; ++s) {
     // Every contact point within kTipReach of the fingertip, some of them on a face
     // parallel to the support plane (a top): the pad overlaps the side by less than
