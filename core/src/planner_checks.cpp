@@ -450,7 +450,13 @@ bool Planner::blind_side_mirrors_seen(const Vec3& pos, const ViewFrame& f, float
   ContactNormalStats st;
   contact_normal_stats(pos, f, width, st);
   bool blind[2] = {false, false};
-  for (int side = 0; side < 2; ++side) blind[side] = (hidden_sides >> side & 1u) != 0u && st.total[side] == 0u;
+  // A side is blind under a partly hidden finger when its band shows no contact normal,
+  // or at most two, all off the cone: a steep glimpse of the near wall, not the side
+  // the pad would squeeze (a chord across a round body seen from one side).
+  for (int side = 0; side < 2; ++side) {
+    const bool no_side = st.total[side] == 0u || (st.total[side] <= 2u && st.inside_cone[side] == 0u);
+    blind[side] = (hidden_sides >> side & 1u) != 0u && no_side;
+  }
   if (!blind[0] && !blind[1]) return true;
   if (blind[0] && blind[1]) return false;
   float omc[2];
