@@ -36,6 +36,10 @@ constexpr float kMaxApproachUp = 0.5f;
 constexpr float kSameAxisCos = 0.9848078f;
 // The families about the support plane's horizontal axes close within 30 deg of it.
 constexpr float kSupportClosingSin = 0.5f;
+// A circle passing within 60 deg of straight down gets its steepest approach as a
+// viewpoint of its own, unless one of its steps lies within half a degree of it.
+constexpr float kSteepestReach = 0.5f;  // sin 30 deg: the down vector's part across the axis
+constexpr float kSameViewRad = 0.0087f;
 
 class StageTimer {
  public:
@@ -55,6 +59,22 @@ Vec3 rotate_about(const Vec3& v, const Vec3& axis_unit, float theta) {
   // Rodrigues for a vector orthogonal or not to the axis.
   const float c = std::cos(theta), s = std::sin(theta);
   return v * c + axis_unit.cross(v) * s + axis_unit * axis_unit.dot(v) * (1.f - c);
+}
+
+// The angle, on the circle of viewpoints about `axis` that add_family turns from X0,
+// of the circle's steepest approach (straight down the support plane's normal `n` when
+// the axis lies along the plane); false when the circle passes farther than 60 deg from
+// straight down, or one of its steps of `step` lies within kSameViewRad of it.
+bool steepest_theta(const Vec3& axis, const Vec3& X0, const Vec3& n, float step, float& theta) {
+  const Vec3 down = -n;
+  const Vec3 across = down - axis * axis.dot(down);
+  if (across.norm() <= kSteepestReach) return false;
+  const Vec3 Z0 = X0.cross(axis);
+  float th = std::atan2(across.dot(axis.cross(Z0)), across.dot(Z0));
+  if (th < 0.f) th += 2.f * kPi;
+  if (std::fabs(std::remainder(th, step)) <= kSameViewRad || th >= 2.f * kPi - kSameViewRad) return false;
+  theta = th;
+  return true;
 }
 
 // A unit vector orthogonal to `axis`, derived from `hint` (projected), with fallbacks.
@@ -274,8 +294,15 @@ uint32_t Planner::search_grasp(PlanResult& out, NoGraspReason& reason, const cha
       } else {
         const Vec3 hint = sensor_origin_[role_added_[1] ? 1 : 0] - centroid_;
         const Vec3 Xa = orthogonal_from(axes[fam - 1], hint);
-        add_family(fam == 2 ? ViewFamily::middle_axis : ViewFamily::minor_axis, axes[fam - 1], Xa, 0.f,
-                   2.f * kPi, false, 0.f, 0.f);
+        const ViewFamily vf = fam == 2 ? ViewFamily::middle_axis : ViewFamily::minor_axis;
+        add_family(vf, axes[fam - 1], Xa, 0.f, 2.f * kPi, false, 0.f, 0.f);
+        // The steps start from the sensor's direction, so they pass straight down only
+        // by chance (5 deg off at worst), yet an object standing on the plane is grasped
+        // best from straight above, its closing level: tilted 10 deg, the lower
+        // fingertip of a grasp on a bottle's cap meets the unseen shoulder under it.
+        float th = 0.f;
+        if (plane_found_ && steepest_theta(axes[fam - 1], Xa, plane_.n, cfg_.extension_dtheta_rad, th))
+          add_family(vf, axes[fam - 1], Xa, th, th, false, 0.f, 0.f);
       }
     }
     analyse_views(first_view, n_views_, out);

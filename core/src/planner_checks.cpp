@@ -737,7 +737,16 @@ bool Planner::friction_ok(const Vec3& pos, const ViewFrame& f, float width) {
   contact_tilt(pos, f, omc, valid, flat, near_face, edge_face);
   const float cos_cone = std::cos(std::atan(cfg_.friction_mu));
   const float cos_flat = std::cos(std::atan(cfg_.friction_mu) - kFlatMargin);
+  // Straight down, a pad whose band holds the rim of a top (normals facing up) and at
+  // most 2 contact normals, none in the cone, while the other pad shows at least 3, a
+  // third of them inside: the sensors saw the top and the near wall, and this band
+  // holds the rim's curve, not the unseen wall under it that the pad squeezes (a
+  // bottle's cap). The other pad judges the grasp, as for a blind side straight down.
+  const bool down = straight_down(f);
+  const auto rim_only = [&st](int s) { return st.level[s] > 0 && st.total[s] <= 2 && st.inside_cone[s] == 0; };
+  const auto holds = [&st](int s) { return st.total[s] >= 3 && 3 * st.inside_cone[s] >= st.total[s]; };
   for (int s = 0; s < 2; ++s) {
+    if (down && rim_only(s) && holds(1 - s)) continue;
     // Every contact point within kTipReach of the fingertip, some of them on a face
     // parallel to the support plane (a top): the pad overlaps the side by less than
     // that, and its tip may land on the top beyond the edge it was to squeeze (a low
