@@ -3,6 +3,7 @@
 // executability checks are in planner_checks.cpp.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "fg/core/eigen_sym3.hpp"
 #include "fg/core/planner.hpp"
@@ -40,6 +41,9 @@ constexpr float kSupportClosingSin = 0.5f;
 // viewpoint of its own, unless one of its steps lies within half a degree of it.
 constexpr float kSteepestReach = 0.5f;  // sin 30 deg: the down vector's part across the axis
 constexpr float kSameViewRad = 0.0087f;
+// The footprint's rectangle is searched over at most this many hull vertices (h^2 work);
+// a larger hull keeps the covariance axes.
+constexpr uint32_t kMaxFootprintHull = 256;
 
 class StageTimer {
  public:
@@ -314,16 +318,24 @@ uint32_t Planner::search_grasp(PlanResult& out, NoGraspReason& reason, const cha
   // plane: horizontal approaches all round, and approaches in the vertical planes
   // through the object's major and minor directions along the plane (top-down grasps
   // closing across the narrow side, or along the long one).
-  Vec3 sup[3];
-  for (int fam = 4; fam <= 6 && found == kMaxCandidates && cfg_.extend_search && support_frame(sup); ++fam) {
+  Vec3 sup[3], foot[3];
+  bool have_sup = false, have_foot = false;
+  if (found == kMaxCandidates && cfg_.extend_search) {
+    StageTimer t(stage(out, Stage::frame));
+    have_sup = support_frame(sup);
+    have_foot = have_sup && footprint_axes(sup, foot);
+  }
+  for (int fam = 4; fam <= 6 && found == kMaxCandidates && have_sup; ++fam) {
     const uint32_t first_view = n_views_, first_cand = n_candidates_;
     {
       StageTimer t(stage(out, Stage::frame));
       // Axis and start: the normal from the minor direction; the major direction
       // from the minor (theta 0: top-down, closing across the narrow side); the minor
-      // from the major (theta pi: top-down, closing along the long side).
-      const Vec3& axis = sup[fam - 4];
-      const Vec3& x0 = fam == 6 ? sup[1] : sup[2];
+      // from the major (theta pi: top-down, closing along the long side). The last two
+      // take the footprint's sides when known (footprint_axes).
+      const Vec3* in_plane = have_foot ? foot : sup;
+      const Vec3& axis = fam == 4 ? sup[0] : in_plane[fam - 4];
+      const Vec3& x0 = fam == 4 ? sup[2] : fam == 6 ? in_plane[1] : in_plane[2];
       // A circle about (nearly) the same axis as one searched above is skipped: it
       // would search the same approaches again (an upright object's principal axis
       // snaps to the vertical, and its other axes are then horizontal too).
@@ -447,6 +459,51 @@ bool Planner::support_frame(Vec3 axes[3]) const {
   axes[1] = major;
   axes[2] = n.cross(major).normalized();
   return axes[1].allFinite() && axes[2].allFinite();
+}
+
+bool Planner::footprint_axes(const Vec3 sup[3], Vec3 foot[3]) {
+  // The target's points on the plane's (major, minor) axes, then their convex hull;
+  // the hull overwrites the projection (its scratch), both idle between the families.
+  const uint32_t m = object_.size();
+  Vec2* const p = view_.proj;
+  for (uint32_t i = 0; i < m; ++i) {
+    const Vec3 d = object_[i] - centroid_;
+    p[i] = Vec2{sup[1].dot(d), sup[2].dot(d)};
+  }
+  uint32_t h = 0;
+  if (convex_hull_2d(p, m, p, contour_, kMaxContourVertices, h) != Status::ok || h < 3 || h > kMaxFootprintHull)
+    return false;
+  // The smallest-area rectangle has a side along a hull edge (Freeman and Shapira).
+  const float inf = std::numeric_limits<float>::infinity();
+  float best = inf, major_x = 0.f, major_y = 0.f;
+  for (uint32_t i = 0; i < h; ++i) {
+    const Vec2& q = contour_[i + 1 < h ? i + 1 : 0];
+    float ex = q.x - contour_[i].x, ey = q.y - contour_[i].y;
+    const float len = std::sqrt(ex * ex + ey * ey);
+    if (!(len > 1e-6f)) continue;
+    ex /= len;
+    ey /= len;
+    float a0 = inf, a1 = -inf, b0 = inf, b1 = -inf;  // along the edge, across it
+    for (uint32_t j = 0; j < h; ++j) {
+      const float a = ex * contour_[j].x + ey * contour_[j].y, b = ex * contour_[j].y - ey * contour_[j].x;
+      a0 = std::min(a0, a);
+      a1 = std::max(a1, a);
+      b0 = std::min(b0, b);
+      b1 = std::max(b1, b);
+    }
+    const float area = (a1 - a0) * (b1 - b0);
+    if (area < best) {
+      best = area;
+      const bool along = a1 - a0 >= b1 - b0;  // the major side: the longer one
+      major_x = along ? ex : -ey;
+      major_y = along ? ey : ex;
+    }
+  }
+  if (!(best < inf)) return false;
+  foot[0] = sup[0];
+  foot[1] = (sup[1] * major_x + sup[2] * major_y).normalized();
+  foot[2] = sup[0].cross(foot[1]).normalized();
+  return foot[1].allFinite() && foot[2].allFinite();
 }
 
 uint32_t Planner::add_family(ViewFamily fam, const Vec3& axis, const Vec3& X0, float from,

@@ -719,13 +719,13 @@ void Planner::contact_tilt(const Vec3& pos, const ViewFrame& f, float one_minus_
 bool Planner::friction_ok(const Vec3& pos, const ViewFrame& f, float width) {
   ContactNormalStats st;
   contact_normal_stats(pos, f, width, st);
-  // Both pads on a part that stands less than two voxel rows above the band taken for
-  // the table: a contact normal needs a 26-neighbourhood of side voxels, which such a
-  // side does not have, so no normal there is evidence either way (the scissors'
-  // blades and pivot, 10-20 mm high, held 27-31 deg outside the cone by their bevels).
-  // Tested before the tilt fit, which it makes unneeded.
+  // A pad on a part that stands less than two voxel rows above the band taken for the
+  // table: a contact normal needs a 26-neighbourhood of side voxels, which such a side
+  // does not have, so no normal there is evidence either way (the scissors' blades and
+  // pivot, 10-20 mm high, held 27-31 deg outside the cone by their bevels). One such
+  // pad is enough: the grasp holds only if both pads do. Tested before the tilt fit.
   const float verifiable = cfg_.object_min_height_m + 2.f * cfg_.voxel_leaf_m;
-  if (plane_found_ && st.top[0] < verifiable && st.top[1] < verifiable) return false;
+  if (plane_found_ && (st.top[0] < verifiable || st.top[1] < verifiable)) return false;
   const float tip = 0.5f * cfg_.gripper.finger_depth_m - kTipReach;
   // Both pads reach the target by their tips alone and neither shows a contact normal:
   // the pads overlap it by less than kTipReach and nothing says they hold (a chord

@@ -32,15 +32,16 @@ TEST(PlannerTipReach, GraspsOnLowSlabsHoldOnTheTrueGeometry) {
     return slab_scene(seed, height);
   });
   EXPECT_EQ(r.held, r.grasps) << "grasps that do not hold:" << r.failures;
-  // The slabs fit the gripper across their narrow side: most get a grasp (16 of 24; 22
-  // before slabs under 16 mm were refused by ContactsTooLowToVerifyGetNoGrasp's rule).
-  EXPECT_GE(r.grasps, 12);
+  // The slabs fit the gripper across their narrow side: about half get a grasp (13 of
+  // 24 since session 17, where one pad under 16 mm is enough for the rule of
+  // ContactsTooLowToVerifyGetNoGrasp; 16 when both had to be; 22 before the rule).
+  EXPECT_GE(r.grasps, 10);
 }
 
 // Slabs lower than two voxel rows above the band taken for the table (object_min_height
 // + 2 voxel leaves: 16 mm by default) leave no side with a 26-neighbourhood of its own,
 // so no contact normal there says whether the pads hold: the friction check refuses
-// every grasp with both pads on such a part (docs/method.md). The control plans the
+// every grasp with a pad on such a part (docs/method.md). The control plans the
 // same scenes with friction_mu = 0 (no friction check): there the planner finds grasps,
 // so the no_grasp above is this rule's and not a scene with nothing to grasp.
 TEST(PlannerTipReach, ContactsTooLowToVerifyGetNoGrasp) {

@@ -182,6 +182,7 @@ class Planner {
   uint32_t search_grasp(PlanResult& out, NoGraspReason& reason, const char*& why);
   bool build_object_frame(Vec3 axes[3], Vec3& X0);
   bool support_frame(Vec3 axes[3]) const;
+  bool footprint_axes(const Vec3 sup[3], Vec3 foot[3]);  // the smallest rectangle's sides
   uint32_t add_family(ViewFamily fam, const Vec3& axis, const Vec3& X0, float from, float to,
                       bool skip_arc, float arc_from, float arc_to);
   void analyse_views(uint32_t first, uint32_t last, PlanResult& out);
