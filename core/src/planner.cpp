@@ -319,16 +319,20 @@ uint32_t Planner::search_grasp(PlanResult& out, NoGraspReason& reason, const cha
   // through the object's major and minor directions along the plane (top-down grasps
   // closing across the narrow side, or along the long one).
   Vec3 sup[3], foot[3];
-  bool have_sup = false, have_foot = false;
+  bool have_sup = false, foot_measured = false, have_foot = false;
   if (found == kMaxCandidates && cfg_.extend_search) {
     StageTimer t(stage(out, Stage::frame));
     have_sup = support_frame(sup);
-    have_foot = have_sup && footprint_axes(sup, foot);
   }
   for (int fam = 4; fam <= 6 && found == kMaxCandidates && have_sup; ++fam) {
     const uint32_t first_view = n_views_, first_cand = n_candidates_;
     {
       StageTimer t(stage(out, Stage::frame));
+      // The footprint's sides, once, when the first circle that turns about them comes.
+      if (fam >= 5 && !foot_measured) {
+        foot_measured = true;
+        have_foot = footprint_axes(sup, foot);
+      }
       // Axis and start: the normal from the minor direction; the major direction
       // from the minor (theta 0: top-down, closing across the narrow side); the minor
       // from the major (theta pi: top-down, closing along the long side). The last two

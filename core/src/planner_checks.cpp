@@ -744,7 +744,9 @@ bool Planner::friction_ok(const Vec3& pos, const ViewFrame& f, float width) {
   // bottle's cap). The other pad judges the grasp, as for a blind side straight down.
   const bool down = straight_down(f);
   const auto rim_only = [&st](int s) { return st.level[s] > 0 && st.total[s] <= 2 && st.inside_cone[s] == 0; };
-  const auto holds = [&st](int s) { return st.total[s] >= 3 && 3 * st.inside_cone[s] >= st.total[s]; };
+  // At least a third of a pad's contact normals inside the cone (the fallback below).
+  const auto third_inside = [&st](int s) { return 3 * st.inside_cone[s] >= st.total[s]; };
+  const auto holds = [&st, &third_inside](int s) { return st.total[s] >= 3 && third_inside(s); };
   for (int s = 0; s < 2; ++s) {
     if (down && rim_only(s) && holds(1 - s)) continue;
     // Every contact point within kTipReach of the fingertip, some of them on a face
@@ -765,7 +767,7 @@ bool Planner::friction_ok(const Vec3& pos, const ViewFrame& f, float width) {
     // A curved side fitted steep at the extreme that the pad's tip alone reaches: too
     // few contact normals to overrule the fit leave its verdict standing.
     if (valid[s] && st.total[s] < 3 && st.z_first[s] > tip) return false;
-    if (st.total[s] >= 3 && 3 * st.inside_cone[s] < st.total[s]) return false;
+    if (st.total[s] >= 3 && !third_inside(s)) return false;
     // The grasp's only contact normals, at least two on this pad (the other pad shows
     // none), all off the cone: the one evidence there is says the pads slip, and
     // nothing says otherwise (a tilted closing across a wide box's top edge).
