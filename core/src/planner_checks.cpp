@@ -38,6 +38,20 @@ constexpr float kSteepClosingCos = 0.7071f;
 // line (a cylinder across its axis). A curved seen side tilted more is a chord across a
 // round body, whose unseen end bulges into the open finger.
 constexpr float kBlindMirrorTiltCos = 0.978f;  // 12 deg
+// The round front beside a blind side (round_front_clears_blind_side): at most this many
+// profile bins across the open gripper; a circle fitted to them is trusted within this
+// rms distance, for radii in this range, and when it bends by at least kRoundSagitta
+// over the profile's span (a flat face's noise fits huge circles).
+constexpr int kRoundBins = 32;
+constexpr int kRoundMinBins = 5;
+constexpr float kRoundMinSpan = 0.015f;
+constexpr double kRoundRms = 0.002;
+constexpr double kRoundMinRadius = 0.005;
+constexpr double kRoundMaxRadius = 0.1;
+constexpr double kRoundSagitta = 0.003;
+// Both pads reach the target by their tips alone and show at most this many contact
+// normals between them: nothing says they hold (friction_ok).
+constexpr uint32_t kTipOnlyNormals = 2;
 // Straight down: an approach within 5 deg (half the extension families' 10 deg step) of
 // the support plane's downward normal.
 constexpr float kTopDownCos = 0.9962f;
@@ -459,12 +473,102 @@ bool Planner::blind_side_mirrors_seen(const Vec3& pos, const ViewFrame& f, float
   }
   if (!blind[0] && !blind[1]) return true;
   if (blind[0] && blind[1]) return false;
+  if (!round_front_clears_blind_side(pos, f, blind[0] ? 0 : 1)) return false;
   float omc[2];
   bool valid[2], flat[2];
   float near_face[2], edge_face[2];
   contact_tilt(pos, f, omc, valid, flat, near_face, edge_face);
   const int seen = blind[0] ? 1 : 0;
   return valid[seen] && (flat[seen] || omc[seen] <= 1.f - kBlindMirrorTiltCos);
+}
+
+// The mirror above reads a round body's chord as a whole body: the seen side is where
+// the pad meets the body along the closing line, the blind side the edge of what the
+// sensors saw of its front, and the body's unseen rest bulges past the open finger
+// there (a wide can, a bottle's body seen from one side, grasped off its axis). The
+// front the approach meets first, across the open gripper within the pads' width
+// (per bin of a voxel or more, the nearest point), tells: when a circle fits it (Kasa's
+// algebraic fit, then its rms distance), the circle's extent on the blind side over
+// the fingers' depth must stay inside the open finger. A flat or irregular front says
+// nothing here (the mirror stands).
+bool Planner::round_front_clears_blind_side(const Vec3& pos, const ViewFrame& f, int blind_side) {
+  const GripperGeometry& g = cfg_.gripper;
+  const float half_open = 0.5f * g.max_opening_m;
+  const float bin = std::max(cfg_.voxel_leaf_m, 2.f * half_open / static_cast<float>(kRoundBins));
+  const int nb = std::min(kRoundBins, static_cast<int>(2.f * half_open / bin) + 1);
+  float front_z[kRoundBins], front_x[kRoundBins];
+  for (int b = 0; b < nb; ++b) front_z[b] = 1e9f;
+  const uint32_t n = object_.size();
+  for (uint32_t i = 0; i < n; ++i) {
+    const Vec3 d = object_[i] - pos;
+    const float x = f.X.dot(d), y = f.Y.dot(d), z = f.Z.dot(d);
+    if (std::fabs(y) > 0.5f * g.finger_width_m || !(std::fabs(x) < half_open)) continue;
+    const int b = std::min(nb - 1, static_cast<int>((x + half_open) / bin));
+    if (z < front_z[b]) {
+      front_z[b] = z;
+      front_x[b] = x;
+    }
+  }
+  // Centred coordinates keep the normal equations well conditioned.
+  double mx = 0.0, mz = 0.0;
+  float xlo = 1e9f, xhi = -1e9f;
+  int m = 0;
+  for (int b = 0; b < nb; ++b) {
+    if (front_z[b] > 1e8f) continue;
+    mx += front_x[b];
+    mz += front_z[b];
+    xlo = std::min(xlo, front_x[b]);
+    xhi = std::max(xhi, front_x[b]);
+    ++m;
+  }
+  if (m < kRoundMinBins || xhi - xlo < kRoundMinSpan) return true;
+  mx /= m;
+  mz /= m;
+  // x^2 + z^2 + D x + E z + F = 0 in the least-squares sense: normal equations a s = r.
+  double a[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}, r[3] = {0, 0, 0};
+  for (int b = 0; b < nb; ++b) {
+    if (front_z[b] > 1e8f) continue;
+    const double v[3] = {front_x[b] - mx, front_z[b] - mz, 1.0};
+    const double w = -(v[0] * v[0] + v[1] * v[1]);
+    for (int i = 0; i < 3; ++i) {
+      r[i] += v[i] * w;
+      for (int j = 0; j < 3; ++j) a[i][j] += v[i] * v[j];
+    }
+  }
+  const auto det3 = [](const double q[3][3]) {
+    return q[0][0] * (q[1][1] * q[2][2] - q[1][2] * q[2][1]) - q[0][1] * (q[1][0] * q[2][2] - q[1][2] * q[2][0]) +
+           q[0][2] * (q[1][0] * q[2][1] - q[1][1] * q[2][0]);
+  };
+  const double det = det3(a);
+  if (!(std::fabs(det) > 1e-18)) return true;  // collinear bins: a flat front
+  double sol[3];
+  for (int k = 0; k < 3; ++k) {  // Cramer's rule
+    double t[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) t[i][j] = j == k ? r[i] : a[i][j];
+    sol[k] = det3(t) / det;
+  }
+  const double xc = -0.5 * sol[0], zc = -0.5 * sol[1], rr = xc * xc + zc * zc - sol[2];
+  // The centre must lie behind the front (convex towards the gripper).
+  if (!(rr > 0.0) || !(zc > 0.0)) return true;
+  const double radius = std::sqrt(rr);
+  double ss = 0.0;
+  for (int b = 0; b < nb; ++b) {
+    if (front_z[b] > 1e8f) continue;
+    const double dx = front_x[b] - mx - xc, dz = front_z[b] - mz - zc;
+    const double e = std::sqrt(dx * dx + dz * dz) - radius;
+    ss += e * e;
+  }
+  const double span = static_cast<double>(xhi - xlo);
+  if (std::sqrt(ss / m) > kRoundRms || radius < kRoundMinRadius || radius > kRoundMaxRadius ||
+      span * span / (8.0 * radius) < kRoundSagitta)
+    return true;
+  // The circle's half width over the fingers' depth: all of it when its centre lies
+  // within the pads' reach, else where it crosses the fingertips' plane.
+  const double cx = xc + mx, cz = zc + mz, hz = 0.5 * g.finger_depth_m;
+  const double half = cz <= hz ? radius : std::sqrt(std::max(0.0, rr - (cz - hz) * (cz - hz)));
+  const double extent = blind_side == 0 ? half - cx : cx + half;
+  return extent <= static_cast<double>(half_open - cfg_.collision_tolerance_m);
 }
 
 // The object's side under a partly hidden finger (0 left, 1 right), as far as it was
@@ -727,10 +831,11 @@ bool Planner::friction_ok(const Vec3& pos, const ViewFrame& f, float width) {
   const float verifiable = cfg_.object_min_height_m + 2.f * cfg_.voxel_leaf_m;
   if (plane_found_ && (st.top[0] < verifiable || st.top[1] < verifiable)) return false;
   const float tip = 0.5f * cfg_.gripper.finger_depth_m - kTipReach;
-  // Both pads reach the target by their tips alone and neither shows a contact normal:
-  // the pads overlap it by less than kTipReach and nothing says they hold (a chord
-  // across the near side of a round body under a tilted approach).
-  if (st.total[0] + st.total[1] == 0 && st.z_first[0] > tip && st.z_first[1] > tip) return false;
+  // Both pads reach the target by their tips alone and show at most kTipOnlyNormals
+  // contact normals between them: the pads overlap it by less than kTipReach and nothing
+  // says they hold (a chord across the near side of a round body under a tilted
+  // approach; a wide can's front, one stray normal on one pad).
+  if (st.total[0] + st.total[1] <= kTipOnlyNormals && st.z_first[0] > tip && st.z_first[1] > tip) return false;
   float omc[2];
   bool valid[2], flat[2];
   float near_face[2], edge_face[2];
