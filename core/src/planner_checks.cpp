@@ -524,30 +524,18 @@ bool Planner::round_front_clears_blind_side(const Vec3& pos, const ViewFrame& f,
   if (m < kRoundMinBins || xhi - xlo < kRoundMinSpan) return true;
   mx /= m;
   mz /= m;
-  // x^2 + z^2 + D x + E z + F = 0 in the least-squares sense: normal equations a s = r.
-  double a[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}, r[3] = {0, 0, 0};
+  // x^2 + z^2 + D x + E z + F = 0 in the least-squares sense: normal equations a s = r
+  // (Eigen's closed-form 3x3 determinant and inverse: fixed size, no heap).
+  Eigen::Matrix3d a = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d r = Eigen::Vector3d::Zero();
   for (int b = 0; b < nb; ++b) {
     if (front_z[b] > 1e8f) continue;
-    const double v[3] = {front_x[b] - mx, front_z[b] - mz, 1.0};
-    const double w = -(v[0] * v[0] + v[1] * v[1]);
-    for (int i = 0; i < 3; ++i) {
-      r[i] += v[i] * w;
-      for (int j = 0; j < 3; ++j) a[i][j] += v[i] * v[j];
-    }
+    const Eigen::Vector3d v(front_x[b] - mx, front_z[b] - mz, 1.0);
+    a += v * v.transpose();
+    r -= (v[0] * v[0] + v[1] * v[1]) * v;
   }
-  const auto det3 = [](const double q[3][3]) {
-    return q[0][0] * (q[1][1] * q[2][2] - q[1][2] * q[2][1]) - q[0][1] * (q[1][0] * q[2][2] - q[1][2] * q[2][0]) +
-           q[0][2] * (q[1][0] * q[2][1] - q[1][1] * q[2][0]);
-  };
-  const double det = det3(a);
-  if (!(std::fabs(det) > 1e-18)) return true;  // collinear bins: a flat front
-  double sol[3];
-  for (int k = 0; k < 3; ++k) {  // Cramer's rule
-    double t[3][3];
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) t[i][j] = j == k ? r[i] : a[i][j];
-    sol[k] = det3(t) / det;
-  }
+  if (!(std::fabs(a.determinant()) > 1e-18)) return true;  // collinear bins: a flat front
+  const Eigen::Vector3d sol = a.inverse() * r;
   const double xc = -0.5 * sol[0], zc = -0.5 * sol[1], rr = xc * xc + zc * zc - sol[2];
   // The centre must lie behind the front (convex towards the gripper).
   if (!(rr > 0.0) || !(zc > 0.0)) return true;

@@ -3,7 +3,7 @@
 
   sim_seeds.py run FORCEGRASP OUT_DIR [--seeds twelve|fresh|further|blind|wide|5000,...] [--jobs 2]
                  [--trials 380] [--objects all]
-      runs `FORCEGRASP sim --objects all --trials N --seed S --quiet --json OUT_DIR/S.json`
+      runs `FORCEGRASP sim --objects KINDS --trials N --seed S --quiet --json OUT_DIR/S.json`
       for every seed (two at a time by default) and prints the summary of OUT_DIR.
       `--seeds blind` is the hold-out nobody looks into: totals only (SEED_SETS).
       `--seeds wide` runs the four kinds too wide to grasp, 2,000 trials per seed.
