@@ -824,6 +824,16 @@ bool Planner::friction_ok(const Vec3& pos, const ViewFrame& f, float width) {
   // says they hold (a chord across the near side of a round body under a tilted
   // approach; a wide can's front, one stray normal on one pad).
   if (st.total[0] + st.total[1] <= kTipOnlyNormals && st.z_first[0] > tip && st.z_first[1] > tip) return false;
+  const bool down = straight_down(f);
+  // Off straight down, a pad whose band shows no contact normal while the other pad's
+  // show fewer than a third inside the cone: that pad's normals are the only evidence
+  // there is, and they judge the grasp, not the tilt extrapolated to its extreme
+  // (a closing across a wide box's top edge 25 deg off the top's normal, the lower pad
+  // in the box's unseen side; standing bats held 29-64 deg outside the cone). Straight
+  // down such a band is the wall under a top's rim, judged below.
+  const auto third_inside = [&st](int s) { return 3 * st.inside_cone[s] >= st.total[s]; };
+  for (int s = 0; s < 2 && !down; ++s)
+    if (st.total[1 - s] == 0 && st.total[s] >= 2 && !third_inside(s)) return false;
   float omc[2];
   bool valid[2], flat[2];
   float near_face[2], edge_face[2];
@@ -835,10 +845,7 @@ bool Planner::friction_ok(const Vec3& pos, const ViewFrame& f, float width) {
   // third of them inside: the sensors saw the top and the near wall, and this band
   // holds the rim's curve, not the unseen wall under it that the pad squeezes (a
   // bottle's cap). The other pad judges the grasp, as for a blind side straight down.
-  const bool down = straight_down(f);
   const auto rim_only = [&st](int s) { return st.level[s] > 0 && st.total[s] <= 2 && st.inside_cone[s] == 0; };
-  // At least a third of a pad's contact normals inside the cone (the fallback below).
-  const auto third_inside = [&st](int s) { return 3 * st.inside_cone[s] >= st.total[s]; };
   const auto holds = [&st, &third_inside](int s) { return st.total[s] >= 3 && third_inside(s); };
   for (int s = 0; s < 2; ++s) {
     if (down && rim_only(s) && holds(1 - s)) continue;
