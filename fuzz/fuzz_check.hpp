@@ -43,10 +43,13 @@ inline void check_cloud_read(const fg::host::ReadResult& r, const fg::host::Poin
   }
   FG_FUZZ_CHECK(r.error.empty(), "a successful read carries an error message");
   FG_FUZZ_CHECK(c.xyz.size() % 3 == 0, "xyz is not a multiple of 3 floats");
-  FG_FUZZ_CHECK(c.xyz.size() / 3 == static_cast<size_t>(c.width) * c.height,
-                "point count differs from width x height");
-  FG_FUZZ_CHECK(c.labels.empty() || c.labels.size() == c.xyz.size() / 3,
-                "labels are neither empty nor one per point");
+  FG_FUZZ_CHECK(!c.planar() || c.xyz.empty(), "a planar cloud also holds triples");
+  for (int k = 0; k < 3 && c.planar(); ++k)
+    FG_FUZZ_CHECK(c.planar_offset[k] <= c.planar_block.size() &&
+                      c.planar_points <= (c.planar_block.size() - c.planar_offset[k]) / sizeof(float),
+                  "a planar coordinate array runs past its block");
+  FG_FUZZ_CHECK(c.size() == static_cast<size_t>(c.width) * c.height, "point count differs from width x height");
+  FG_FUZZ_CHECK(c.labels.empty() || c.labels.size() == c.size(), "labels are neither empty nor one per point");
 }
 
 }  // namespace fg_fuzz

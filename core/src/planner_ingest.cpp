@@ -222,20 +222,39 @@ Status Planner::add_points(SensorRole role, const float* xyz, uint32_t count,
     message_ = "point stride is smaller than three floats";
     return Status::invalid_argument;
   }
+  // No offset from a null array (count 0): it is not read.
+  const uint8_t* p = reinterpret_cast<const uint8_t*>(xyz);
+  const uint8_t* const base[3] = {p, p ? p + sizeof(float) : p, p ? p + 2 * sizeof(float) : p};
+  return add_coordinates(role, base, count, stride_bytes, world_T_sensor);
+}
+
+Status Planner::add_points_planar(SensorRole role, const float* x, const float* y, const float* z,
+                                  uint32_t count, const Pose& world_T_sensor) {
+  if ((x == nullptr || y == nullptr || z == nullptr) && count > 0) {
+    message_ = "a coordinate array is null";
+    return Status::invalid_argument;
+  }
+  const uint8_t* const base[3] = {reinterpret_cast<const uint8_t*>(x), reinterpret_cast<const uint8_t*>(y),
+                                  reinterpret_cast<const uint8_t*>(z)};
+  return add_coordinates(role, base, count, sizeof(float), world_T_sensor);
+}
+
+Status Planner::add_coordinates(SensorRole role, const uint8_t* const base[3], uint32_t count,
+                                uint32_t stride_bytes, const Pose& world_T_sensor) {
   const Status s = ingest_begin(role, world_T_sensor);
   if (s != Status::ok) return s;
   const uint64_t t0 = platform::monotonic_us();
   Ingest in = make_ingest(world_T_sensor, cfg_, grid_, crop_min_, crop_max_,
                           sight_mm_[static_cast<uint32_t>(role)]);
   Status st = Status::ok;
-  const uint8_t* base = reinterpret_cast<const uint8_t*>(xyz);
+  const uint8_t *bx = base[0], *by = base[1], *bz = base[2];
   for (uint32_t i = 0; i < count; ++i) {
     // Any alignment; three scalar loads (a copy through a float[3] went via the stack).
-    const uint8_t* q = base + static_cast<size_t>(i) * stride_bytes;
+    const size_t off = static_cast<size_t>(i) * stride_bytes;
     float x, y, z;
-    std::memcpy(&x, q, sizeof x);
-    std::memcpy(&y, q + 4, sizeof y);
-    std::memcpy(&z, q + 8, sizeof z);
+    std::memcpy(&x, bx + off, sizeof x);
+    std::memcpy(&y, by + off, sizeof y);
+    std::memcpy(&z, bz + off, sizeof z);
     if (!in.add(grid_, x, y, z)) {
       st = Status::capacity_exceeded;
       break;

@@ -407,6 +407,19 @@ fg_status fg_add_points(fg_workspace* ws, int32_t role, const float* xyz, size_t
   return to_c(s);
 }
 
+fg_status fg_add_points_planar(fg_workspace* ws, int32_t role, const float* x, const float* y,
+                               const float* z, size_t count, const fg_pose* world_T_sensor) {
+  if (!valid(ws)) return FG_ERR_NOT_A_WORKSPACE;
+  if (!role_ok(role)) return fail(ws, FG_ERR_INVALID_SENSOR, "unknown sensor role");
+  if (world_T_sensor == nullptr) return fail(ws, FG_ERR_INVALID_ARGUMENT, "pose pointer is null");
+  if (count > UINT32_MAX) return fail(ws, FG_ERR_CAPACITY_EXCEEDED, "more than 2^32 - 1 points in one call");
+  const fg::Pose pose = to_pose(*world_T_sensor);
+  const fg::Status s = ws->planner.add_points_planar(static_cast<fg::SensorRole>(role), x, y, z,
+                                                     static_cast<uint32_t>(count), pose);
+  ws->message = ws->planner.last_message();
+  return to_c(s);
+}
+
 fg_status fg_plan(fg_workspace* ws, fg_grasp* out) {
   if (!valid(ws)) return FG_ERR_NOT_A_WORKSPACE;
   if (out == nullptr) return fail(ws, FG_ERR_INVALID_ARGUMENT, "grasp output pointer is null");

@@ -96,6 +96,31 @@ TEST_P(FirmwareApiScenes, SameAnswerAsThePlanner) {
     EXPECT_EQ(got.beta_rad, want.grasp.beta);
     EXPECT_EQ(got.dz_m, want.grasp.dz);
   }
+
+  // The same clouds as x, y and z arrays (fg_add_points_planar): the same plan.
+  ASSERT_EQ(fg_reset(ws), FG_OK);
+  for (size_t i = 0; i < d.clouds.size(); ++i) {
+    const size_t n = d.clouds[i].size();
+    std::vector<float> planar(3 * n);
+    for (size_t j = 0; j < n; ++j)
+      for (size_t k = 0; k < 3; ++k) planar[k * n + j] = d.clouds[i].xyz[j * 3 + k];
+    const fg_pose pose = to_c(d.poses[i]);
+    ASSERT_EQ(fg_add_points_planar(ws, static_cast<int32_t>(d.roles[i]), planar.data(), planar.data() + n,
+                                   planar.data() + 2 * n, n, &pose),
+              FG_OK);
+  }
+  fg_grasp planar_got;
+  EXPECT_EQ(fg_plan(ws, &planar_got), s);
+  EXPECT_EQ(planar_got.voxels, got.voxels);
+  EXPECT_EQ(planar_got.object_voxels, got.object_voxels);
+  EXPECT_EQ(std::memcmp(planar_got.position, got.position, sizeof got.position), 0);
+  EXPECT_EQ(std::memcmp(planar_got.closing, got.closing, sizeof got.closing), 0);
+  EXPECT_EQ(planar_got.width_m, got.width_m);
+  const float none[1] = {0.f};
+  const fg_pose pose = to_c(d.poses[0]);
+  ASSERT_EQ(fg_reset(ws), FG_OK);
+  EXPECT_EQ(fg_add_points_planar(ws, FG_SENSOR_HEAD, nullptr, none, none, 1, &pose), FG_ERR_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(fg_last_message(ws)).find("null"), std::string::npos) << fg_last_message(ws);
 }
 
 INSTANTIATE_TEST_SUITE_P(Shipped, FirmwareApiScenes,

@@ -3,7 +3,8 @@
 // memalign / aligned_alloc / posix_memalign are defined here forwarding to glibc's
 // __libc_* entry points, all counting while `armed` is set. A positive control
 // proves the counters are live; then the counter is armed after the Planner is
-// constructed and configured, and reset(), add_points() of a 640 x 480 organized cloud
+// constructed and configured, and reset(), add_points() (and add_points_planar()) of a
+// 640 x 480 organized cloud
 // (table + box), add_depth_image() and plan() must not allocate. Nothing that may
 // allocate (gtest assertions, std::string) runs while armed: counts go to plain
 // variables and are checked after disarming.
@@ -377,6 +378,20 @@ TEST(NoHeap, PlanningAllocatesNothing) {
   const CycleResult second = armed_cycle(*pl, head, cloud, hand, depth, out);
   EXPECT_EQ(second.plan, first.plan);
   EXPECT_EQ(second.counts.total(), 0u);
+
+  // The head's cloud as x, y and z arrays (add_points_planar) instead of triples.
+  std::vector<float> planar(cloud.size());
+  const size_t n = cloud.size() / 3;
+  for (size_t i = 0; i < n; ++i)
+    for (size_t k = 0; k < 3; ++k) planar[k * n + i] = cloud[i * 3 + k];
+  arm();
+  pl->reset();
+  const Status planar_points = pl->add_points_planar(SensorRole::head, planar.data(), planar.data() + n,
+                                                     planar.data() + 2 * n, static_cast<uint32_t>(n), head.pose);
+  const Status planar_plan = pl->plan(out);
+  EXPECT_EQ(disarm().total(), 0u);
+  EXPECT_EQ(planar_points, Status::ok);
+  EXPECT_EQ(planar_plan, Status::ok) << out.message;
 
   arm();
   pl->reset();

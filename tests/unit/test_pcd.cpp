@@ -485,6 +485,58 @@ TEST(PcdHandWritten, CompressedStructureOfArraysLabelFirst) {
   expect_same_points(expect, c);
 }
 
+TEST(PcdHandWritten, CompressedPlanarWhenAllowed) {
+  // With ReadLimits::planar the decompressed block is handed over (x, y and z arrays
+  // after the labels), with the same points, labels and counts as the triples.
+  std::vector<float> xyz;
+  const auto b = compressed_pcd(500, xyz);
+  ReadLimits planar;
+  planar.planar = true;
+  PointCloud c, t;
+  ASSERT_TRUE(parse(b, c, "soa.pcd", planar).ok);
+  ASSERT_TRUE(parse(b, t, "soa.pcd").ok);
+  ASSERT_TRUE(c.planar());
+  EXPECT_FALSE(t.planar());
+  EXPECT_TRUE(c.xyz.empty());
+  EXPECT_EQ(c.size(), 500u);
+  EXPECT_EQ(c.labels, t.labels);
+  for (size_t i = 0; i < 500; ++i)
+    for (int k = 0; k < 3; ++k) {
+      const float v = c.planar_array(k)[i], w = xyz[i * 3 + static_cast<size_t>(k)];
+      if (std::isnan(w)) {
+        EXPECT_TRUE(std::isnan(v)) << i << " " << k;
+      } else {
+        EXPECT_EQ(v, w) << i << " " << k;
+      }
+    }
+  // Other encodings fill the triples whatever the flag says.
+  const std::string path = ::testing::TempDir() + "planar_ascii.pcd";
+  ASSERT_TRUE(fg::host::write_pcd(path, t, PcdEncoding::ascii).ok);
+  PointCloud a;
+  ASSERT_TRUE(fg::host::read_pcd(path, a, planar).ok);
+  EXPECT_FALSE(a.planar());
+  EXPECT_EQ(a.size(), 500u);
+}
+
+TEST(PcdRealFiles, PlanarReadOfACaptureMatchesTheTriples) {
+  // learn3.pcd is binary_compressed `label x y z rgba`, 640 x 480.
+  ReadLimits planar;
+  planar.planar = true;
+  PointCloud c, t;
+  ASSERT_TRUE(fg::host::read_pcd(kClouds + "mosd/learn3.pcd", c, planar).ok);
+  ASSERT_TRUE(fg::host::read_pcd(kClouds + "mosd/learn3.pcd", t).ok);
+  ASSERT_TRUE(c.planar());
+  ASSERT_EQ(c.size(), t.size());
+  size_t finite = 0;
+  for (size_t i = 0; i < c.size(); ++i)
+    for (int k = 0; k < 3; ++k) {
+      const float v = c.planar_array(k)[i], w = t.xyz[i * 3 + static_cast<size_t>(k)];
+      ASSERT_EQ(std::memcmp(&v, &w, 4), 0) << i << " " << k;
+      finite += k == 2 && std::isfinite(v) ? 1u : 0u;
+    }
+  EXPECT_EQ(finite, 206139u);
+}
+
 // ---- malformed inputs ---------------------------------------------------------------------
 
 namespace {

@@ -165,6 +165,64 @@ TEST(PlannerInput, StridesLargerThanAPointAndUnaligned) {
   EXPECT_EQ(ra.points.voxels, rb.points.voxels);
 }
 
+TEST(PlannerInput, PlanarArraysArgumentsAndCounts) {
+  auto pl = make_planner();
+  const float x[2] = {0.f, kNaN}, y[2] = {0.f, 0.f}, z[2] = {1.f, 1.f};
+  for (int k = 0; k < 3; ++k) {
+    pl->reset();
+    EXPECT_EQ(pl->add_points_planar(SensorRole::head, k == 0 ? nullptr : x, k == 1 ? nullptr : y,
+                                    k == 2 ? nullptr : z, 2, Pose{}),
+              Status::invalid_argument)
+        << k;
+    EXPECT_TRUE(nonempty(pl->last_message())) << k;
+  }
+  // No points: null arrays are fine. Then the role is used up, as with add_points.
+  pl->reset();
+  EXPECT_EQ(pl->add_points_planar(SensorRole::head, nullptr, nullptr, nullptr, 0, Pose{}), Status::ok);
+  EXPECT_EQ(pl->add_points_planar(SensorRole::head, x, y, z, 2, Pose{}), Status::invalid_sensor);
+  // The NaN point is counted as offered and not finite.
+  EXPECT_EQ(pl->add_points_planar(SensorRole::hand, x, y, z, 2, Pose{}), Status::ok);
+  PlanResult r;
+  pl->plan(r);
+  EXPECT_EQ(r.points.input, 2u);
+  EXPECT_EQ(r.points.finite, 1u);
+}
+
+TEST(PlannerInput, PlanarArraysPlanLikeTriples) {
+  // The box scene seen from a sensor above and in front, with NaN holes, as x, y and z
+  // arrays and as xyz triples: the same voxels and a bit-identical grasp.
+  const Pose pose = look_at(Vec3(0.1f, -0.3f, 0.6f), Vec3(0.5f, 0.f, 0.05f));
+  std::vector<Vec3> pts = to_sensor(box_scene(21, 0.07f, 0.05f), pose);
+  for (size_t i = 0; i < pts.size(); i += 17) pts[i].x() = kNaN;
+  std::vector<float> xs, ys, zs;
+  for (const Vec3& p : pts) {
+    xs.push_back(p.x());
+    ys.push_back(p.y());
+    zs.push_back(p.z());
+  }
+  auto a = make_planner();
+  auto b = make_planner();
+  ASSERT_EQ(add(*a, pts, pose), Status::ok);
+  ASSERT_EQ(b->add_points_planar(SensorRole::head, xs.data(), ys.data(), zs.data(),
+                                 static_cast<uint32_t>(pts.size()), pose),
+            Status::ok);
+  PlanResult ra, rb;
+  a->plan(ra);
+  b->plan(rb);
+  ASSERT_EQ(ra.status, Status::ok) << ra.message;
+  EXPECT_EQ(rb.status, ra.status);
+  EXPECT_EQ(rb.points.input, ra.points.input);
+  EXPECT_EQ(rb.points.finite, ra.points.finite);
+  EXPECT_LT(ra.points.finite, ra.points.input);
+  EXPECT_EQ(rb.points.after_filter, ra.points.after_filter);
+  EXPECT_EQ(rb.points.voxels, ra.points.voxels);
+  EXPECT_EQ(rb.points.object, ra.points.object);
+  EXPECT_EQ(std::memcmp(ra.grasp.position.data(), rb.grasp.position.data(), 12), 0);
+  EXPECT_EQ(std::memcmp(ra.grasp.closing.data(), rb.grasp.closing.data(), 12), 0);
+  EXPECT_EQ(std::memcmp(ra.grasp.approach.data(), rb.grasp.approach.data(), 12), 0);
+  EXPECT_EQ(std::memcmp(&ra.grasp.width, &rb.grasp.width, 4), 0);
+}
+
 TEST(PlannerInput, BadPoses) {
   const float xyz[3] = {0.5f, 0.f, 1.f};
   struct Case {

@@ -214,6 +214,11 @@ fg_status fg_add_depth_image(fg_workspace *ws, int32_t role, const uint16_t *dep
 fg_status fg_add_points(fg_workspace *ws, int32_t role, const float *xyz, size_t count,
                         size_t stride_bytes, const fg_pose *world_T_sensor);
 
+/** The same for planar buffers (structure of arrays): point i is (x[i], y[i], z[i]).
+ *  Null arrays only with count 0. */
+fg_status fg_add_points_planar(fg_workspace *ws, int32_t role, const float *x, const float *y,
+                               const float *z, size_t count, const fg_pose *world_T_sensor);
+
 /** Plans a grasp on this capture. FG_OK: *out holds the grasp. FG_NO_GRASP:
  *  out->reason says why. Errors leave out's counts and times filled where known. */
 fg_status fg_plan(fg_workspace *ws, fg_grasp *out);

@@ -83,7 +83,9 @@ PlanOutcome run_plan(const PlanOptions& opts) {
     reads.reserve(n_sensors);
     for (size_t i = 0; i < n_sensors; ++i)
       reads.push_back(std::async(std::launch::async, [&clouds, &read_done_us, &scene, i] {
-        ReadResult r = read_cloud(scene.sensors[i].cloud_path, clouds[i]);
+        ReadLimits limits;
+        limits.planar = true;  // binary_compressed x, y, z go to the planner as decompressed
+        ReadResult r = read_cloud(scene.sensors[i].cloud_path, clouds[i], limits);
         read_done_us[i] = platform::monotonic_us();
         return r;
       }));
@@ -119,8 +121,10 @@ PlanOutcome run_plan(const PlanOptions& opts) {
         add_error = s.cloud_path + ": too many points";
         continue;
       }
-      const Status st = planner.add_points(role, c.xyz.data(), static_cast<uint32_t>(c.size()),
-                                           3 * sizeof(float), pose);
+      const uint32_t n = static_cast<uint32_t>(c.size());
+      const Status st = c.planar() ? planner.add_points_planar(role, c.planar_array(0), c.planar_array(1),
+                                                               c.planar_array(2), n, pose)
+                                   : planner.add_points(role, c.xyz.data(), n, 3 * sizeof(float), pose);
       if (st != Status::ok) add_error = s.cloud_path + ": " + planner.last_message() + " (" + to_string(st) + ")";
       clouds[i] = PointCloud{};  // its memory is no longer needed
     }

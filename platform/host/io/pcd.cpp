@@ -334,22 +334,31 @@ ReadResult parse_pcd_impl(const uint8_t* data, size_t size, const std::string& n
     if (!lzf::decompress(data + data_offset + 8, csize, buf.data(), usize, err)) {
       return fail(name, "DATA binary_compressed: " + err);
     }
-    cloud.xyz.resize(points * 3);
     // Structure of arrays: the block of field f starts at points * (offset of f in a point).
     const uint8_t* bx = buf.data() + points * fx.offset;
     const uint8_t* by = buf.data() + points * fy.offset;
     const uint8_t* bz = buf.data() + points * fz.offset;
-    float* o = cloud.xyz.data();
-    for (uint64_t i = 0; i < points; ++i, o += 3) {
-      o[0] = read_coord(bx + i * fx.size, fx.size);
-      o[1] = read_coord(by + i * fy.size, fy.size);
-      o[2] = read_coord(bz + i * fz.size, fz.size);
-    }
     if (il >= 0) {
       const Field& fl = fields[static_cast<size_t>(il)];
       const uint8_t* bl = buf.data() + points * fl.offset;
       cloud.labels.resize(points);
       for (uint64_t i = 0; i < points; ++i) cloud.labels[i] = read_label(bl + i * fl.size, fl.size);
+    }
+    if (limits.planar && points > 0 && fx.size == 4 && fy.size == 4 && fz.size == 4) {
+      // x, y and z are float arrays in the block already: hand the block over.
+      cloud.planar_offset[0] = static_cast<size_t>(points * fx.offset);
+      cloud.planar_offset[1] = static_cast<size_t>(points * fy.offset);
+      cloud.planar_offset[2] = static_cast<size_t>(points * fz.offset);
+      cloud.planar_points = points;
+      cloud.planar_block = std::move(buf);
+    } else {
+      cloud.xyz.resize(points * 3);
+      float* o = cloud.xyz.data();
+      for (uint64_t i = 0; i < points; ++i, o += 3) {
+        o[0] = read_coord(bx + i * fx.size, fx.size);
+        o[1] = read_coord(by + i * fy.size, fy.size);
+        o[2] = read_coord(bz + i * fz.size, fz.size);
+      }
     }
   } else {
     // ascii: every value takes at least one byte, so V values per point bound the points

@@ -133,6 +133,12 @@ class Planner {
   Status add_points(SensorRole role, const float* xyz, uint32_t count, uint32_t stride_bytes,
                     const Pose& world_T_sensor);
 
+  //! The same for a structure of arrays: point i is (x[i], y[i], z[i]) (a sensor SDK's
+  //! planar buffers, a PCD file's binary_compressed block as decompressed: no copy into
+  //! x y z triples first).
+  Status add_points_planar(SensorRole role, const float* x, const float* y, const float* z,
+                           uint32_t count, const Pose& world_T_sensor);
+
   //! Adds a depth image (uint16 millimetres, 0 = no reading, row-major width x height).
   Status add_depth_image(SensorRole role, const uint16_t* depth_mm, uint16_t width,
                          uint16_t height, const PinholeIntrinsics& k, const Pose& world_T_sensor);
@@ -178,6 +184,9 @@ class Planner {
   Status check_pose(const Pose& p);
   Status ingest_begin(SensorRole role, const Pose& world_T_sensor);
   Status end_ingest(uint32_t offered, uint32_t finite, uint32_t kept, uint64_t t0, Status st);
+  // The loop both point layouts share: coordinate k of point i at base[k] + i * stride.
+  Status add_coordinates(SensorRole role, const uint8_t* const base[3], uint32_t count,
+                         uint32_t stride_bytes, const Pose& world_T_sensor);
   void load_target(uint32_t size, uint32_t* storage);
   uint32_t search_grasp(PlanResult& out, NoGraspReason& reason, const char*& why);
   bool build_object_frame(Vec3 axes[3], Vec3& X0);
