@@ -66,27 +66,41 @@ bool decompress(const uint8_t* in, size_t in_size, uint8_t* out, size_t out_size
         return false;
       }
       const uint8_t* ref = out + op - dist;
+      uint8_t* dst = out + op;
       if (op + len + 16 <= out_size) {
-        // Chunked copies (the bytes past len are overwritten by what follows); a chunk
-        // no longer than the distance has its source wholly before its destination.
-        // Matches are short (5-7 bytes on average in depth clouds), so one chunk is
-        // the rule; distance 4 is a repeated float (runs of NaN pixels).
-        if (dist >= 16) {
-          for (size_t k = 0; k < len; k += 16) std::memcpy(out + op + k, ref + k, 16);
-        } else if (dist >= 8) {
-          for (size_t k = 0; k < len; k += 8) std::memcpy(out + op + k, ref + k, 8);
-        } else if (dist == 4) {
-          uint8_t pattern[8];
-          std::memcpy(pattern, ref, 4);
-          std::memcpy(pattern + 4, ref, 4);
-          for (size_t k = 0; k < len; k += 8) std::memcpy(out + op + k, pattern, 8);
+        // Chunked copies (the bytes past len are overwritten by what follows). An
+        // 8-byte chunk whose source lies wholly before it (distance 8 or more) copies
+        // the run, its overlap included; most matches are 5-7 bytes, so two chunks
+        // without a loop test are the rule. A shorter distance repeats a pattern
+        // (4: a repeated float, runs of NaN pixels): its first 8 bytes go byte by
+        // byte, after which the run repeats at a distance of 8 or more.
+        if (dist < 8) {
+          for (size_t k = 0; k < 8; ++k) dst[k] = ref[k];
+          const size_t period = dist * ((8 + dist - 1) / dist);  // a multiple of dist, 8..14
+          ref = dst + 8 - period;
+          dst += 8;
+          if (len > 8) {
+            for (size_t k = 0; k < len - 8; k += 8) {
+              uint64_t v;
+              std::memcpy(&v, ref + k, 8);
+              std::memcpy(dst + k, &v, 8);
+            }
+          }
         } else {
-          for (size_t k = 0; k < len; ++k) out[op + k] = ref[k];  // overlapping run
+          uint64_t a, b;
+          std::memcpy(&a, ref, 8);
+          std::memcpy(dst, &a, 8);
+          std::memcpy(&b, ref + 8, 8);
+          std::memcpy(dst + 8, &b, 8);
+          for (size_t k = 16; k < len; k += 8) {
+            std::memcpy(&a, ref + k, 8);
+            std::memcpy(dst + k, &a, 8);
+          }
         }
       } else if (dist >= len) {
-        std::memcpy(out + op, ref, len);
+        std::memcpy(dst, ref, len);
       } else {
-        for (size_t k = 0; k < len; ++k) out[op + k] = ref[k];  // overlapping run
+        for (size_t k = 0; k < len; ++k) dst[k] = ref[k];  // overlapping run
       }
       op += len;
     }
