@@ -392,12 +392,20 @@ fg_status fg_add_depth_image(fg_workspace* ws, int32_t role, const uint16_t* dep
   return to_c(s);
 }
 
-fg_status fg_add_points(fg_workspace* ws, int32_t role, const float* xyz, size_t count,
-                        size_t stride_bytes, const fg_pose* world_T_sensor) {
+namespace {
+// The checks both point calls make before the planner's own; FG_OK to go on.
+fg_status points_call_ok(fg_workspace* ws, int32_t role, size_t count, const fg_pose* world_T_sensor) {
   if (!valid(ws)) return FG_ERR_NOT_A_WORKSPACE;
   if (!role_ok(role)) return fail(ws, FG_ERR_INVALID_SENSOR, "unknown sensor role");
   if (world_T_sensor == nullptr) return fail(ws, FG_ERR_INVALID_ARGUMENT, "pose pointer is null");
   if (count > UINT32_MAX) return fail(ws, FG_ERR_CAPACITY_EXCEEDED, "more than 2^32 - 1 points in one call");
+  return FG_OK;
+}
+}  // namespace
+
+fg_status fg_add_points(fg_workspace* ws, int32_t role, const float* xyz, size_t count,
+                        size_t stride_bytes, const fg_pose* world_T_sensor) {
+  if (const fg_status c = points_call_ok(ws, role, count, world_T_sensor); c != FG_OK) return c;
   if (stride_bytes > UINT32_MAX) return fail(ws, FG_ERR_INVALID_ARGUMENT, "stride_bytes above 2^32 - 1");
   const fg::Pose pose = to_pose(*world_T_sensor);
   const fg::Status s =
@@ -409,10 +417,7 @@ fg_status fg_add_points(fg_workspace* ws, int32_t role, const float* xyz, size_t
 
 fg_status fg_add_points_planar(fg_workspace* ws, int32_t role, const float* x, const float* y,
                                const float* z, size_t count, const fg_pose* world_T_sensor) {
-  if (!valid(ws)) return FG_ERR_NOT_A_WORKSPACE;
-  if (!role_ok(role)) return fail(ws, FG_ERR_INVALID_SENSOR, "unknown sensor role");
-  if (world_T_sensor == nullptr) return fail(ws, FG_ERR_INVALID_ARGUMENT, "pose pointer is null");
-  if (count > UINT32_MAX) return fail(ws, FG_ERR_CAPACITY_EXCEEDED, "more than 2^32 - 1 points in one call");
+  if (const fg_status c = points_call_ok(ws, role, count, world_T_sensor); c != FG_OK) return c;
   const fg::Pose pose = to_pose(*world_T_sensor);
   const fg::Status s = ws->planner.add_points_planar(static_cast<fg::SensorRole>(role), x, y, z,
                                                      static_cast<uint32_t>(count), pose);

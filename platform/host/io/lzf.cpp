@@ -74,28 +74,19 @@ bool decompress(const uint8_t* in, size_t in_size, uint8_t* out, size_t out_size
         // without a loop test are the rule. A shorter distance repeats a pattern
         // (4: a repeated float, runs of NaN pixels): its first 8 bytes go byte by
         // byte, after which the run repeats at a distance of 8 or more.
+        uint64_t v;
         if (dist < 8) {
           for (size_t k = 0; k < 8; ++k) dst[k] = ref[k];
-          const size_t period = dist * ((8 + dist - 1) / dist);  // a multiple of dist, 8..14
-          ref = dst + 8 - period;
-          dst += 8;
-          if (len > 8) {
-            for (size_t k = 0; k < len - 8; k += 8) {
-              uint64_t v;
-              std::memcpy(&v, ref + k, 8);
-              std::memcpy(dst + k, &v, 8);
-            }
-          }
+          ref = dst - dist * ((8 + dist - 1) / dist);  // the same phase, 8 to 14 back
         } else {
-          uint64_t a, b;
-          std::memcpy(&a, ref, 8);
-          std::memcpy(dst, &a, 8);
-          std::memcpy(&b, ref + 8, 8);
-          std::memcpy(dst + 8, &b, 8);
-          for (size_t k = 16; k < len; k += 8) {
-            std::memcpy(&a, ref + k, 8);
-            std::memcpy(dst + k, &a, 8);
-          }
+          std::memcpy(&v, ref, 8);
+          std::memcpy(dst, &v, 8);
+        }
+        std::memcpy(&v, ref + 8, 8);
+        std::memcpy(dst + 8, &v, 8);
+        for (size_t k = 16; k < len; k += 8) {
+          std::memcpy(&v, ref + k, 8);
+          std::memcpy(dst + k, &v, 8);
         }
       } else if (dist >= len) {
         std::memcpy(dst, ref, len);

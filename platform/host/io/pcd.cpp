@@ -335,9 +335,11 @@ ReadResult parse_pcd_impl(const uint8_t* data, size_t size, const std::string& n
       return fail(name, "DATA binary_compressed: " + err);
     }
     // Structure of arrays: the block of field f starts at points * (offset of f in a point).
-    const uint8_t* bx = buf.data() + points * fx.offset;
-    const uint8_t* by = buf.data() + points * fy.offset;
-    const uint8_t* bz = buf.data() + points * fz.offset;
+    const size_t block[3] = {static_cast<size_t>(points * fx.offset), static_cast<size_t>(points * fy.offset),
+                             static_cast<size_t>(points * fz.offset)};
+    const uint8_t* bx = buf.data() + block[0];
+    const uint8_t* by = buf.data() + block[1];
+    const uint8_t* bz = buf.data() + block[2];
     if (il >= 0) {
       const Field& fl = fields[static_cast<size_t>(il)];
       const uint8_t* bl = buf.data() + points * fl.offset;
@@ -346,9 +348,7 @@ ReadResult parse_pcd_impl(const uint8_t* data, size_t size, const std::string& n
     }
     if (limits.planar && points > 0 && fx.size == 4 && fy.size == 4 && fz.size == 4) {
       // x, y and z are float arrays in the block already: hand the block over.
-      cloud.planar_offset[0] = static_cast<size_t>(points * fx.offset);
-      cloud.planar_offset[1] = static_cast<size_t>(points * fy.offset);
-      cloud.planar_offset[2] = static_cast<size_t>(points * fz.offset);
+      for (int k = 0; k < 3; ++k) cloud.planar_offset[k] = block[k];
       cloud.planar_points = points;
       cloud.planar_block = std::move(buf);
     } else {
