@@ -823,15 +823,21 @@ uint32_t Planner::rank_and_check(uint32_t first, PlanResult& out) {
   return kMaxCandidates;
 }
 
-// The grasps rank_and_check deferred, in the order they were met, with the hidden
-// samples the visibility check allows and the pads' corners let be.
+// The grasps rank_and_check deferred, with the hidden samples the visibility check
+// allows and the pads' corners let be: those straight down first, then the others,
+// each in the order they were met. Straight down, the pads close level and meet the
+// sides they were fitted to; tilted, the lower pad reaches past them, and a grasp
+// deferred for a partly hidden finger may meet what the sensors did not see there.
 uint32_t Planner::check_deferred(PlanResult& out) {
   StageTimer t(stage(out, Stage::select));
   first_pass_ = false;
-  for (uint32_t i = 0; i < n_deferred_ && checks_left_ > 0; ++i, --checks_left_) {
-    Candidate& c = candidates_[deferred_list_[i]];
-    if (executable(c, out)) return deferred_list_[i];
-  }
+  for (int down = 1; down >= 0; --down)
+    for (uint32_t i = 0; i < n_deferred_ && checks_left_ > 0; ++i) {
+      Candidate& c = candidates_[deferred_list_[i]];
+      if (straight_down(ViewFrame{c.X, c.Y, c.Z}) != (down == 1)) continue;
+      --checks_left_;
+      if (executable(c, out)) return deferred_list_[i];
+    }
   return kMaxCandidates;
 }
 

@@ -3,6 +3,7 @@
 // the friction cone of the contact normals.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "fg/core/eigen_sym3.hpp"
 #include "fg/core/gjk.hpp"
@@ -55,6 +56,13 @@ constexpr uint32_t kTipOnlyNormals = 2;
 // Straight down: an approach within 5 deg (half the extension families' 10 deg step) of
 // the support plane's downward normal.
 constexpr float kTopDownCos = 0.9962f;
+// A grasp on a cap (lower_tip_unseen): an approach off straight down by at most 25 deg,
+// a grasp at least this much narrower than the target along the closing direction, and
+// more than kCapTipHidden of the kCapTipSamples samples around the lower pad's tip,
+// between its open pose and its contact, in hidden space.
+constexpr float kCapTiltCos = 0.9063f;  // 25 deg
+constexpr float kCapNarrower = 0.020f;
+constexpr uint32_t kCapTipHidden = 6;
 // The contact tilt fit (contact_tilt): points up to this deep inside each side, at
 // least this many, spread over at least this depth.
 constexpr float kTiltFitDepth = 0.012f;
@@ -154,7 +162,8 @@ void Planner::build_near_list(uint32_t* storage) {
 
 // The checks in order; returns 0 when all pass, else the number of the first failing
 // one: 1 support plane, 2 collision, 3 local hull or under the target, 4 visibility,
-// 5 friction, 7 a finger partly in hidden space (only while first_pass_ is set). A pad
+// 5 friction, 7 a finger partly in hidden space or a cap's lower fingertip in it (only
+// while first_pass_ is set). A pad
 // whose edge meets a surface beside it (Candidate::corners_clear) is deferred by
 // rank_and_check unchecked.
 int Planner::first_failed_check(const Candidate& c) {
@@ -209,6 +218,9 @@ int Planner::first_failed_check(const Candidate& c) {
   // Each fitted side's normal within the cone in XOY (beta alone only compares the two
   // sides), and the contact normals in 3D.
   if (cfg_.friction_mu > 0.f && (!c.sides_in_cone || !friction_ok(c.position, f, c.width))) return 5;
+  // A cap grasped off straight down whose lower fingertip closes through space no
+  // sensor saw waits too: the body under the cap may flare out there.
+  if (first_pass_ && lower_tip_unseen(c.position, f, c.width)) return 7;
   return 0;
 }
 
@@ -357,6 +369,45 @@ bool Planner::fingers_clear_of_hull(const Vec3& pos, const ViewFrame& f) {
     if (gjk_intersect(bs, hs)) return false;
   }
   return true;
+}
+
+// A cap or a neck on a wider body, grasped from a little off straight down: the lower
+// pad's tip reaches deeper than the other's, and under a cap (a mustard bottle's) the
+// body flares out into a shoulder on the far side, which no sensor saw. There the tip
+// meets the shoulder before the pad meets the cap, 47-56 deg outside the cone (of the
+// bottle's grasps approached 8-25 deg off straight down 17 of 58 held, of those
+// straight down 44 of 45). True when the approach is 5-25 deg off the support plane's
+// normal, the grasp is at least kCapNarrower narrower than the target's extent along
+// the closing direction laid on the plane (a cap; across a whole round body, an
+// ellipsoid's top, the two differ by less), and most samples around the lower pad's tip
+// (4 across its path from the open pose to the contact, 3 along the approach from 5 mm
+// short of the tip to 5 mm past it) lie in hidden space.
+bool Planner::lower_tip_unseen(const Vec3& pos, const ViewFrame& f, float width) {
+  if (!plane_found_ || straight_down(f) || -f.Z.dot(plane_.n) < kCapTiltCos) return false;
+  const GripperGeometry& g = cfg_.gripper;
+  const float half_open = 0.5f * g.max_opening_m, tip = 0.5f * g.finger_depth_m;
+  const float from = 0.5f * width + cfg_.voxel_leaf_m;  // a voxel off the contact
+  // The lower pad: on the side the closing direction points down to.
+  const float x_sign = f.X.dot(plane_.n) > 0.f ? -1.f : 1.f;
+  uint32_t hidden = 0;
+  for (int ix = 0; ix < 4; ++ix)
+    for (int iz = 0; iz < 3; ++iz) {
+      const float x = x_sign * (from + (half_open - from) * (0.125f + 0.25f * static_cast<float>(ix)));
+      const float z = tip + 0.005f * static_cast<float>(iz - 1);
+      hidden += visibility(pos + f.X * x + f.Z * z) < 0 ? 1u : 0u;
+    }
+  if (hidden <= kCapTipHidden) return false;
+  Vec3 along = f.X - plane_.n * f.X.dot(plane_.n);
+  const float len = along.norm();
+  if (!(len > 1e-3f)) return false;
+  along /= len;
+  float lo = std::numeric_limits<float>::max(), hi = std::numeric_limits<float>::lowest();
+  for (uint32_t i = 0; i < object_.size(); ++i) {
+    const float v = along.dot(object_[i]);
+    lo = std::min(lo, v);
+    hi = std::max(hi, v);
+  }
+  return hi - lo >= width + kCapNarrower;
 }
 
 bool Planner::straight_down(const ViewFrame& f) const {

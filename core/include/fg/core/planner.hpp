@@ -220,6 +220,7 @@ class Planner {
                     float near_face[2], float edge_face[2]);
   bool fingers_clear_of_hull(const Vec3& pos, const ViewFrame& f);
   bool fingers_clear_of_footprint(const Vec3& pos, const ViewFrame& f, float width);
+  bool lower_tip_unseen(const Vec3& pos, const ViewFrame& f, float width);
   bool straight_down(const ViewFrame& f) const;  //!< approach within kTopDownCos of the plane's down
   int fingers_in_seen_space(const Vec3& pos, const ViewFrame& f, uint32_t& partly_hidden);
   bool unseen_side_clear(const Vec3& pos, const ViewFrame& f, int side);
