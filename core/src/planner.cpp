@@ -834,7 +834,7 @@ uint32_t Planner::check_deferred(PlanResult& out) {
   for (int down = 1; down >= 0; --down)
     for (uint32_t i = 0; i < n_deferred_ && checks_left_ > 0; ++i) {
       Candidate& c = candidates_[deferred_list_[i]];
-      if (straight_down(ViewFrame{c.X, c.Y, c.Z}) != (down == 1)) continue;
+      if (straight_down(c.Z) != (down == 1)) continue;
       --checks_left_;
       if (executable(c, out)) return deferred_list_[i];
     }

@@ -383,7 +383,7 @@ bool Planner::fingers_clear_of_hull(const Vec3& pos, const ViewFrame& f) {
 // (4 across its path from the open pose to the contact, 3 along the approach from 5 mm
 // short of the tip to 5 mm past it) lie in hidden space.
 bool Planner::lower_tip_unseen(const Vec3& pos, const ViewFrame& f, float width) {
-  if (!plane_found_ || straight_down(f) || -f.Z.dot(plane_.n) < kCapTiltCos) return false;
+  if (!plane_found_ || straight_down(f.Z) || -f.Z.dot(plane_.n) < kCapTiltCos) return false;
   const GripperGeometry& g = cfg_.gripper;
   const float half_open = 0.5f * g.max_opening_m, tip = 0.5f * g.finger_depth_m;
   const float from = 0.5f * width + cfg_.voxel_leaf_m;  // a voxel off the contact
@@ -410,8 +410,8 @@ bool Planner::lower_tip_unseen(const Vec3& pos, const ViewFrame& f, float width)
   return hi - lo >= width + kCapNarrower;
 }
 
-bool Planner::straight_down(const ViewFrame& f) const {
-  return plane_found_ && -f.Z.dot(plane_.n) >= kTopDownCos;
+bool Planner::straight_down(const Vec3& approach) const {
+  return plane_found_ && -approach.dot(plane_.n) >= kTopDownCos;
 }
 
 // A steep closing puts a finger under the target. The target rests on the support
@@ -500,7 +500,7 @@ int Planner::fingers_in_seen_space(const Vec3& pos, const ViewFrame& f, uint32_t
   // where it saw no slope is a wall standing on the plane; on a tilted approach it
   // would be a wall leaning towards the finger.
   const bool one_finger = partly_hidden == 1u || partly_hidden == 2u;
-  const bool top_down = straight_down(f);
+  const bool top_down = straight_down(f.Z);
   if (static_cast<float>(hidden) > kMaxHiddenShare * static_cast<float>(total) && !(one_finger && top_down))
     return 2;
   return partly_hidden != 0 ? 1 : 0;
@@ -511,7 +511,7 @@ int Planner::fingers_in_seen_space(const Vec3& pos, const ViewFrame& f, uint32_t
 // side it can mirror (kBlindMirrorTiltCos). Straight down, the blind side is the wall
 // under the top's rim (fingers_in_seen_space) and needs no mirror.
 bool Planner::blind_side_mirrors_seen(const Vec3& pos, const ViewFrame& f, float width, uint32_t hidden_sides) {
-  if (straight_down(f)) return true;
+  if (straight_down(f.Z)) return true;
   ContactNormalStats st;
   contact_normal_stats(pos, f, width, st);
   bool blind[2] = {false, false};
@@ -635,7 +635,7 @@ bool Planner::unseen_side_clear(const Vec3& pos, const ViewFrame& f, int side) {
   // Least squares over the deepest seen bins: outward extent against depth.
   float sz = 0.f, sx = 0.f, szz = 0.f, szx = 0.f, x_last = 0.f, z_last = 0.f, x_max = -1e9f;
   int m = 0, unseen_bins = 0;
-  const bool top_down = straight_down(f);
+  const bool top_down = straight_down(f.Z);
   for (int b = 0; b < kProfileBins; ++b) x_max = std::max(x_max, out[b]);
   for (int b = kProfileBins - 1; b >= 0 && m < kSlopeBins; --b) {
     if (out[b] < -1e8f) continue;
@@ -875,7 +875,7 @@ bool Planner::friction_ok(const Vec3& pos, const ViewFrame& f, float width) {
   // says they hold (a chord across the near side of a round body under a tilted
   // approach; a wide can's front, one stray normal on one pad).
   if (st.total[0] + st.total[1] <= kTipOnlyNormals && st.z_first[0] > tip && st.z_first[1] > tip) return false;
-  const bool down = straight_down(f);
+  const bool down = straight_down(f.Z);
   // Off straight down, a pad whose band shows no contact normal while the other pad's
   // show fewer than a third inside the cone: that pad's normals are the only evidence
   // there is, and they judge the grasp, not the tilt extrapolated to its extreme
