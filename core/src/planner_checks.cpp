@@ -57,9 +57,9 @@ constexpr uint32_t kTipOnlyNormals = 2;
 // the support plane's downward normal.
 constexpr float kTopDownCos = 0.9962f;
 // A grasp on a cap (lower_tip_unseen): an approach off straight down by at most 25 deg,
-// a grasp at least this much narrower than the target along the closing direction, and
-// more than kCapTipHidden of the kCapTipSamples samples around the lower pad's tip,
-// between its open pose and its contact, in hidden space.
+// a grasp at least kCapNarrower narrower than the target along the closing direction,
+// and more than kCapTipHidden of the 12 samples around the lower pad's tip, between its
+// open pose and its contact, in hidden space.
 constexpr float kCapTiltCos = 0.9063f;  // 25 deg
 constexpr float kCapNarrower = 0.020f;
 constexpr uint32_t kCapTipHidden = 6;
@@ -383,7 +383,9 @@ bool Planner::fingers_clear_of_hull(const Vec3& pos, const ViewFrame& f) {
 // (4 across its path from the open pose to the contact, 3 along the approach from 5 mm
 // short of the tip to 5 mm past it) lie in hidden space.
 bool Planner::lower_tip_unseen(const Vec3& pos, const ViewFrame& f, float width) {
-  if (!plane_found_ || straight_down(f.Z) || -f.Z.dot(plane_.n) < kCapTiltCos) return false;
+  if (!plane_found_) return false;
+  const float down = -f.Z.dot(plane_.n);  // cosine of the approach's tilt off straight down
+  if (down >= kTopDownCos || down < kCapTiltCos) return false;
   const GripperGeometry& g = cfg_.gripper;
   const float half_open = 0.5f * g.max_opening_m, tip = 0.5f * g.finger_depth_m;
   const float from = 0.5f * width + cfg_.voxel_leaf_m;  // a voxel off the contact
