@@ -1,11 +1,16 @@
 #include "fg/core/cluster.hpp"
 
+#include <cstring>
+
 namespace fg {
 namespace {
 struct Offset {
-  uint32_t delta;  // pack(dx, dy, dz) in two's complement per field, summed
-  uint64_t hash;   // VoxelGrid::filter_hash_of_offset of the signed sum
+  uint32_t delta;     // pack(dx, dy, dz) in two's complement per field, summed
+  int8_t dx, dy, dz;  // the offset itself (the bitmap's step, flood_bits)
+  uint64_t hash;      // VoxelGrid::filter_hash_of_offset of the signed sum
 };
+// Offsets within 2 cells: 32 (26 within 1).
+constexpr uint32_t kMaxOffsets = 32;
 // Neighbour offsets within `cells` (Euclidean in cell units, so 1 -> 26, 2 -> 32).
 uint32_t make_offsets(uint32_t cells, Offset* out) {
   const int32_t r = static_cast<int32_t>(cells);
@@ -18,6 +23,7 @@ uint32_t make_offsets(uint32_t cells, Offset* out) {
         if (r > 1 && d2 > r * r) continue;
         out[n++] = Offset{static_cast<uint32_t>(dx) + (static_cast<uint32_t>(dy) << 11) +
                               (static_cast<uint32_t>(dz) << 22),
+                          static_cast<int8_t>(dx), static_cast<int8_t>(dy), static_cast<int8_t>(dz),
                           VoxelGrid::filter_hash_of_offset(dx + dy * (int64_t{1} << 11) +
                                                            dz * (int64_t{1} << 22))};
       }
@@ -66,6 +72,71 @@ uint32_t flood(const VoxelGrid& grid, uint8_t* state, uint32_t* queue, uint32_t 
   return tail;
 }
 
+// flood() over a bitmap of the cells in state `from` (build_cell_bitmap): a neighbour
+// is entered when its bit is set, and its bit is cleared as its state becomes `mark`,
+// so the bits are the voxels flood() would enter and the walk visits them in the same
+// order. `lin`: each offset as a step in the bitmap.
+uint32_t flood_bits(const VoxelGrid& grid, uint8_t* state, uint32_t* queue, uint32_t seed, const Offset* off,
+                    const int32_t* lin, uint32_t n_off, CellBitmap& bits, uint8_t mark, Walk& w) {
+  uint32_t head = 0, tail = 0;
+  queue[tail++] = seed;
+  state[seed] = mark;
+  uint64_t* const words = bits.words;
+  {
+    const uint32_t c = bits.cell(grid.key(seed));
+    words[c >> 6] &= ~(uint64_t{1} << (c & 63u));
+  }
+  w = Walk{};
+  while (head < tail) {  // bounded: each voxel enters the queue at most once
+    const uint32_t i = queue[head++];
+    const Vec3 c = grid.centroid(i);
+    w.sum_x += c.x();
+    w.sum_y += c.y();
+    const uint32_t k = grid.key(i);
+    const uint32_t kx = VoxelGrid::key_x(k), ky = VoxelGrid::key_y(k);
+    w.x0 = kx < w.x0 ? kx : w.x0;
+    w.x1 = kx > w.x1 ? kx : w.x1;
+    w.y0 = ky < w.y0 ? ky : w.y0;
+    w.y1 = ky > w.y1 ? ky : w.y1;
+    const int32_t base = static_cast<int32_t>(bits.cell(k));
+    for (uint32_t o = 0; o < n_off; ++o) {
+      const uint32_t cell = static_cast<uint32_t>(base + lin[o]);
+      const uint64_t bit = uint64_t{1} << (cell & 63u);
+      if ((words[cell >> 6] & bit) == 0u) continue;  // empty, or walked already
+      words[cell >> 6] &= ~bit;
+      const uint32_t j = grid.find_in_table(k + off[o].delta);
+      if (j == VoxelGrid::kNone) continue;  // a voxel of this state the index does not hold
+      state[j] = mark;
+      queue[tail++] = j;
+    }
+  }
+  return tail;
+}
+
+// The first voxel at or after i whose state is s, or n: eight states per step (the
+// plan's few object voxels lie scattered among the table's). A byte of w ^ (s in every
+// byte) is zero where the state is s; the lowest byte the zero-byte test flags is
+// always one (bytes above a zero byte may be flagged falsely, never the lowest).
+uint32_t next_in_state(const uint8_t* state, uint32_t n, uint32_t i, uint8_t s) {
+  constexpr uint64_t kOnes = 0x0101010101010101ull;
+  for (; i < n && (i & 7u) != 0u; ++i)
+    if (state[i] == s) return i;
+  for (; i + 8u <= n; i += 8u) {
+    uint64_t w;
+    std::memcpy(&w, state + i, sizeof w);
+    const uint64_t t = w ^ (kOnes * s);
+    const uint64_t z = (t - kOnes) & ~t & (kOnes << 7);
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__
+    if (z != 0u) return i + (static_cast<uint32_t>(__builtin_clzll(z)) >> 3);
+#else
+    if (z != 0u) return i + (static_cast<uint32_t>(__builtin_ctzll(z)) >> 3);
+#endif
+  }
+  for (; i < n; ++i)
+    if (state[i] == s) return i;
+  return n;
+}
+
 // Keeps `c` in the list of the largest clusters (size descending, ties in the order
 // found); the size of whatever falls off the end goes to largest_dropped.
 void keep_largest(ClusterResult& res, const ClusterSummary& c) {
@@ -99,20 +170,67 @@ bool footprint_covers(const VoxelGrid& grid, const ClusterSummary& c, float cx, 
 }
 }  // namespace
 
+bool build_cell_bitmap(const VoxelGrid& grid, const uint8_t* state, uint8_t from, uint32_t* list,
+                       uint64_t* words, uint32_t n_words, CellBitmap& out) {
+  out = CellBitmap{};
+  if (words == nullptr || list == nullptr) return false;
+  // The set's voxels first, listed without a branch on the state: the plan's few
+  // object voxels lie scattered among the table's, so such a branch would mostly guess
+  // wrong, and only their keys are read.
+  const uint32_t n = grid.size();
+  uint32_t m = 0;
+  for (uint32_t i = 0; i < n; ++i) {
+    list[m] = i;
+    m += state[i] == from ? 1u : 0u;
+  }
+  if (m == 0) return false;
+  uint32_t lo[3] = {0xFFFFFFFFu, 0xFFFFFFFFu, 0xFFFFFFFFu}, hi[3] = {0, 0, 0};
+  for (uint32_t j = 0; j < m; ++j) {
+    const uint32_t k = grid.key(list[j]);
+    const uint32_t c[3] = {VoxelGrid::key_x(k), VoxelGrid::key_y(k), VoxelGrid::key_z(k)};
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = c[a] < lo[a] ? c[a] : lo[a];
+      hi[a] = c[a] > hi[a] ? c[a] : hi[a];
+    }
+  }
+  // Keys keep 2 cells inside each field's range (voxel_grid.hpp), so lo - 2 >= 0.
+  const uint64_t nx = hi[0] - lo[0] + 5u, ny = hi[1] - lo[1] + 5u, nz = hi[2] - lo[2] + 5u;
+  const uint64_t need = (nx * ny * nz + 63u) / 64u;
+  if (need > n_words) return false;
+  for (uint64_t w = 0; w < need; ++w) words[w] = 0u;
+  out.words = words;
+  out.x0 = lo[0] - 2u;
+  out.y0 = lo[1] - 2u;
+  out.z0 = lo[2] - 2u;
+  out.nx = static_cast<uint32_t>(nx);
+  out.ny = static_cast<uint32_t>(ny);
+  for (uint32_t j = 0; j < m; ++j) {
+    const uint32_t c = out.cell(grid.key(list[j]));
+    words[c >> 6] |= uint64_t{1} << (c & 63u);
+  }
+  return true;
+}
+
 ClusterResult cluster_and_pick(const VoxelGrid& grid, uint8_t* state, uint32_t* queue,
                                const ClusterParams& prm, uint32_t* target,
-                               uint32_t target_capacity) {
-  Offset off[128];
+                               uint32_t target_capacity, CellBitmap* free_cells) {
+  Offset off[kMaxOffsets];
   const uint32_t n_off = make_offsets(prm.cells > 2 ? 2u : prm.cells, off);
+  int32_t lin[kMaxOffsets];
+  if (free_cells != nullptr)
+    for (uint32_t o = 0; o < n_off; ++o)
+      lin[o] = off[o].dx + static_cast<int32_t>(free_cells->nx) *
+                               (off[o].dy + static_cast<int32_t>(free_cells->ny) * off[o].dz);
   ClusterResult res;
   const uint32_t n = grid.size();
   uint32_t best_seed = VoxelGrid::kNone, best_size = 0;
   float best_score = 0.f;
   uint32_t free_total = 0;
-  for (uint32_t i = 0; i < n; ++i) {
-    if (state[i] != kVoxelFree) continue;
+  for (uint32_t i = next_in_state(state, n, 0, kVoxelFree); i < n; i = next_in_state(state, n, i + 1u, kVoxelFree)) {
     Walk w;
-    const uint32_t size = flood(grid, state, queue, i, off, n_off, kVoxelFree, kVoxelVisited, w);
+    const uint32_t size = free_cells != nullptr
+                              ? flood_bits(grid, state, queue, i, off, lin, n_off, *free_cells, kVoxelVisited, w)
+                              : flood(grid, state, queue, i, off, n_off, kVoxelFree, kVoxelVisited, w);
     free_total += size;
     if (size < prm.min_points) continue;
     ++res.clusters;
@@ -161,7 +279,7 @@ uint32_t retarget_to_cover(const VoxelGrid& grid, uint8_t* state, uint32_t* queu
                            const ClusterParams& prm, const uint32_t* old_target, uint32_t old_size,
                            float cx, float cy, uint32_t* target, uint32_t target_capacity,
                            const ClusterResult* labelled) {
-  Offset off[128];
+  Offset off[kMaxOffsets];
   const uint32_t n_off = make_offsets(prm.cells > 2 ? 2u : prm.cells, off);
   const uint32_t n = grid.size();
   // The largest that covers (cx, cy) wins, the first found on ties.

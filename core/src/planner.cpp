@@ -163,10 +163,6 @@ Status Planner::plan(PlanResult& out) {
     // only: take the support plane out of the hash.
     static_assert(kVoxelRemoved == 0, "state_ doubles as the keep flags");
     if (removed > 0) grid_.keep_in_index_only(state_);
-    // The clustering's lookups get the larger filter the idle per-view memory holds
-    // (fewer false positives, each a cache miss in the table); it goes back to the
-    // grid's own memory before any view uses that memory.
-    grid_.prepare_lookups(state_, view_words_, kViewWorkWordBits);
   }
 
   // A.6 target cluster
@@ -182,7 +178,15 @@ Status Planner::plan(PlanResult& out) {
   ClusterResult cr;  // kept for the fall-back: its list of the largest clusters
   {
     StageTimer t(stage(out, Stage::cluster));
-    cr = cluster_and_pick(grid_, state_, queue, cp, object_voxel_, kMaxObjectPoints);
+    // The walks test their neighbours in a bitmap of the objects' cells in the idle
+    // per-view memory; when the cells span more than it holds, they ask the hash,
+    // through the larger filter that memory then holds (fewer false positives, each a
+    // cache miss in the table). Either goes back to the views after the clustering.
+    CellBitmap free_cells;
+    const bool dense = build_cell_bitmap(grid_, state_, kVoxelFree, queue, view_words_,
+                                         sizeof(view_words_) / sizeof(view_words_[0]), free_cells);
+    if (!dense) grid_.prepare_lookups(state_, view_words_, kViewWorkWordBits);
+    cr = cluster_and_pick(grid_, state_, queue, cp, object_voxel_, kMaxObjectPoints, dense ? &free_cells : nullptr);
     grid_.prepare_lookups(state_);  // the per-view memory back to the views (same kept set)
     if (cr.target_size == 0)
       return finish(Status::no_grasp, NoGraspReason::no_object,

@@ -56,10 +56,17 @@ struct Fixture {
     queue.assign(cs.size() + 1, 0);
     target.assign(cs.size() + 1, 0xDEADBEEFu);
   }
-  ClusterResult run(const ClusterParams& p) {
+  // With `bitmap`, the walks test their neighbours in build_cell_bitmap's bitmap of the
+  // free voxels (when it fits in `bitmap_words`), as plan() runs it.
+  ClusterResult run(const ClusterParams& p, bool bitmap = false, uint32_t bitmap_words = 1u << 12) {
+    fg::CellBitmap bits;
+    std::vector<uint64_t> words(bitmap_words);
+    used_bitmap = bitmap && fg::build_cell_bitmap(*grid, state.data(), fg::kVoxelFree, queue.data(), words.data(),
+                                                  bitmap_words, bits);
     return fg::cluster_and_pick(*grid, state.data(), queue.data(), p, target.data(),
-                                static_cast<uint32_t>(target.size()));
+                                static_cast<uint32_t>(target.size()), used_bitmap ? &bits : nullptr);
   }
+  bool used_bitmap = false;
   std::set<uint32_t> targets(const ClusterResult& r) const {
     return std::set<uint32_t>(target.begin(), target.begin() + r.target_size);
   }
@@ -331,7 +338,8 @@ std::vector<Cell> random_cells(std::mt19937& rng, int extent, double density) {
 // Peels the components largest-first (TargetRule::largest, min_points 1): each target
 // must be the oracle's largest remaining component (ties: the one with the smallest
 // voxel index, i.e. found first), and the cluster count must match.
-void peel_and_compare(const std::vector<Cell>& cells, const std::vector<bool>& pre_removed, uint32_t radius) {
+void peel_and_compare(const std::vector<Cell>& cells, const std::vector<bool>& pre_removed, uint32_t radius,
+                      bool bitmap = false) {
   Fixture f(cells);
   std::vector<bool> alive(cells.size());
   for (size_t i = 0; i < cells.size(); ++i) alive[i] = !pre_removed[i];
@@ -344,7 +352,8 @@ void peel_and_compare(const std::vector<Cell>& cells, const std::vector<bool>& p
   uint32_t remaining = static_cast<uint32_t>(std::count(alive.begin(), alive.end(), true));
   while (!comps.empty()) {
     for (size_t i = 0; i < cells.size(); ++i) f.state[i] = alive[i] ? fg::kVoxelFree : fg::kVoxelRemoved;
-    const ClusterResult r = f.run(p);
+    const ClusterResult r = f.run(p, bitmap);
+    ASSERT_EQ(f.used_bitmap, bitmap);
     ASSERT_EQ(r.clusters, comps.size()) << "round " << rounds;
     size_t best = 0;
     for (size_t c = 1; c < comps.size(); ++c)
@@ -395,6 +404,83 @@ TEST(Cluster, LabellingWithRemovedVoxelsMatchesUnionFind) {
     for (size_t i = 0; i < cells.size(); ++i) removed[i] = rm(rng);
     peel_and_compare(cells, removed, 1);
   }
+}
+
+// The same oracles with the walks on the free voxels' bitmap (plan()'s path).
+TEST(Cluster, BitmapLabellingMatchesUnionFind) {
+  std::mt19937 rng(21);
+  std::bernoulli_distribution rm(0.3);
+  for (uint32_t radius : {1u, 2u})
+    for (double density : {0.03, 0.08}) {
+      SCOPED_TRACE("radius " + std::to_string(radius) + " density " + std::to_string(density));
+      const std::vector<Cell> cells = random_cells(rng, 16, density);
+      peel_and_compare(cells, std::vector<bool>(cells.size(), false), radius, true);
+      std::vector<bool> removed(cells.size());
+      for (size_t i = 0; i < cells.size(); ++i) removed[i] = rm(rng);
+      peel_and_compare(cells, removed, radius, true);
+    }
+}
+
+// The bitmap walk enters the same voxels in the same order as the hash walk: the same
+// target list element by element, the same states and the same list of the largest
+// clusters (so the same sums, and the fall-back reads the same candidates). Cells
+// span the key range's corners of a 3-cell margin and a dense block (every neighbour
+// offset in use), with voxels removed and voxels left out of the index.
+TEST(Cluster, BitmapWalkMatchesTheHashWalk) {
+  std::mt19937 rng(22);
+  for (int trial = 0; trial < 8; ++trial) {
+    std::vector<Cell> cells = random_cells(rng, 20, trial % 2 == 0 ? 0.04 : 0.15);
+    for (const Cell& c : box_cells(3, 3, 3, 4, 4, 4)) cells.push_back(c);
+    std::shuffle(cells.begin(), cells.end(), rng);
+    Fixture a(cells), b(cells);
+    std::bernoulli_distribution rm(0.2), unindexed(0.05);
+    std::vector<uint8_t> keep(cells.size(), 1);
+    for (size_t i = 0; i < cells.size(); ++i) {
+      a.state[i] = b.state[i] = rm(rng) ? fg::kVoxelRemoved : fg::kVoxelFree;
+      keep[i] = unindexed(rng) ? 0 : 1;
+    }
+    a.grid->finalize();
+    b.grid->finalize();
+    a.grid->keep_in_index_only(keep.data());
+    b.grid->keep_in_index_only(keep.data());
+    ClusterParams p;
+    p.cells = 1u + static_cast<uint32_t>(trial % 2);
+    p.min_points = 3;
+    p.centre_x = 0.3f;
+    p.centre_y = 0.4f;
+    const ClusterResult ra = a.run(p, false), rb = b.run(p, true);
+    ASSERT_TRUE(b.used_bitmap);
+    EXPECT_EQ(ra.clusters, rb.clusters);
+    ASSERT_EQ(ra.target_size, rb.target_size);
+    EXPECT_EQ(ra.other_points, rb.other_points);
+    EXPECT_TRUE(std::equal(a.target.begin(), a.target.begin() + ra.target_size, b.target.begin()));
+    EXPECT_EQ(a.state, b.state);
+    ASSERT_EQ(ra.n_largest, rb.n_largest);
+    for (uint32_t k = 0; k < ra.n_largest; ++k) {
+      EXPECT_EQ(ra.largest[k].seed, rb.largest[k].seed);
+      EXPECT_EQ(ra.largest[k].size, rb.largest[k].size);
+    }
+  }
+}
+
+// A bitmap that does not fit (cells far apart) or has no voxel to hold is refused, and
+// the clustering then walks through the hash.
+TEST(Cluster, BitmapRefusedWhenTheCellsDoNotFit) {
+  std::vector<Cell> cells = box_cells(10, 10, 10, 3, 3, 3);
+  for (const Cell& c : box_cells(1500, 1500, 800, 3, 3, 3)) cells.push_back(c);
+  Fixture f(cells);
+  ClusterParams p;
+  p.min_points = 1;
+  p.rule = fg::TargetRule::largest;
+  const ClusterResult r = f.run(p, true, 1u << 12);
+  EXPECT_FALSE(f.used_bitmap);
+  EXPECT_EQ(r.clusters, 2u);
+  EXPECT_EQ(r.target_size, 27u);
+  fg::CellBitmap none;
+  std::vector<uint64_t> words(1u << 12);
+  std::vector<uint8_t> removed(cells.size(), fg::kVoxelRemoved);
+  EXPECT_FALSE(fg::build_cell_bitmap(*f.grid, removed.data(), fg::kVoxelFree, f.queue.data(), words.data(),
+                                     static_cast<uint32_t>(words.size()), none));
 }
 
 TEST(Cluster, CellsAboveTwoAreClampedToTwo) {
