@@ -34,6 +34,9 @@ constexpr int kBeyondSteps = 40;  // at most this many probes per bin (more than
 // A closing direction within 45 deg of the support plane's normal puts a finger under
 // the target (fingers_clear_of_footprint).
 constexpr float kSteepClosingCos = 0.7071f;
+// A grasp at most this many voxels wide closes on a single layer of voxels (a sheet);
+// sideways, fingers_clear_of_footprint then tests the open fingers under the target.
+constexpr float kThinSheetLeaves = 2.5f;
 // A partly hidden finger's side with no contact normal at all is taken to mirror the
 // seen side: a flat seen face (a box's), or a curved one within this tilt of the closing
 // line (a cylinder across its axis). A curved seen side tilted more is a chord across a
@@ -425,8 +428,15 @@ bool Planner::straight_down(const Vec3& approach) const {
 // that far inside the surface). Only for steep closings (kSteepClosingCos): sideways,
 // real overhangs (a bat's blade over its handle, a drill's body) lie over the fingers
 // of good grasps.
+// Sideways, a thin grasp (kThinSheetLeaves) closes on a single layer of voxels: a
+// plate (a bat's blade or handle seen edge-on), or the wall of a solid seen at a
+// grazing angle, with the solid's top over the open finger on the far side (a wide
+// box's vertical edge). There the open fingers alone are tested: a blade's own
+// points lie between the pads, and a plate has nothing over the open fingers.
 bool Planner::fingers_clear_of_footprint(const Vec3& pos, const ViewFrame& f, float width) {
-  if (!plane_found_ || std::fabs(f.X.dot(plane_.n)) < kSteepClosingCos) return true;
+  if (!plane_found_) return true;
+  const bool steep = std::fabs(f.X.dot(plane_.n)) >= kSteepClosingCos;
+  if (!steep && width > kThinSheetLeaves * cfg_.voxel_leaf_m) return true;
   const GripperGeometry& g = cfg_.gripper;
   const float half_open = 0.5f * g.max_opening_m, t = g.finger_thickness_m;
   const float hy = 0.5f * g.finger_width_m, hz = 0.5f * g.finger_depth_m;
@@ -445,8 +455,14 @@ bool Planner::fingers_clear_of_footprint(const Vec3& pos, const ViewFrame& f, fl
     if (!(h > gap)) continue;
     const Vec3 d = object_[i] - pos;
     const float q[3] = {f.X.dot(d), f.Y.dot(d), f.Z.dot(d)};
-    for (int side = 0; side < 2; ++side)
-      if (segment_meets_box(q, up, gap, h, lo[side], hi[side])) return false;
+    for (int side = 0; side < 2; ++side) {
+      float l[3] = {lo[side][0], lo[side][1], lo[side][2]}, u[3] = {hi[side][0], hi[side][1], hi[side][2]};
+      if (!steep) {  // a thin grasp: the open finger only
+        if (side == 0) u[0] = -half_open - shrink;
+        else l[0] = half_open + shrink;
+      }
+      if (segment_meets_box(q, up, gap, h, l, u)) return false;
+    }
   }
   return true;
 }
