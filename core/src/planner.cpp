@@ -93,6 +93,19 @@ Vec3 orthogonal_from(const Vec3& axis, const Vec3& hint) {
 }
 }  // namespace
 
+// A.6's labelling, its frame off plan()'s (the deepest stack path runs through plan()).
+// The walks test their neighbours in a bitmap of the objects' cells in the idle
+// per-view memory; when the cells span more than it holds, they ask the hash, through
+// the larger filter that memory then holds (fewer false positives, each a cache miss in
+// the table). Either goes back to the views after the clustering.
+ClusterResult Planner::label_clusters(const ClusterParams& cp, uint32_t* queue) {
+  CellBitmap free_cells;
+  const bool dense = build_cell_bitmap(grid_, state_, kVoxelFree, queue, view_words_,
+                                       sizeof(view_words_) / sizeof(view_words_[0]), free_cells);
+  if (!dense) grid_.prepare_lookups(state_, view_words_, kViewWorkWordBits);
+  return cluster_and_pick(grid_, state_, queue, cp, object_voxel_, kMaxObjectPoints, dense ? &free_cells : nullptr);
+}
+
 Status Planner::plan(PlanResult& out) {
   out = PlanResult{};
   const uint64_t t_start = platform::monotonic_us();
@@ -178,15 +191,7 @@ Status Planner::plan(PlanResult& out) {
   ClusterResult cr;  // kept for the fall-back: its list of the largest clusters
   {
     StageTimer t(stage(out, Stage::cluster));
-    // The walks test their neighbours in a bitmap of the objects' cells in the idle
-    // per-view memory; when the cells span more than it holds, they ask the hash,
-    // through the larger filter that memory then holds (fewer false positives, each a
-    // cache miss in the table). Either goes back to the views after the clustering.
-    CellBitmap free_cells;
-    const bool dense = build_cell_bitmap(grid_, state_, kVoxelFree, queue, view_words_,
-                                         sizeof(view_words_) / sizeof(view_words_[0]), free_cells);
-    if (!dense) grid_.prepare_lookups(state_, view_words_, kViewWorkWordBits);
-    cr = cluster_and_pick(grid_, state_, queue, cp, object_voxel_, kMaxObjectPoints, dense ? &free_cells : nullptr);
+    cr = label_clusters(cp, queue);
     grid_.prepare_lookups(state_);  // the per-view memory back to the views (same kept set)
     if (cr.target_size == 0)
       return finish(Status::no_grasp, NoGraspReason::no_object,

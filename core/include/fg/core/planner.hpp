@@ -188,6 +188,8 @@ class Planner {
   Status add_coordinates(SensorRole role, const uint8_t* const base[3], uint32_t count,
                          uint32_t stride_bytes, const Pose& world_T_sensor);
   void load_target(uint32_t size, uint32_t* storage);
+  // Not inlined: its bitmap stays off plan()'s frame, which the deepest stack path holds.
+  [[gnu::noinline]] ClusterResult label_clusters(const ClusterParams& cp, uint32_t* queue);
   uint32_t search_grasp(PlanResult& out, NoGraspReason& reason, const char*& why);
   bool build_object_frame(Vec3 axes[3], Vec3& X0);
   bool support_frame(Vec3 axes[3]) const;
