@@ -35,6 +35,19 @@ uint32_t make_offsets(uint32_t cells, Offset* out) {
 struct Walk {
   float sum_x = 0.f, sum_y = 0.f;
   uint32_t x0 = 0xFFFFFFFFu, x1 = 0, y0 = 0xFFFFFFFFu, y1 = 0;
+  // Takes voxel i into the sums and the box; returns its key.
+  uint32_t add(const VoxelGrid& grid, uint32_t i) {
+    const Vec3 c = grid.centroid(i);
+    sum_x += c.x();
+    sum_y += c.y();
+    const uint32_t k = grid.key(i);
+    const uint32_t kx = VoxelGrid::key_x(k), ky = VoxelGrid::key_y(k);
+    x0 = kx < x0 ? kx : x0;
+    x1 = kx > x1 ? kx : x1;
+    y0 = ky < y0 ? ky : y0;
+    y1 = ky > y1 ? ky : y1;
+    return k;
+  }
 };
 
 // Breadth-first walk of the component of `seed` through the voxels in state `from`;
@@ -47,19 +60,10 @@ uint32_t flood(const VoxelGrid& grid, uint8_t* state, uint32_t* queue, uint32_t 
   w = Walk{};
   const VoxelGrid::LookupFilter filter = grid.lookup_filter();
   while (head < tail) {  // bounded: each voxel enters the queue at most once
-    const uint32_t i = queue[head++];
-    const Vec3 c = grid.centroid(i);
-    w.sum_x += c.x();
-    w.sum_y += c.y();
     // A neighbour's key is the packed sum: inserted cells keep a 2-cell margin inside
     // each field's range, so no field under- or overflows into the next.
     // The filter's hash of a neighbour is a sum too (voxel_grid.hpp).
-    const uint32_t k = grid.key(i);
-    const uint32_t kx = VoxelGrid::key_x(k), ky = VoxelGrid::key_y(k);
-    w.x0 = kx < w.x0 ? kx : w.x0;
-    w.x1 = kx > w.x1 ? kx : w.x1;
-    w.y0 = ky < w.y0 ? ky : w.y0;
-    w.y1 = ky > w.y1 ? ky : w.y1;
+    const uint32_t k = w.add(grid, queue[head++]);
     const uint64_t kh = VoxelGrid::filter_hash(k);
     for (uint32_t o = 0; o < n_off; ++o) {
       if (filter.words != nullptr && !filter.may_hold(kh + off[o].hash)) continue;  // most absent cells
@@ -88,16 +92,7 @@ uint32_t flood_bits(const VoxelGrid& grid, uint8_t* state, uint32_t* queue, uint
   }
   w = Walk{};
   while (head < tail) {  // bounded: each voxel enters the queue at most once
-    const uint32_t i = queue[head++];
-    const Vec3 c = grid.centroid(i);
-    w.sum_x += c.x();
-    w.sum_y += c.y();
-    const uint32_t k = grid.key(i);
-    const uint32_t kx = VoxelGrid::key_x(k), ky = VoxelGrid::key_y(k);
-    w.x0 = kx < w.x0 ? kx : w.x0;
-    w.x1 = kx > w.x1 ? kx : w.x1;
-    w.y0 = ky < w.y0 ? ky : w.y0;
-    w.y1 = ky > w.y1 ? ky : w.y1;
+    const uint32_t k = w.add(grid, queue[head++]);
     const int32_t base = static_cast<int32_t>(bits.cell(k));
     for (uint32_t o = 0; o < n_off; ++o) {
       const uint32_t cell = static_cast<uint32_t>(base + lin[o]);

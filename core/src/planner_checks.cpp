@@ -443,10 +443,11 @@ bool Planner::fingers_clear_of_footprint(const Vec3& pos, const ViewFrame& f, fl
   const float shrink = 0.5f * cfg_.voxel_leaf_m, gap = cfg_.voxel_leaf_m;
   // Each finger's sweep from open to closed, in the grasp frame; its pad's face keeps a
   // voxel clear of the contact (the side's points scatter about the fitted line).
-  const float lo[2][3] = {{-half_open - t + shrink, -hy + shrink, -hz + shrink},
-                          {0.5f * width + gap, -hy + shrink, -hz + shrink}};
-  const float hi[2][3] = {{-0.5f * width - gap, hy - shrink, hz - shrink},
-                          {half_open + t - shrink, hy - shrink, hz - shrink}};
+  // A thin grasp sideways: the open fingers only.
+  const float inner0 = steep ? -0.5f * width - gap : -half_open - shrink;
+  const float inner1 = steep ? 0.5f * width + gap : half_open + shrink;
+  const float lo[2][3] = {{-half_open - t + shrink, -hy + shrink, -hz + shrink}, {inner1, -hy + shrink, -hz + shrink}};
+  const float hi[2][3] = {{inner0, hy - shrink, hz - shrink}, {half_open + t - shrink, hy - shrink, hz - shrink}};
   // Up (the plane's normal) in the grasp frame; the line below q is q - u * up.
   const float up[3] = {f.X.dot(plane_.n), f.Y.dot(plane_.n), f.Z.dot(plane_.n)};
   const uint32_t n = object_.size();
@@ -455,14 +456,8 @@ bool Planner::fingers_clear_of_footprint(const Vec3& pos, const ViewFrame& f, fl
     if (!(h > gap)) continue;
     const Vec3 d = object_[i] - pos;
     const float q[3] = {f.X.dot(d), f.Y.dot(d), f.Z.dot(d)};
-    for (int side = 0; side < 2; ++side) {
-      float l[3] = {lo[side][0], lo[side][1], lo[side][2]}, u[3] = {hi[side][0], hi[side][1], hi[side][2]};
-      if (!steep) {  // a thin grasp: the open finger only
-        if (side == 0) u[0] = -half_open - shrink;
-        else l[0] = half_open + shrink;
-      }
-      if (segment_meets_box(q, up, gap, h, l, u)) return false;
-    }
+    for (int side = 0; side < 2; ++side)
+      if (segment_meets_box(q, up, gap, h, lo[side], hi[side])) return false;
   }
   return true;
 }
