@@ -181,19 +181,6 @@ TEST(RealCaptures, MugBesideTheCan) { expect_grasp_on_target("learn44", 4, 0.14f
 TEST(RealCaptures, CanWithRedLid) { expect_grasp_on_target("test36", 3, 0.14f); }
 TEST(RealCaptures, DarkTallCan) { expect_grasp_on_target("test36", 4, 0.14f); }
 TEST(RealCaptures, DarkCylindricalCan) { expect_grasp_on_target("test31", 3, 0.14f); }
-// Known limitations, kept visible: the planner answers a defined no_grasp where a
-// grasp exists. A change that finds a grasp on the target turns these into passes.
-void known_limitation(const std::string& cap_name, int object, float opening, const char* why) {
-  const Capture& cap = capture(cap_name);
-  const Outcome o = plan_on(cap, scene_pose(cap, object), object, opening);
-  if (o.status == fg::Status::ok) {
-    expect_grasp_on_target(cap_name, object, opening);
-    return;
-  }
-  ASSERT_EQ(o.status, fg::Status::no_grasp);
-  GTEST_SKIP() << "known limitation: " << why << " (" << fg::to_string(o.result.reason) << ")";
-}
-
 // The labelled object's points in the scene's world (z: height above the labelled
 // table plane).
 std::vector<fg::Vec3> object_points_in_world(const Capture& cap, int object) {
@@ -244,9 +231,12 @@ TEST(RealCaptures, ObjectsWiderThanTheOpeningGetNoGrasp) {
     EXPECT_EQ(o.status, fg::Status::no_grasp) << "object " << width << " m wide, a grasp of width " << o.result.grasp.width;
   }
 }
-TEST(RealCaptures, SmallBoxBehindTheLargeOne) {
-  known_limitation("learn8", 3, 0.14f, "the box is mostly hidden behind the large box in front");
-}
+// A small box behind a larger one: its top and the upper half of its front face are
+// seen. Most candidates approach from the side and meet the large box or the unseen
+// space behind the small one. The grasp straight down across the narrow side is the
+// 69th candidate checked (of 136 found): it needs FG_MAX_CHECKED_CANDIDATES = 128 (with
+// 64 the answer was no_grasp, `collision`).
+TEST(RealCaptures, SmallBoxBehindTheLargeOne) { expect_grasp_on_target("learn8", 3, 0.14f); }
 TEST(RealCaptures, MugOnTheTable) { expect_grasp_on_target("learn33", 5, 0.14f); }
 
 // The same with the default 2F-85 class gripper (0.085 m) where the object fits it.
