@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <map>
 #include <memory>
 #include <random>
 #include <set>
@@ -221,6 +222,112 @@ TEST(PlannerInput, PlanarArraysPlanLikeTriples) {
   EXPECT_EQ(std::memcmp(ra.grasp.closing.data(), rb.grasp.closing.data(), 12), 0);
   EXPECT_EQ(std::memcmp(ra.grasp.approach.data(), rb.grasp.approach.data(), 12), 0);
   EXPECT_EQ(std::memcmp(&ra.grasp.width, &rb.grasp.width, 4), 0);
+}
+
+// The ingest against a brute force written here: every point transformed in double
+// precision, filtered by range and crop box, and averaged per cell. Counts around the
+// ingest's groups of four and blocks of 64, every input kind (xyz triples with two
+// strides, x, y and z arrays), and points of every kind mixed: kept ones near cell
+// centres (several per cell, in runs and revisited later), out of range, out of the
+// crop box, at the sensor itself, NaN and Inf.
+TEST(PlannerInput, IngestMatchesABruteForceForEveryCountAndInputKind) {
+  const Pose pose = look_at(Vec3(0.05f, -0.35f, 0.75f), Vec3(0.5f, 0.02f, 0.0f));
+  const float inf = std::numeric_limits<float>::infinity();
+  // The default range, and one from 0: the sensor's own position is then a point that
+  // passes both filters.
+  for (const float range_min : {PlannerConfig{}.range_min_m, 0.f}) {
+    PlannerConfig cfg;
+    cfg.range_min_m = range_min;
+    const double leaf = cfg.voxel_leaf_m;
+    const Eigen::Vector3d crop_lo(cfg.workspace_centre_x_m - cfg.crop_half_x_m,
+                                  cfg.workspace_centre_y_m - cfg.crop_half_y_m, cfg.crop_min_z_m);
+    const Eigen::Vector3d crop_hi(cfg.workspace_centre_x_m + cfg.crop_half_x_m,
+                                  cfg.workspace_centre_y_m + cfg.crop_half_y_m, cfg.crop_max_z_m);
+    const Eigen::Vector3d origin = crop_lo - Eigen::Vector3d::Constant(2.5 * leaf);
+    std::mt19937 rng(77);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    for (uint32_t n : {0u, 1u, 2u, 3u, 4u, 5u, 7u, 63u, 64u, 65u, 127u, 128u, 129u, 250u, 3001u}) {
+      std::vector<Vec3> sensor;
+      Eigen::Vector3d cell_w(0, 0, 0);
+      while (sensor.size() < n) {
+        const double kind = u(rng);
+        if (kind < 0.07) {
+          sensor.push_back(Vec3(kNaN, 0.1f, 0.8f));
+        } else if (kind < 0.1) {
+          sensor.push_back(Vec3(0.f, u(rng) < 0.5 ? inf : -inf, 0.8f));
+        } else if (kind < 0.14) {
+          sensor.push_back(Vec3(0.01f, 0.02f, u(rng) < 0.5 ? 0.1f : 2.5f));  // out of range
+        } else if (kind < 0.18) {
+          sensor.push_back(Vec3(1.2f, 0.f, 1.2f));  // in range, out of the crop box
+        } else if (kind < 0.2) {
+          sensor.push_back(Vec3(0.f, 0.f, 0.f));  // the sensor itself
+        } else {
+          // Near the centre of a cell in a 20 cm cube before the sensor: a new cell, or
+          // the last one again.
+          if (kind < 0.6) {
+            const Eigen::Vector3d w(0.42 + 0.2 * u(rng), -0.08 + 0.2 * u(rng), 0.01 + 0.2 * u(rng));
+            cell_w = origin + ((w - origin) / leaf).array().floor().matrix() * leaf;
+          }
+          const Eigen::Vector3d w =
+              cell_w + Eigen::Vector3d(0.2 + 0.6 * u(rng), 0.2 + 0.6 * u(rng), 0.2 + 0.6 * u(rng)) * leaf;
+          const Eigen::Vector3d s = pose.R.cast<double>().transpose() * (w - pose.t.cast<double>());
+          sensor.push_back(s.cast<float>());
+        }
+      }
+      // The brute force, from the float points the planner gets.
+      std::map<std::tuple<int64_t, int64_t, int64_t>, std::pair<Eigen::Vector3d, int>> cells;
+      uint32_t finite = 0, kept = 0;
+      for (const Vec3& s : sensor) {
+        if (!s.allFinite()) continue;
+        ++finite;
+        if (!(s.z() >= cfg.range_min_m && s.z() <= cfg.range_max_m)) continue;
+        const Eigen::Vector3d w = pose.R.cast<double>() * s.cast<double>() + pose.t.cast<double>();
+        if ((w.array() < crop_lo.array()).any() || (w.array() > crop_hi.array()).any()) continue;
+        ++kept;
+        const Eigen::Vector3d c = ((w - origin) / leaf).array().floor();
+        auto& e = cells
+                      .try_emplace({static_cast<int64_t>(c.x()), static_cast<int64_t>(c.y()),
+                                    static_cast<int64_t>(c.z())},
+                                   Eigen::Vector3d::Zero(), 0)
+                      .first->second;
+        e.first += w;
+        e.second += 1;
+      }
+      std::vector<float> xs, ys, zs, padded;
+      for (const Vec3& s : sensor) {
+        xs.push_back(s.x());
+        ys.push_back(s.y());
+        zs.push_back(s.z());
+        padded.insert(padded.end(), {s.x(), s.y(), s.z(), -7.f});
+      }
+      for (int input_kind = 0; input_kind < 3; ++input_kind) {
+        SCOPED_TRACE(testing::Message() << n << " points, input kind " << input_kind << ", range from "
+                                        << range_min);
+        auto pl = make_planner(cfg);
+        const Status st = input_kind == 0   ? add(*pl, sensor, pose)
+                          : input_kind == 1 ? pl->add_points(SensorRole::head, padded.data(), n, 16, pose)
+                                            : pl->add_points_planar(SensorRole::head, xs.data(), ys.data(),
+                                                                    zs.data(), n, pose);
+        ASSERT_EQ(st, Status::ok);
+        const fg::VoxelGrid& g = pl->voxels();
+        ASSERT_EQ(g.size(), cells.size());
+        for (uint32_t i = 0; i < g.size(); ++i) {
+          const Eigen::Vector3d c = g.centroid(i).cast<double>();
+          const Eigen::Vector3d k = ((c - origin) / leaf).array().floor();
+          const auto it = cells.find(
+              {static_cast<int64_t>(k.x()), static_cast<int64_t>(k.y()), static_cast<int64_t>(k.z())});
+          ASSERT_NE(it, cells.end()) << "voxel " << i << " lies in a cell the brute force has no point in";
+          const Eigen::Vector3d expect = it->second.first / it->second.second;
+          EXPECT_LT((c - expect).norm(), 2e-6) << "voxel " << i << " of " << it->second.second << " points";
+        }
+        PlanResult r;
+        pl->plan(r);
+        EXPECT_EQ(r.points.input, n);
+        EXPECT_EQ(r.points.finite, finite);
+        EXPECT_EQ(r.points.after_filter, kept);
+      }
+    }
+  }
 }
 
 TEST(PlannerInput, BadPoses) {

@@ -26,4 +26,19 @@ inline bool all_lanes(V4i m) {
 #endif
 }
 
+//! Bit k set when lane k of a comparison result is set (lanes are 0 or -1).
+inline uint32_t lane_mask(V4i m) {
+#if defined(__SSE2__)
+  return static_cast<uint32_t>(_mm_movemask_ps(_mm_castsi128_ps(reinterpret_cast<__m128i>(m))));
+#elif defined(__aarch64__)
+  const uint32x4_t bits = {1u, 2u, 4u, 8u};
+  return vaddvq_u32(vandq_u32(vreinterpretq_u32_s32(m), bits));
+#else
+  return static_cast<uint32_t>((m[0] & 1) | (m[1] & 2) | (m[2] & 4) | (m[3] & 8));
+#endif
+}
+
+//! The lanes of v where m is set, 0.0f elsewhere.
+inline V4f select_or_zero(V4i m, V4f v) { return reinterpret_cast<V4f>(reinterpret_cast<V4i>(v) & m); }
+
 }  // namespace fg
