@@ -185,17 +185,19 @@ struct Ingest {
         cur1 = static_cast<uint16_t>(d1 < cur1 ? d1 : cur1);
       }
     }
-    // NaN and Inf points always fail the range or the crop box (every comparison with
-    // NaN fails, and each cell coordinate of a point with an Inf coordinate is Inf or
-    // NaN), so they are counted here: x * 0 is 0 for finite x, else NaN.
-    nonfinite += kPopcount4[~lane_mask((x * 0.f + y * 0.f + z * 0.f) == 0.f) & live];
     const V4f fx = ((r[0][0] * x + r[0][1] * y) + r[0][2] * z) + c[0];
     const V4f fy = ((r[1][0] * x + r[1][1] * y) + r[1][2] * z) + c[1];
     const V4f fz = ((r[2][0] * x + r[2][1] * y) + r[2][2] * z) + c[2];
     const V4i in_box = (z >= zmin) & (z <= zmax) & (fx >= lo[0]) & (fx <= hi[0]) & (fy >= lo[1]) &
                        (fy <= hi[1]) & (fz >= lo[2]) & (fz <= hi[2]);
     const uint32_t accepted = lane_mask(in_box) & live;
-    if (accepted == 0u) return;
+    if (accepted != live) {
+      // NaN and Inf points always end here (every comparison with NaN fails, and each
+      // cell coordinate of a point with an Inf coordinate is Inf or NaN), so only here
+      // is finiteness tested: x * 0 is 0 for finite x, else NaN.
+      nonfinite += kPopcount4[~lane_mask((x * 0.f + y * 0.f + z * 0.f) == 0.f) & live];
+      if (accepted == 0u) return;
+    }
     // In the crop box, so at least 2 cells inside the key range (reset()); refused
     // lanes become 0 before the conversion.
     const V4i ix = __builtin_convertvector(select_or_zero(in_box, fx), V4i);
@@ -210,11 +212,18 @@ struct Ingest {
     // Four (x, y, z, 1) offsets out of the lanes, then a compaction without branches:
     // every lane is written at the next free place, which advances for accepted lanes.
     const V4f one = splat(1.f);
-    const V4f xy01 = __builtin_shuffle(ox, oy, V4i{0, 4, 1, 5}), xy23 = __builtin_shuffle(ox, oy, V4i{2, 6, 3, 7});
-    const V4f z101 = __builtin_shuffle(oz, one, V4i{0, 4, 1, 5}), z123 = __builtin_shuffle(oz, one, V4i{2, 6, 3, 7});
-    const V4f o[4] = {__builtin_shuffle(xy01, z101, V4i{0, 1, 4, 5}), __builtin_shuffle(xy01, z101, V4i{2, 3, 6, 7}),
-                      __builtin_shuffle(xy23, z123, V4i{0, 1, 4, 5}), __builtin_shuffle(xy23, z123, V4i{2, 3, 6, 7})};
+    const V4f xy01 = __builtin_shufflevector(ox, oy, 0, 4, 1, 5), xy23 = __builtin_shufflevector(ox, oy, 2, 6, 3, 7);
+    const V4f z101 = __builtin_shufflevector(oz, one, 0, 4, 1, 5), z123 = __builtin_shufflevector(oz, one, 2, 6, 3, 7);
+    const V4f o[4] = {__builtin_shufflevector(xy01, z101, 0, 1, 4, 5), __builtin_shufflevector(xy01, z101, 2, 3, 6, 7),
+                      __builtin_shufflevector(xy23, z123, 0, 1, 4, 5), __builtin_shufflevector(xy23, z123, 2, 3, 6, 7)};
     uint32_t n = n_pend;
+    if (accepted == 0xFu) {  // the rule: four points kept, stored as they are
+      for (uint32_t k = 0; k < 4; ++k) pend_o[n + k] = o[k];
+      std::memcpy(&pend_key[n], &key, sizeof key);
+      for (uint32_t k = 0; k < 4; ++k) pend_lane[n + k] = static_cast<uint8_t>(lane0 + k);
+      n_pend = n + 4u;
+      return;
+    }
     for (uint32_t k = 0; k < 4; ++k) {
       pend_o[n] = o[k];
       pend_key[n] = key[k];
