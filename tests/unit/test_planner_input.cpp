@@ -231,6 +231,10 @@ TEST(PlannerInput, PlanarArraysPlanLikeTriples) {
 // centres (several per cell, in runs and revisited later), out of range, out of the
 // crop box, at the sensor itself, NaN and Inf.
 TEST(PlannerInput, IngestMatchesABruteForceForEveryCountAndInputKind) {
+  // Both vector widths where the CPU has the wide one.
+  for (const uint32_t lanes : {4u, 0u}) {
+  fg::Planner::set_ingest_lanes(lanes);
+  SCOPED_TRACE(testing::Message() << fg::Planner::ingest_lanes() << " lanes");
   const Pose pose = look_at(Vec3(0.05f, -0.35f, 0.75f), Vec3(0.5f, 0.02f, 0.0f));
   const float inf = std::numeric_limits<float>::infinity();
   // The default range, and one from 0: the sensor's own position is then a point that
@@ -320,6 +324,21 @@ TEST(PlannerInput, IngestMatchesABruteForceForEveryCountAndInputKind) {
           const Eigen::Vector3d expect = it->second.first / it->second.second;
           EXPECT_LT((c - expect).norm(), 2e-6) << "voxel " << i << " of " << it->second.second << " points";
         }
+        // The direction bins: every other point with a positive finite depth, the
+        // nearest per bin.
+        std::vector<uint16_t> sight(fg::kSightBins * fg::kSightBins, 0xFFFFu);
+        uint32_t valid = 0;
+        for (const Vec3& p : sensor) {
+          if (!(p.z() > 0.f && p.z() <= 3.0e38f) || (++valid & 1u) == 0u) continue;
+          const float half = 0.5f * static_cast<float>(fg::kSightBins);
+          const float bu = (p.x() * (1.f / p.z()) + 1.f) * half, bv = (p.y() * (1.f / p.z()) + 1.f) * half;
+          if (!(bu >= 0.f && bv >= 0.f && bu < 2.f * half && bv < 2.f * half)) continue;
+          const float mm = p.z() * 1000.f;
+          const uint16_t d = static_cast<uint16_t>(mm < 65534.f ? static_cast<uint32_t>(mm) : 65534u);
+          uint16_t& b = sight[static_cast<uint32_t>(bv) * fg::kSightBins + static_cast<uint32_t>(bu)];
+          b = std::min(b, d);
+        }
+        EXPECT_EQ(std::memcmp(sight.data(), pl->sight_map(SensorRole::head), sight.size() * 2), 0);
         PlanResult r;
         pl->plan(r);
         EXPECT_EQ(r.points.input, n);
@@ -328,6 +347,52 @@ TEST(PlannerInput, IngestMatchesABruteForceForEveryCountAndInputKind) {
       }
     }
   }
+  }
+  fg::Planner::set_ingest_lanes(0);
+}
+
+// Every vector width gives the same voxels bit for bit, and so the same grasp: the box
+// scene with NaN holes, as x, y and z arrays, as triples and as a depth image.
+TEST(PlannerInput, IngestWidthsGiveTheSameGridBitForBit) {
+  fg::Planner::set_ingest_lanes(0);
+  if (fg::Planner::ingest_lanes() == 4u) GTEST_SKIP() << "this CPU runs only the four-lane ingest";
+  const Pose pose = look_at(Vec3(0.1f, -0.3f, 0.6f), Vec3(0.5f, 0.f, 0.05f));
+  std::vector<Vec3> pts = to_sensor(box_scene(23, 0.06f, 0.05f), pose);
+  for (size_t i = 0; i < pts.size(); i += 13) pts[i].y() = kNaN;
+  std::vector<float> xs, ys, zs;
+  for (const Vec3& p : pts) {
+    xs.push_back(p.x());
+    ys.push_back(p.y());
+    zs.push_back(p.z());
+  }
+  // A depth image of a tilted plane in front of the box scene's sensor.
+  const uint16_t w = 160, h = 120;
+  std::vector<uint16_t> depth(static_cast<size_t>(w) * h);
+  for (uint32_t v = 0; v < h; ++v)
+    for (uint32_t u = 0; u < w; ++u)
+      depth[v * w + u] = (u + 3 * v) % 17 == 0 ? 0 : static_cast<uint16_t>(500 + u + 2 * v);
+  const fg::PinholeIntrinsics k{120.f, 120.f, 80.f, 60.f};
+  PlanResult r[2];
+  std::vector<Vec3> voxels[2];
+  for (int wide = 0; wide < 2; ++wide) {
+    fg::Planner::set_ingest_lanes(wide ? 0u : 4u);
+    for (int kind = 0; kind < 3; ++kind) {
+      auto pl = make_planner();
+      const Status st = kind == 0   ? add(*pl, pts, pose)
+                        : kind == 1 ? pl->add_points_planar(SensorRole::head, xs.data(), ys.data(), zs.data(),
+                                                            static_cast<uint32_t>(pts.size()), pose)
+                                    : pl->add_depth_image(SensorRole::hand, depth.data(), w, h, k, pose);
+      ASSERT_EQ(st, Status::ok);
+      for (uint32_t i = 0; i < pl->voxels().size(); ++i) voxels[wide].push_back(pl->voxels().centroid(i));
+      if (kind == 1) pl->plan(r[wide]);
+    }
+  }
+  fg::Planner::set_ingest_lanes(0);
+  ASSERT_EQ(voxels[0].size(), voxels[1].size());
+  EXPECT_EQ(std::memcmp(voxels[0].data(), voxels[1].data(), voxels[0].size() * sizeof(Vec3)), 0);
+  ASSERT_EQ(r[0].status, Status::ok) << r[0].message;
+  EXPECT_EQ(std::memcmp(r[0].grasp.position.data(), r[1].grasp.position.data(), 12), 0);
+  EXPECT_EQ(std::memcmp(r[0].grasp.closing.data(), r[1].grasp.closing.data(), 12), 0);
 }
 
 TEST(PlannerInput, BadPoses) {

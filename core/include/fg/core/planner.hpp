@@ -143,6 +143,14 @@ class Planner {
   Status add_depth_image(SensorRole role, const uint16_t* depth_mm, uint16_t width,
                          uint16_t height, const PinholeIntrinsics& k, const Pose& world_T_sensor);
 
+  //! The ingest's vector width for every planner of the process: 0 (the default) the
+  //! widest this CPU runs (8 lanes on x86-64 with AVX2, else 4), 4 the path of every
+  //! target. Every width gives the same grid, bit for bit; tests and benchmarks compare
+  //! them. Not while another thread ingests.
+  static void set_ingest_lanes(uint32_t lanes);
+  //! The width the next add_* call uses (4 or 8).
+  static uint32_t ingest_lanes();
+
   //! Plans on everything added since reset(). When the target cluster yields no grasp
   //! and lies over the footprint of a larger cluster, that cluster is searched once
   //! more (the target-fragment fall-back, docs/method.md A.6). The result's
@@ -155,6 +163,10 @@ class Planner {
   const char* last_message() const { return message_; }
 
   // Inspection after plan(), for reports and pictures (host side).
+  //! A sensor's nearest returns (mm, 0xFFFF = none) in kSightBins x kSightBins direction
+  //! bins over x / z and y / z in [-1, 1), row by row (bin v * kSightBins + u): the
+  //! visibility the checks ask about. Fed by every other point with a positive depth.
+  const uint16_t* sight_map(SensorRole role) const { return sight_mm_[static_cast<uint32_t>(role) % kMaxSensors]; }
   const Plane& plane() const { return plane_; }
   bool plane_found() const { return plane_found_; }
   const PointSpan& object_points() const { return object_; }

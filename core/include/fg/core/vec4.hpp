@@ -38,7 +38,4 @@ inline uint32_t lane_mask(V4i m) {
 #endif
 }
 
-//! The lanes of v where m is set, 0.0f elsewhere.
-inline V4f select_or_zero(V4i m, V4f v) { return reinterpret_cast<V4f>(reinterpret_cast<V4i>(v) & m); }
-
 }  // namespace fg

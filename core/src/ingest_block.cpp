@@ -1,0 +1,138 @@
+// The ingest's vector step at each width (ingest_block.hpp): ingest_lanes.inc compiled
+// for four lanes everywhere and for eight on x86-64 CPUs with AVX2, chosen at run time.
+#include "ingest_block.hpp"
+
+#include <cstring>
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#define FG_INGEST_AVX2 1
+#include <immintrin.h>
+#else
+#define FG_INGEST_AVX2 0
+#endif
+
+namespace fg {
+namespace ingest {
+namespace {
+
+// The lane tables of a width W.
+template <uint32_t W>
+struct LaneTables {
+  uint8_t popcount[1u << W];  // set lanes of a mask
+  // sight[p][m]: the lanes of a group with valid-depth lanes m whose running count of
+  // valid points is odd when p valid points came before (mod 2): every other point
+  // with a finite depth feeds the direction bins.
+  uint8_t sight[2][1u << W];
+  // pick[m][j]: the j-th set lane of a mask with at most W / 2 set lanes (alternate
+  // lanes), the last one repeated.
+  uint8_t pick[1u << W][W / 2];
+  constexpr LaneTables() : popcount{}, sight{}, pick{} {
+    for (uint32_t m = 0; m < (1u << W); ++m) {
+      uint32_t count = 0;
+      uint8_t last = 0;
+      for (uint32_t k = 0; k < W; ++k)
+        if ((m >> k) & 1u) {
+          if (count < W / 2) pick[m][count] = static_cast<uint8_t>(k);
+          last = static_cast<uint8_t>(k);
+          ++count;
+        }
+      popcount[m] = static_cast<uint8_t>(count);
+      for (uint32_t j = count; j < W / 2; ++j) pick[m][j] = last;
+      for (uint32_t p = 0; p < 2; ++p) {
+        uint32_t run = p, sel = 0;
+        for (uint32_t k = 0; k < W; ++k)
+          if ((m >> k) & 1u) {
+            ++run;
+            if (run & 1u) sel |= 1u << k;
+          }
+        sight[p][m] = static_cast<uint8_t>(sel);
+      }
+    }
+  }
+};
+
+uint32_t g_lanes = 0;  // 0: the widest the CPU runs
+
+}  // namespace
+
+// Four lanes: GCC's vector extensions (vec4.hpp).
+namespace lanes4 {
+namespace {
+typedef V4f VF;
+typedef V4i VI;
+typedef uint32_t VU __attribute__((vector_size(16)));
+constexpr uint32_t kLanes = 4;
+constexpr LaneTables<kLanes> kTables{};
+inline uint32_t mask_of(VI m) { return lane_mask(m); }
+// Four (x, y, z, 1) offsets out of the lanes: a 4 x 4 transpose.
+inline void offsets_of(VF ox, VF oy, VF oz, V4f* out) {
+  const VF one = {1.f, 1.f, 1.f, 1.f};
+  const VF xy01 = __builtin_shufflevector(ox, oy, 0, 4, 1, 5), xy23 = __builtin_shufflevector(ox, oy, 2, 6, 3, 7);
+  const VF z101 = __builtin_shufflevector(oz, one, 0, 4, 1, 5), z123 = __builtin_shufflevector(oz, one, 2, 6, 3, 7);
+  out[0] = __builtin_shufflevector(xy01, z101, 0, 1, 4, 5);
+  out[1] = __builtin_shufflevector(xy01, z101, 2, 3, 6, 7);
+  out[2] = __builtin_shufflevector(xy23, z123, 0, 1, 4, 5);
+  out[3] = __builtin_shufflevector(xy23, z123, 2, 3, 6, 7);
+}
+#define FG_LANES_TARGET
+#include "ingest_lanes.inc"
+#undef FG_LANES_TARGET
+}  // namespace
+}  // namespace lanes4
+
+#if FG_INGEST_AVX2
+// Eight lanes in the 256-bit registers of AVX2 (only AVX2: no FMA, whose fused
+// multiply-adds would round differently from the four-lane path).
+namespace lanes8 {
+namespace {
+typedef float VF __attribute__((vector_size(32)));
+typedef int32_t VI __attribute__((vector_size(32)));
+typedef uint32_t VU __attribute__((vector_size(32)));
+constexpr uint32_t kLanes = 8;
+constexpr LaneTables<kLanes> kTables{};
+#define FG_LANES_TARGET __attribute__((target("avx2")))
+FG_LANES_TARGET inline uint32_t mask_of(VI m) {
+  return static_cast<uint32_t>(_mm256_movemask_ps(reinterpret_cast<__m256>(m)));
+}
+// Eight (x, y, z, 1) offsets out of the lanes: a 4 x 4 transpose in each 128-bit half.
+FG_LANES_TARGET inline void offsets_of(VF ox, VF oy, VF oz, V4f* out) {
+  const VF one = {1.f, 1.f, 1.f, 1.f, 1.f, 1.f, 1.f, 1.f};
+  const VF xy_a = __builtin_shufflevector(ox, oy, 0, 8, 1, 9, 4, 12, 5, 13);
+  const VF xy_b = __builtin_shufflevector(ox, oy, 2, 10, 3, 11, 6, 14, 7, 15);
+  const VF z1_a = __builtin_shufflevector(oz, one, 0, 8, 1, 9, 4, 12, 5, 13);
+  const VF z1_b = __builtin_shufflevector(oz, one, 2, 10, 3, 11, 6, 14, 7, 15);
+  const VF p[4] = {__builtin_shufflevector(xy_a, z1_a, 0, 1, 8, 9, 4, 5, 12, 13),    // points 0 and 4
+                   __builtin_shufflevector(xy_a, z1_a, 2, 3, 10, 11, 6, 7, 14, 15),  // 1 and 5
+                   __builtin_shufflevector(xy_b, z1_b, 0, 1, 8, 9, 4, 5, 12, 13),    // 2 and 6
+                   __builtin_shufflevector(xy_b, z1_b, 2, 3, 10, 11, 6, 7, 14, 15)}; // 3 and 7
+  for (int j = 0; j < 4; ++j) {
+    out[j] = __builtin_shufflevector(p[j], p[j], 0, 1, 2, 3);
+    out[j + 4] = __builtin_shufflevector(p[j], p[j], 4, 5, 6, 7);
+  }
+}
+#include "ingest_lanes.inc"
+#undef FG_LANES_TARGET
+}  // namespace
+}  // namespace lanes8
+#endif
+
+bool add_block(State& s, VoxelGrid& grid, const float* x, const float* y, const float* z, uint32_t n) {
+#if FG_INGEST_AVX2
+  if (s.lanes == 8u) return lanes8::add_block(s, grid, x, y, z, n);
+#endif
+  return lanes4::add_block(s, grid, x, y, z, n);
+}
+
+void set_lanes(uint32_t lanes) { g_lanes = lanes; }
+
+uint32_t lanes() {
+#if FG_INGEST_AVX2
+  if (g_lanes == 4u) return 4u;
+  __builtin_cpu_init();  // idempotent; needed before constructors have run
+  if (__builtin_cpu_supports("avx2")) return 8u;
+#endif
+  return 4u;
+}
+
+}  // namespace ingest
+}  // namespace fg

@@ -1,0 +1,51 @@
+// The ingest's hot loop (algorithm.md A.1-A.4), shared by every kind of input: points
+// arrive in blocks of up to kBatch as x, y and z arrays; each is range-filtered,
+// transformed to grid cell units, crop-tested and queued, then the block's kept
+// points reach the voxel grid in their order. The lanes of a vector step are points:
+// four on every target (SSE2 on x86-64, NEON on aarch64, scalar code on Cortex-M),
+// eight where the x86-64 CPU has AVX2. Every lane computes the scalar formulas, so
+// every width gives the same grid, bit for bit.
+#pragma once
+#include <cstdint>
+
+#include "fg/core/limits.hpp"
+#include "fg/core/vec4.hpp"
+#include "fg/core/voxel_grid.hpp"
+
+namespace fg {
+namespace ingest {
+
+struct State {
+  // cell_j = ((r[j][0] * x + r[j][1] * y) + r[j][2] * z) + c[j]: the rigid transform
+  // and the voxel scaling folded into one affine map from the sensor frame to cells.
+  float r[3][3], c[3];
+  float lo[3], hi[3];  // the crop box in cell units
+  float leaf, zmin, zmax;
+  uint16_t* sight = nullptr;  // kSightBins^2 nearest returns of this sensor
+  uint32_t offered = 0, nonfinite = 0, kept = 0;
+  uint32_t parity = 0;  // valid-depth points so far, mod 2 (the direction bins' share)
+  uint32_t lanes = 4;   // the vector width (lanes(), once per cloud)
+  // A block's kept points wait here before they reach the grid: the arithmetic of a
+  // block runs without waiting on memory, then its grid look-ups and sums issue back
+  // to back. 64 points per block (about 1.3 KiB) on the host; small builds keep the
+  // stack small.
+  static constexpr uint32_t kBatch = kMaxVoxels >= 65536u ? 64u : 16u;
+  V4f pend_o[kBatch];         // offsets from the cell corner (m), lane 3 = 1 (the count)
+  uint32_t pend_key[kBatch];
+  uint8_t pend_lane[kBatch];  // the point's place in its block
+  uint32_t n_pend = 0;
+};
+
+//! Stages and adds n <= State::kBatch points; false when the grid is full. Then
+//! offered, nonfinite and kept count exactly the points read up to the refused one.
+bool add_block(State& s, VoxelGrid& grid, const float* x, const float* y, const float* z, uint32_t n);
+
+//! The vector width add_block uses: 0 (the default) picks the widest this CPU runs,
+//! 4 forces the four-lane path. For tests and benchmarks; not for use while another
+//! thread ingests.
+void set_lanes(uint32_t lanes);
+//! The width the next cloud's add_block calls use (4 or 8).
+uint32_t lanes();
+
+}  // namespace ingest
+}  // namespace fg
