@@ -166,21 +166,17 @@ Status Planner::add_coordinates(SensorRole role, const uint8_t* const base[3], u
   make_ingest(in, world_T_sensor, cfg_, grid_, crop_min_, crop_max_, sight_mm_[static_cast<uint32_t>(role)]);
   Status st = Status::ok;
   const uint8_t *bx = base[0], *by = base[1], *bz = base[2];
-  if (stride_bytes == sizeof(float)) {
-    // x, y and z arrays: the blocks are read in place.
-    const float *x = reinterpret_cast<const float*>(bx), *y = reinterpret_cast<const float*>(by),
-                *z = reinterpret_cast<const float*>(bz);
-    for (uint32_t i = 0; i < count; i += ingest::State::kBatch) {
-      const uint32_t n = count - i < ingest::State::kBatch ? count - i : ingest::State::kBatch;
-      if (!ingest::add_block(in, grid_, x + i, y + i, z + i, n)) {
-        st = Status::capacity_exceeded;
-        break;
-      }
-    }
-  } else {
-    Block blk;
-    for (uint32_t i = 0; i < count; i += ingest::State::kBatch) {
-      const uint32_t n = count - i < ingest::State::kBatch ? count - i : ingest::State::kBatch;
+  // x, y and z arrays are read in place; other strides are gathered into a block.
+  const bool planar = stride_bytes == sizeof(float);
+  Block blk;
+  for (uint32_t i = 0; i < count; i += ingest::State::kBatch) {
+    const uint32_t n = count - i < ingest::State::kBatch ? count - i : ingest::State::kBatch;
+    const float *x = blk.x, *y = blk.y, *z = blk.z;
+    if (planar) {
+      x = reinterpret_cast<const float*>(bx) + i;
+      y = reinterpret_cast<const float*>(by) + i;
+      z = reinterpret_cast<const float*>(bz) + i;
+    } else {
       for (uint32_t k = 0; k < n; ++k) {
         // Any alignment; three scalar loads.
         const size_t off = static_cast<size_t>(i + k) * stride_bytes;
@@ -188,10 +184,10 @@ Status Planner::add_coordinates(SensorRole role, const uint8_t* const base[3], u
         std::memcpy(&blk.y[k], by + off, sizeof(float));
         std::memcpy(&blk.z[k], bz + off, sizeof(float));
       }
-      if (!ingest::add_block(in, grid_, blk.x, blk.y, blk.z, n)) {
-        st = Status::capacity_exceeded;
-        break;
-      }
+    }
+    if (!ingest::add_block(in, grid_, x, y, z, n)) {
+      st = Status::capacity_exceeded;
+      break;
     }
   }
   return end_ingest(count, in.offered - in.nonfinite, in.kept, t0, st);

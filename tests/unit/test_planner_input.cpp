@@ -62,6 +62,15 @@ Status add(fg::Planner& pl, const std::vector<Vec3>& pts, const Pose& pose = Pos
   return pl.add_points(role, xyz.data(), static_cast<uint32_t>(pts.size()), 12, pose);
 }
 
+// Splits points into x, y and z arrays (add_points_planar's input).
+void planar(const std::vector<Vec3>& pts, std::vector<float>& xs, std::vector<float>& ys, std::vector<float>& zs) {
+  for (const Vec3& p : pts) {
+    xs.push_back(p.x());
+    ys.push_back(p.y());
+    zs.push_back(p.z());
+  }
+}
+
 bool nonempty(const char* s) { return s != nullptr && s[0] != '\0'; }
 
 // ---------------------------------------------------------------------------------
@@ -196,11 +205,7 @@ TEST(PlannerInput, PlanarArraysPlanLikeTriples) {
   std::vector<Vec3> pts = to_sensor(box_scene(21, 0.07f, 0.05f), pose);
   for (size_t i = 0; i < pts.size(); i += 17) pts[i].x() = kNaN;
   std::vector<float> xs, ys, zs;
-  for (const Vec3& p : pts) {
-    xs.push_back(p.x());
-    ys.push_back(p.y());
-    zs.push_back(p.z());
-  }
+  planar(pts, xs, ys, zs);
   auto a = make_planner();
   auto b = make_planner();
   ASSERT_EQ(add(*a, pts, pose), Status::ok);
@@ -298,12 +303,8 @@ TEST(PlannerInput, IngestMatchesABruteForceForEveryCountAndInputKind) {
         e.second += 1;
       }
       std::vector<float> xs, ys, zs, padded;
-      for (const Vec3& s : sensor) {
-        xs.push_back(s.x());
-        ys.push_back(s.y());
-        zs.push_back(s.z());
-        padded.insert(padded.end(), {s.x(), s.y(), s.z(), -7.f});
-      }
+      planar(sensor, xs, ys, zs);
+      for (const Vec3& s : sensor) padded.insert(padded.end(), {s.x(), s.y(), s.z(), -7.f});
       for (int input_kind = 0; input_kind < 3; ++input_kind) {
         SCOPED_TRACE(testing::Message() << n << " points, input kind " << input_kind << ", range from "
                                         << range_min);
@@ -360,11 +361,7 @@ TEST(PlannerInput, IngestWidthsGiveTheSameGridBitForBit) {
   std::vector<Vec3> pts = to_sensor(box_scene(23, 0.06f, 0.05f), pose);
   for (size_t i = 0; i < pts.size(); i += 13) pts[i].y() = kNaN;
   std::vector<float> xs, ys, zs;
-  for (const Vec3& p : pts) {
-    xs.push_back(p.x());
-    ys.push_back(p.y());
-    zs.push_back(p.z());
-  }
+  planar(pts, xs, ys, zs);
   // A depth image of a tilted plane in front of the box scene's sensor.
   const uint16_t w = 160, h = 120;
   std::vector<uint16_t> depth(static_cast<size_t>(w) * h);
