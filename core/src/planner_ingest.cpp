@@ -94,6 +94,58 @@ struct Block {
   uint32_t n = 0;
 };
 
+V4f load4(const uint8_t* p) {
+  V4f v;
+  std::memcpy(&v, p, sizeof v);  // any alignment
+  return v;
+}
+
+// Points k < n of a strided block into x, y and z arrays. Packed xyz triples (stride
+// 12) and points padded to 16 bytes (PCL's PointXYZ), the common layouts, go four at a
+// time through shuffles, which move the bits unchanged (NaN payloads too); `whole` is
+// how many of the block's points may be read with all `stride` bytes (a cloud's last
+// padded point may end at its z).
+void gather(Block& blk, const uint8_t* const b[3], uint32_t stride, uint32_t n, uint32_t whole) {
+  uint32_t k = 0;
+  if (b[1] == b[0] + 4 && b[2] == b[0] + 8) {
+    if (stride == 12) {
+      for (; k + 4 <= n; k += 4) {
+        const uint8_t* p = b[0] + static_cast<size_t>(k) * 12;
+        const V4f a = load4(p), c = load4(p + 16), d = load4(p + 32);  // x0 y0 z0 x1 | y1 z1 x2 y2 | z2 x3 y3 z3
+        // Each shuffle takes two lanes of either operand (one shufps on SSE).
+        const V4f xy23 = __builtin_shufflevector(c, d, 2, 3, 5, 6);  // x2 y2 x3 y3
+        const V4f yz01 = __builtin_shufflevector(a, c, 1, 2, 4, 5);  // y0 z0 y1 z1
+        const V4f x = __builtin_shufflevector(a, xy23, 0, 3, 4, 6);
+        const V4f y = __builtin_shufflevector(yz01, xy23, 0, 2, 5, 7);
+        const V4f z = __builtin_shufflevector(yz01, d, 1, 3, 4, 7);
+        std::memcpy(&blk.x[k], &x, sizeof x);
+        std::memcpy(&blk.y[k], &y, sizeof y);
+        std::memcpy(&blk.z[k], &z, sizeof z);
+      }
+    } else if (stride == 16) {
+      for (; k + 4 <= whole; k += 4) {
+        const uint8_t* p = b[0] + static_cast<size_t>(k) * 16;
+        const V4f p0 = load4(p), p1 = load4(p + 16), p2 = load4(p + 32), p3 = load4(p + 48);
+        const V4f xy01 = __builtin_shufflevector(p0, p1, 0, 4, 1, 5), xy23 = __builtin_shufflevector(p2, p3, 0, 4, 1, 5);
+        const V4f z01 = __builtin_shufflevector(p0, p1, 2, 6, 2, 6), z23 = __builtin_shufflevector(p2, p3, 2, 6, 2, 6);
+        const V4f x = __builtin_shufflevector(xy01, xy23, 0, 1, 4, 5);
+        const V4f y = __builtin_shufflevector(xy01, xy23, 2, 3, 6, 7);
+        const V4f z = __builtin_shufflevector(z01, z23, 0, 1, 4, 5);
+        std::memcpy(&blk.x[k], &x, sizeof x);
+        std::memcpy(&blk.y[k], &y, sizeof y);
+        std::memcpy(&blk.z[k], &z, sizeof z);
+      }
+    }
+  }
+  for (; k < n; ++k) {
+    // Any stride and alignment; three scalar loads.
+    const size_t off = static_cast<size_t>(k) * stride;
+    std::memcpy(&blk.x[k], b[0] + off, sizeof(float));
+    std::memcpy(&blk.y[k], b[1] + off, sizeof(float));
+    std::memcpy(&blk.z[k], b[2] + off, sizeof(float));
+  }
+}
+
 void make_ingest(ingest::State& in, const Pose& p, const PlannerConfig& cfg, const VoxelGrid& grid,
                  const Vec3& crop_lo, const Vec3& crop_hi, uint16_t* sight) {
   const float inv = 1.f / grid.leaf();
@@ -177,13 +229,9 @@ Status Planner::add_coordinates(SensorRole role, const uint8_t* const base[3], u
       y = reinterpret_cast<const float*>(by) + i;
       z = reinterpret_cast<const float*>(bz) + i;
     } else {
-      for (uint32_t k = 0; k < n; ++k) {
-        // Any alignment; three scalar loads.
-        const size_t off = static_cast<size_t>(i + k) * stride_bytes;
-        std::memcpy(&blk.x[k], bx + off, sizeof(float));
-        std::memcpy(&blk.y[k], by + off, sizeof(float));
-        std::memcpy(&blk.z[k], bz + off, sizeof(float));
-      }
+      const size_t off = static_cast<size_t>(i) * stride_bytes;
+      const uint8_t* const b[3] = {bx + off, by + off, bz + off};
+      gather(blk, b, stride_bytes, n, i + n < count ? n : n - 1);
     }
     if (!ingest::add_block(in, grid_, x, y, z, n)) {
       st = Status::capacity_exceeded;
