@@ -3,6 +3,7 @@
 //   build/host-release/tests/bench/fg_bench [--scene PATH] [benchmark flags]
 #include <benchmark/benchmark.h>
 
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <memory>
@@ -127,6 +128,74 @@ void BM_IngestPlanar4(benchmark::State& st) {
   fg::Planner::set_ingest_lanes(0);
 }
 
+// The same scene as the depth images a firmware's sensors deliver (uint16 mm, pinhole
+// intrinsics): each organized cloud's z in millimetres, its intrinsics fitted to its
+// pixels by least squares (u = cx + fx x / z, v = cy + fy y / z). Made once, on first use.
+struct DepthImage {
+  std::vector<uint16_t> mm;
+  uint16_t width = 0, height = 0;
+  fg::PinholeIntrinsics k;
+};
+
+const std::vector<DepthImage>& depth_images() {
+  static std::vector<DepthImage> images;
+  if (!images.empty()) return images;
+  for (const auto& c : g_data->clouds) {
+    DepthImage img;
+    if (!c.organized() || c.planar() || c.width > 65535u || c.height > 65535u) {
+      images.clear();
+      return images;
+    }
+    img.width = static_cast<uint16_t>(c.width);
+    img.height = static_cast<uint16_t>(c.height);
+    img.mm.assign(static_cast<size_t>(c.width) * c.height, 0);
+    double fit[2][5] = {};  // per axis: n, sum a, sum a^2, sum p, sum a p (a = x/z or y/z, p = pixel)
+    for (uint32_t v = 0; v < c.height; ++v)
+      for (uint32_t u = 0; u < c.width; ++u) {
+        const size_t i = static_cast<size_t>(v) * c.width + u;
+        const float x = c.xyz[3 * i], y = c.xyz[3 * i + 1], z = c.xyz[3 * i + 2];
+        if (!(std::isfinite(x) && std::isfinite(y) && z > 0.f && z < 65.f)) continue;
+        img.mm[i] = static_cast<uint16_t>(std::lround(z * 1000.f));
+        const double a[2] = {x / z, y / z}, px[2] = {static_cast<double>(u), static_cast<double>(v)};
+        for (int j = 0; j < 2; ++j) {
+          fit[j][0] += 1;
+          fit[j][1] += a[j];
+          fit[j][2] += a[j] * a[j];
+          fit[j][3] += px[j];
+          fit[j][4] += a[j] * px[j];
+        }
+      }
+    double f[2], ctr[2];
+    for (int j = 0; j < 2; ++j) {
+      const double n = fit[j][0];
+      f[j] = (n * fit[j][4] - fit[j][1] * fit[j][3]) / (n * fit[j][2] - fit[j][1] * fit[j][1]);
+      ctr[j] = (fit[j][3] - f[j] * fit[j][1]) / n;
+    }
+    img.k.fx = static_cast<float>(f[0]);
+    img.k.fy = static_cast<float>(f[1]);
+    img.k.cx = static_cast<float>(ctr[0]);
+    img.k.cy = static_cast<float>(ctr[1]);
+    images.push_back(std::move(img));
+  }
+  return images;
+}
+
+void BM_IngestDepth(benchmark::State& st) {
+  const auto& images = depth_images();
+  if (images.size() != g_data->clouds.size()) {
+    st.SkipWithError("the scene's clouds are not organized (no depth images)");
+    return;
+  }
+  for (auto _ : st) {
+    g_planner->reset();
+    for (size_t i = 0; i < images.size(); ++i)
+      (void)g_planner->add_depth_image(g_data->roles[i], images[i].mm.data(), images[i].width, images[i].height,
+                                       images[i].k, g_data->poses[i]);
+  }
+  st.counters["raw_points"] = g_data->raw_points;
+  st.counters["voxels"] = g_planner->voxels().size();
+}
+
 void BM_WholePlan(benchmark::State& st) {
   fg::PlanResult r;
   for (auto _ : st) {
@@ -248,6 +317,7 @@ void BM_AnalyzeViewpoint(benchmark::State& st) {
 BENCHMARK(BM_Ingest)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_IngestPlanar)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_IngestPlanar4)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_IngestDepth)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_RansacPlane)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Cluster)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_ConcaveHull)->Unit(benchmark::kMicrosecond);

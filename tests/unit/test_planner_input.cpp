@@ -409,6 +409,80 @@ TEST(PlannerInput, IngestWidthsGiveTheSameGridBitForBit) {
   EXPECT_EQ(std::memcmp(r[0].grasp.closing.data(), r[1].grasp.closing.data(), 12), 0);
 }
 
+// A depth image is its pixels' points: for every pixel with a return (depth > 0), in
+// row order, z = d * 0.001, x = (u - cx) / fx * z, y = (v - cy) / fy * z (the formulas
+// of add_depth_image, computed here in float one pixel at a time). The image and those
+// points as x, y and z arrays must give the same grid and direction bins bit for bit,
+// and the same counts, for widths around the four-pixel steps and the 64-point blocks,
+// rows without a return, depths past the range and a grid that fills up.
+void expect_depth_matches_its_points(const std::vector<uint16_t>& depth, uint16_t w, uint16_t h,
+                                     const fg::PinholeIntrinsics& k, const Pose& pose, Status expect) {
+  std::vector<float> xs, ys, zs;
+  const float ifx = 1.f / k.fx, ify = 1.f / k.fy;
+  for (uint32_t v = 0; v < h; ++v) {
+    const float yf = (static_cast<float>(v) - k.cy) * ify;
+    for (uint32_t u = 0; u < w; ++u) {
+      const uint16_t d = depth[static_cast<size_t>(v) * w + u];
+      if (d == 0) continue;
+      const float z = static_cast<float>(d) * 0.001f;
+      xs.push_back((static_cast<float>(u) - k.cx) * ifx * z);
+      ys.push_back(yf * z);
+      zs.push_back(z);
+    }
+  }
+  auto a = make_planner();
+  auto b = make_planner();
+  ASSERT_EQ(a->add_depth_image(SensorRole::hand, depth.data(), w, h, k, pose), expect);
+  ASSERT_EQ(b->add_points_planar(SensorRole::hand, xs.data(), ys.data(), zs.data(),
+                                 static_cast<uint32_t>(xs.size()), pose),
+            expect);
+  ASSERT_EQ(a->voxels().size(), b->voxels().size());
+  for (uint32_t i = 0; i < a->voxels().size(); ++i) {
+    ASSERT_EQ(a->voxels().key(i), b->voxels().key(i)) << i;
+    ASSERT_EQ(a->voxels().voxel(i).count, b->voxels().voxel(i).count) << i;
+    const Vec3 ca = a->voxels().centroid(i), cb = b->voxels().centroid(i);
+    ASSERT_EQ(std::memcmp(ca.data(), cb.data(), sizeof(float) * 3), 0) << i;
+  }
+  EXPECT_EQ(std::memcmp(a->sight_map(SensorRole::hand), b->sight_map(SensorRole::hand),
+                        sizeof(uint16_t) * fg::kSightBins * fg::kSightBins),
+            0);
+  PlanResult ra, rb;
+  a->plan(ra);
+  b->plan(rb);
+  EXPECT_EQ(ra.points.input, static_cast<uint32_t>(w) * h);
+  EXPECT_EQ(ra.points.finite, rb.points.finite);
+  EXPECT_EQ(ra.points.after_filter, rb.points.after_filter);
+  EXPECT_EQ(ra.points.voxels, rb.points.voxels);
+}
+
+TEST(PlannerInput, DepthImageIsItsPixelsPointsForEveryWidth) {
+  std::mt19937 rng(12);
+  const Pose pose = look_at(Vec3(0.5f, -0.3f, 0.6f), Vec3(0.5f, 0.f, 0.f));
+  for (uint16_t w : {1, 2, 3, 4, 5, 7, 8, 9, 61, 64, 65, 130}) {
+    for (uint16_t h : {1, 3, 17}) {
+      SCOPED_TRACE(testing::Message() << w << " x " << h);
+      std::vector<uint16_t> depth(static_cast<size_t>(w) * h);
+      for (uint32_t v = 0; v < h; ++v)
+        for (uint32_t u = 0; u < w; ++u) {
+          const uint32_t r = rng() % 10;
+          // Holes, a row without a return, depths past the range, the largest value.
+          depth[v * w + u] = (r < 3 || v == 1) ? 0
+                             : r == 3          ? 65535
+                             : r == 4          ? 2000
+                                               : static_cast<uint16_t>(550 + rng() % 200);
+        }
+      expect_depth_matches_its_points(depth, w, h, fg::PinholeIntrinsics{0.8f * w + 1.5f, 0.8f * w + 1.5f,
+                                                                          0.5f * w, 0.5f * h},
+                                      pose, Status::ok);
+    }
+  }
+  // More cells than the grid holds: both refuse the same point and count up to it.
+  const uint16_t w = 640, h = 480;
+  std::vector<uint16_t> depth(static_cast<size_t>(w) * h);
+  for (auto& d : depth) d = rng() % 8 == 0 ? 0 : static_cast<uint16_t>(400 + rng() % 800);
+  expect_depth_matches_its_points(depth, w, h, fg::PinholeIntrinsics{}, pose, Status::capacity_exceeded);
+}
+
 TEST(PlannerInput, BadPoses) {
   const float xyz[3] = {0.5f, 0.f, 1.f};
   struct Case {
