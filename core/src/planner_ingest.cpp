@@ -94,12 +94,6 @@ struct Block {
   uint32_t n = 0;
 };
 
-V4f load4(const uint8_t* p) {
-  V4f v;
-  std::memcpy(&v, p, sizeof v);  // any alignment
-  return v;
-}
-
 // Points k < n of a strided block into x, y and z arrays. Packed xyz triples (stride
 // 12) and points padded to 16 bytes (PCL's PointXYZ), the common layouts, go four at a
 // time through shuffles, which move the bits unchanged (NaN payloads too); `whole` is
@@ -111,13 +105,8 @@ void gather(Block& blk, const uint8_t* const b[3], uint32_t stride, uint32_t n, 
     if (stride == 12) {
       for (; k + 4 <= n; k += 4) {
         const uint8_t* p = b[0] + static_cast<size_t>(k) * 12;
-        const V4f a = load4(p), c = load4(p + 16), d = load4(p + 32);  // x0 y0 z0 x1 | y1 z1 x2 y2 | z2 x3 y3 z3
-        // Each shuffle takes two lanes of either operand (one shufps on SSE).
-        const V4f xy23 = __builtin_shufflevector(c, d, 2, 3, 5, 6);  // x2 y2 x3 y3
-        const V4f yz01 = __builtin_shufflevector(a, c, 1, 2, 4, 5);  // y0 z0 y1 z1
-        const V4f x = __builtin_shufflevector(a, xy23, 0, 3, 4, 6);
-        const V4f y = __builtin_shufflevector(yz01, xy23, 0, 2, 5, 7);
-        const V4f z = __builtin_shufflevector(yz01, d, 1, 3, 4, 7);
+        V4f x, y, z;
+        deinterleave_xyz(load4(p), load4(p + 16), load4(p + 32), x, y, z);
         std::memcpy(&blk.x[k], &x, sizeof x);
         std::memcpy(&blk.y[k], &y, sizeof y);
         std::memcpy(&blk.z[k], &z, sizeof z);
