@@ -1,5 +1,7 @@
 #include "fg/core/voxel_grid.hpp"
 
+#include <cstring>
+
 namespace fg {
 
 void VoxelGrid::reset(const Vec3& origin, float leaf_m) {
@@ -85,9 +87,35 @@ Vec3 VoxelGrid::centroid(uint32_t i) const {
 
 void VoxelGrid::finalize() {
   if (finalized_) return;
-  // In place, front to back: centroid i (floats 3i..3i+2) lands at or before the sums
-  // of voxel i (floats 4i..4i+3), which are read first.
-  for (uint32_t i = 0; i < size_; ++i) {
+  // In place, front to back, four voxels per step: their sums (floats 4i..4i+15) are
+  // read before their centroids (floats 3i..3i+11) are written, at or before them, so
+  // no later voxel's sums are overwritten. Each lane is centroid()'s formula in its
+  // order, so the centroids are the same bit for bit.
+  const V4f o[3] = {V4f{} + origin_.x(), V4f{} + origin_.y(), V4f{} + origin_.z()};
+  const V4f leaf = V4f{} + leaf_;
+  uint32_t i = 0;
+  for (; i + 4 <= size_; i += 4) {
+    const float* acc = store_ + 4 * i;
+    const V4f a0 = load4(acc), a1 = load4(acc + 4), a2 = load4(acc + 8), a3 = load4(acc + 12);
+    const V4f xy01 = __builtin_shufflevector(a0, a1, 0, 4, 1, 5), xy23 = __builtin_shufflevector(a2, a3, 0, 4, 1, 5);
+    const V4f zn01 = __builtin_shufflevector(a0, a1, 2, 6, 3, 7), zn23 = __builtin_shufflevector(a2, a3, 2, 6, 3, 7);
+    const V4f sx = __builtin_shufflevector(xy01, xy23, 0, 1, 4, 5), sy = __builtin_shufflevector(xy01, xy23, 2, 3, 6, 7);
+    const V4f sz = __builtin_shufflevector(zn01, zn23, 0, 1, 4, 5), cnt = __builtin_shufflevector(zn01, zn23, 2, 3, 6, 7);
+    const V4f inv = 1.0f / cnt;
+    V4i k;
+    std::memcpy(&k, keys_ + i, sizeof k);
+    const V4f kx = __builtin_convertvector(k & 0x7FF, V4f);
+    const V4f ky = __builtin_convertvector((k >> 11) & 0x7FF, V4f);
+    const V4f kz = __builtin_convertvector(reinterpret_cast<V4i>(reinterpret_cast<V4u>(k) >> 22), V4f);
+    V4f c0, c1, c2;
+    interleave_xyz((o[0] + kx * leaf) + sx * inv, (o[1] + ky * leaf) + sy * inv, (o[2] + kz * leaf) + sz * inv, c0,
+                   c1, c2);
+    float* out = store_ + 3 * i;
+    std::memcpy(out, &c0, sizeof c0);
+    std::memcpy(out + 4, &c1, sizeof c1);
+    std::memcpy(out + 8, &c2, sizeof c2);
+  }
+  for (; i < size_; ++i) {
     const Vec3 c = centroid(i);
     float* out = store_ + 3 * i;
     out[0] = c.x();

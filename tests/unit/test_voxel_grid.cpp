@@ -337,6 +337,37 @@ TEST(VoxelGrid, FinalizeKeepsCentroidsAndLendsCounts) {
     EXPECT_EQ(std::memcmp(g->centroid(i).data(), before[i].data(), sizeof(float) * 3), 0);
 }
 
+// finalize() turns four voxels per step and the rest one by one: for every count
+// around those steps, with cells at the far ends of the key range (a z above 511 sets
+// the key's top bit) and 1-5 points per cell, each centroid stays the same bit for bit.
+TEST(VoxelGrid, FinalizeKeepsEveryCentroidForEveryCountAndKeyRange) {
+  std::mt19937 rng(12);
+  std::uniform_real_distribution<float> frac(0.f, 1.f);
+  std::uniform_int_distribution<int> cx(2, VoxelGrid::kMaxX - 3), cz(2, VoxelGrid::kMaxZ - 3), reps(1, 5);
+  const float leaf = 0.005f;
+  const Vec3 origin(-5.f, -5.f, -2.5f);
+  for (uint32_t m : {0u, 1u, 2u, 3u, 4u, 5u, 6u, 7u, 8u, 9u, 63u, 64u, 65u, 1001u}) {
+    SCOPED_TRACE(testing::Message() << m << " cells");
+    auto g = make_grid(origin, leaf);
+    for (uint32_t c = 0; c < m; ++c) {
+      // Alternate low and high cells, so both halves of the key range meet in a step.
+      const int ix = c % 3 == 0 ? 2 : cx(rng), iy = cx(rng), iz = c % 2 == 0 ? VoxelGrid::kMaxZ - 3 : cz(rng);
+      for (int r = reps(rng); r > 0; --r) {
+        const Vec3 p(origin.x() + (static_cast<float>(ix) + 0.5f * frac(rng) + 0.25f) * leaf,
+                     origin.y() + (static_cast<float>(iy) + 0.5f * frac(rng) + 0.25f) * leaf,
+                     origin.z() + (static_cast<float>(iz) + 0.5f * frac(rng) + 0.25f) * leaf);
+        ASSERT_EQ(g->insert(p), Status::ok);
+      }
+    }
+    std::vector<Vec3> before;
+    for (uint32_t i = 0; i < g->size(); ++i) before.push_back(g->centroid(i));
+    g->finalize();
+    ASSERT_EQ(g->size(), before.size());
+    for (uint32_t i = 0; i < g->size(); ++i)
+      ASSERT_EQ(std::memcmp(g->centroids()[i].data(), before[i].data(), sizeof(float) * 3), 0) << "voxel " << i;
+  }
+}
+
 // The key of neighbour d (0..26 over dz, dy, dx in -1..1; 13 is the key itself).
 uint32_t neighbour_key(uint32_t key, int d) {
   return VoxelGrid::pack(VoxelGrid::key_x(key) + d % 3 - 1, VoxelGrid::key_y(key) + (d / 3) % 3 - 1,
