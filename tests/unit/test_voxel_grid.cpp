@@ -537,33 +537,48 @@ TEST(VoxelGrid, IndexPrunedToKeptVoxels) {
 // A cloud crafted so that every cell hashes to the same slot: the probe walk is capped
 // (the insert is refused as capacity_exceeded) instead of growing with the cloud, and
 // every cell that went in is still found.
+// Keys crafted to share one home slot: exactly max_probe() of them fit, the rest are
+// refused, and each kept one is found. Two homes: one inside the table, and one 3 slots
+// before its end, whose walk wraps round to slot 0 (find_or_add compares eight slots
+// at a time where the window does not wrap, one by one where it does).
 TEST(VoxelGrid, CellsCraftedToCollideAreCapped) {
   auto fmix = [](uint32_t k) { return VoxelGrid::mix(k); };
   const uint32_t slot_bits = static_cast<uint32_t>(std::log2(static_cast<double>(fg::kVoxelHashSlots)));
-  const uint32_t home = fmix(VoxelGrid::pack(10, 10, 10)) >> (32 - slot_bits);
-  const uint32_t want = VoxelGrid::max_probe() + 100;
-  std::vector<uint32_t> keys;
-  for (uint32_t z = 3; z < 1000 && keys.size() < want; ++z)
-    for (uint32_t y = 3; y < 2000 && keys.size() < want; ++y)
-      for (uint32_t x = 3; x < 2000 && keys.size() < want; x += 1) {
-        const uint32_t k = VoxelGrid::pack(x, y, z);
-        if ((fmix(k) >> (32 - slot_bits)) == home) keys.push_back(k);
+  for (const uint32_t home : {fmix(VoxelGrid::pack(10, 10, 10)) >> (32 - slot_bits), fg::kVoxelHashSlots - 3}) {
+    SCOPED_TRACE(testing::Message() << "home slot " << home);
+    const uint32_t want = VoxelGrid::max_probe() + 100;
+    std::vector<uint32_t> keys;
+    for (uint32_t z = 3; z < 1000 && keys.size() < want; ++z)
+      for (uint32_t y = 3; y < 2000 && keys.size() < want; ++y)
+        for (uint32_t x = 3; x < 2000 && keys.size() < want; x += 1) {
+          const uint32_t k = VoxelGrid::pack(x, y, z);
+          if ((fmix(k) >> (32 - slot_bits)) == home) keys.push_back(k);
+        }
+    ASSERT_EQ(keys.size(), want);
+    auto g = make_grid(Vec3::Zero(), 0.01f);
+    uint32_t accepted = 0, refused = 0;
+    for (uint32_t k : keys) {
+      const float fx = static_cast<float>(VoxelGrid::key_x(k)) + 0.5f,
+                  fy = static_cast<float>(VoxelGrid::key_y(k)) + 0.5f,
+                  fz = static_cast<float>(VoxelGrid::key_z(k)) + 0.5f;
+      if (g->insert_cell(fx, fy, fz)) {
+        ++accepted;
+      } else {
+        ++refused;
       }
-  ASSERT_EQ(keys.size(), want);
-  auto g = make_grid(Vec3::Zero(), 0.01f);
-  uint32_t accepted = 0, refused = 0;
-  for (uint32_t k : keys) {
-    const float fx = static_cast<float>(VoxelGrid::key_x(k)) + 0.5f, fy = static_cast<float>(VoxelGrid::key_y(k)) + 0.5f,
-                fz = static_cast<float>(VoxelGrid::key_z(k)) + 0.5f;
-    if (g->insert_cell(fx, fy, fz)) {
-      ++accepted;
-    } else {
-      ++refused;
     }
+    EXPECT_EQ(accepted, VoxelGrid::max_probe());
+    EXPECT_EQ(refused, 100u);
+    for (uint32_t i = 0; i < g->size(); ++i) EXPECT_EQ(g->find(g->key(i)), i);
+    // Every kept key again: found in place, nothing added.
+    for (uint32_t i = 0; i < g->size(); ++i) {
+      const uint32_t k = g->key(i);
+      EXPECT_TRUE(g->insert_cell(static_cast<float>(VoxelGrid::key_x(k)) + 0.25f,
+                                 static_cast<float>(VoxelGrid::key_y(k)) + 0.25f,
+                                 static_cast<float>(VoxelGrid::key_z(k)) + 0.25f));
+    }
+    EXPECT_EQ(g->size(), VoxelGrid::max_probe());
   }
-  EXPECT_EQ(accepted, VoxelGrid::max_probe());
-  EXPECT_EQ(refused, 100u);
-  for (uint32_t i = 0; i < g->size(); ++i) EXPECT_EQ(g->find(g->key(i)), i);
 }
 
 TEST(VoxelGrid, CapacityExceededBeyondMaxVoxels) {

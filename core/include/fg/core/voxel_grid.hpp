@@ -160,6 +160,8 @@ class VoxelGrid {
 
  private:
   uint32_t find_or_add(uint32_t key);
+  //! Voxel size_ for `key` in the empty slot s (kNone when the grid is full).
+  uint32_t add_at(uint32_t s, uint32_t tag, uint32_t key);
   bool rebuild_index(const uint8_t* keep, uint32_t bits);
   uint32_t slot_of(uint32_t key) const { return mix(key) >> (32 - slot_bits_); }
   static constexpr uint32_t kSlotBits = detail_log2u(kVoxelHashSlots);
