@@ -69,16 +69,16 @@ uint32_t VoxelGrid::find_or_add(uint32_t key) {
     V4i a, b;
     std::memcpy(&a, slots_ + s, sizeof a);
     std::memcpy(&b, slots_ + s + 4, sizeof b);
-    const uint32_t empty = lane_mask(a == 0) | (lane_mask(b == 0) << 4);
     // Slots are never emptied until reset(), so a key held by the table lies before
     // the first empty slot of its walk: a tag match past it is another key, which the
-    // key test rejects (a tag matches another key 1 time in 256 or less). An empty
-    // slot matches a tag of 0 and holds no index: left out.
-    uint32_t cand = (lane_mask((a & hi_mask) == tag4) | (lane_mask((b & hi_mask) == tag4) << 4)) & ~empty;
-    for (; cand != 0; cand &= cand - 1) {
+    // key test rejects (a tag matches another key 1 time in 16,384 or less; no tag
+    // matches an empty slot).
+    for (uint32_t cand = lane_mask((a & hi_mask) == tag4) | (lane_mask((b & hi_mask) == tag4) << 4); cand != 0;
+         cand &= cand - 1) {
       const uint32_t index = (slots_[s + static_cast<uint32_t>(__builtin_ctz(cand))] & kIndexMask) - 1;
       if (keys_[index] == key) return index;
     }
+    const uint32_t empty = lane_mask(a == 0) | (lane_mask(b == 0) << 4);
     if (empty != 0) return add_at(s + static_cast<uint32_t>(__builtin_ctz(empty)), tag, key);
   }
 #endif

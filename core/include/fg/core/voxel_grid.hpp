@@ -168,9 +168,10 @@ class VoxelGrid {
   // A slot: index + 1 (0 = empty) in the low kIndexBits, the key's tag above.
   static constexpr uint32_t kIndexBits = detail_log2u(kMaxVoxels) + 1;
   static constexpr uint32_t kIndexMask = (1u << kIndexBits) - 1u;
-  static_assert(kIndexBits <= 24, "the slot word keeps at least 8 tag bits");
-  // The tag: low bits of the mixed key, which the slot (its high bits) does not use.
-  static uint32_t tag_of(uint32_t key) { return mix(key) << kIndexBits; }
+  static_assert(kIndexBits <= 23, "the slot word keeps at least 8 tag bits below its top bit");
+  // The tag: low bits of the mixed key, which the slot (its high bits) does not use,
+  // with the top bit set so that no tag is 0 (an empty slot never matches one).
+  static uint32_t tag_of(uint32_t key) { return (mix(key) << kIndexBits) | 0x80000000u; }
 
   Vec3 origin_ = Vec3::Zero();
   float leaf_ = 0.005f;
