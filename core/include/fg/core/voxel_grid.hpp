@@ -71,11 +71,11 @@ class VoxelGrid {
       const uint32_t idx = find_or_add(key);
       if (idx == kNone) return false;
       e.key = key;
-      e.index = idx;
+      e.offset = idx * static_cast<uint32_t>(sizeof(V4f));
     }
     // Sum and count in one vector add: the count is lane 3, a float, exact below 2^24
     // points per cell (where the float sums have long lost their last digits too).
-    V4f* acc = reinterpret_cast<V4f*>(store_) + e.index;
+    V4f* acc = reinterpret_cast<V4f*>(reinterpret_cast<char*>(store_) + e.offset);
     *acc += o;
     return true;
   }
@@ -192,10 +192,12 @@ class VoxelGrid {
   uint32_t count(uint32_t i) const;
 
   // Empty entries hold key 0xFFFFFFFF: no real key has all bits set (z < kMaxZ - 2).
+  // The voxel's byte offset in store_, not its index: the hot path adds it as it is.
   struct CacheEntry {
     uint32_t key;
-    uint32_t index;
+    uint32_t offset;
   };
+  static_assert(sizeof(float) * 4 * kMaxVoxels <= 0xFFFFFFFFull, "a voxel's byte offset fits 32 bits");
   // The ingest's recent-cell cache; once the grid is finalized (no more inserts) the
   // same memory holds a Bloom filter of the indexed keys, which find() consults first:
   // most neighbour lookups of the clustering and the normals ask for cells that are
