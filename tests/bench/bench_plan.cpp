@@ -3,6 +3,7 @@
 //   build/host-release/tests/bench/fg_bench [--scene PATH] [benchmark flags]
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -15,6 +16,7 @@
 #include "fg/core/hull.hpp"
 #include "fg/core/plane.hpp"
 #include "fg/core/planner.hpp"
+#include "io/lzf.hpp"
 #include "io/pcd.hpp"
 #include "io/ply.hpp"
 #include "io/scene.hpp"
@@ -25,6 +27,7 @@ struct Loaded {
   std::vector<fg::host::PointCloud> clouds;
   std::vector<fg::Pose> poses;
   std::vector<fg::SensorRole> roles;
+  std::vector<std::string> paths;
   fg::PlannerConfig cfg;
   uint32_t raw_points = 0;
 };
@@ -57,6 +60,7 @@ bool load(const std::string& path, Loaded& out) {
     out.clouds.push_back(std::move(c));
     out.poses.push_back(p);
     out.roles.push_back(s.name == "head" ? fg::SensorRole::head : fg::SensorRole::hand);
+    out.paths.push_back(s.cloud_path);
   }
   return true;
 }
@@ -306,6 +310,69 @@ void BM_ScanLinesAndWindows(benchmark::State& st) {
   }
 }
 
+// What `forcegrasp plan` does before the planner sees a point: every cloud of the scene
+// read from the file (the page cache, after the first round), parsed and, for
+// binary_compressed, LZF-decoded into x, y and z arrays. One thread; the program reads
+// the clouds on threads of their own.
+void BM_ReadClouds(benchmark::State& st) {
+  fg::host::ReadLimits limits;
+  limits.planar = true;
+  for (auto _ : st) {
+    for (const std::string& path : g_data->paths) {
+      fg::host::PointCloud c;
+      const fg::host::ReadResult r = fg::host::read_cloud(path, c, limits);
+      if (!r.ok) st.SkipWithError(r.error.c_str());
+      benchmark::DoNotOptimize(c.size());
+    }
+  }
+}
+
+// The LZF decoder alone on the data of every binary_compressed cloud of the scene.
+void BM_LzfDecode(benchmark::State& st) {
+  struct Stream {
+    std::vector<uint8_t> in;
+    uint32_t out_size;
+  };
+  std::vector<Stream> streams;
+  for (const std::string& path : g_data->paths) {
+    std::FILE* f = std::fopen(path.c_str(), "rb");
+    if (f == nullptr) continue;
+    std::vector<uint8_t> bytes;
+    uint8_t buf[65536];
+    for (size_t got; (got = std::fread(buf, 1, sizeof buf, f)) > 0;) bytes.insert(bytes.end(), buf, buf + got);
+    std::fclose(f);
+    static const char kTag[] = "DATA binary_compressed\n";
+    const auto at = std::search(bytes.begin(), bytes.end(), kTag, kTag + sizeof kTag - 1);
+    if (at == bytes.end()) continue;
+    const size_t head = static_cast<size_t>(at - bytes.begin()) + sizeof kTag - 1;
+    if (bytes.size() < head + 8) continue;
+    uint32_t packed = 0, unpacked = 0;
+    std::memcpy(&packed, &bytes[head], 4);
+    std::memcpy(&unpacked, &bytes[head + 4], 4);
+    if (bytes.size() < head + 8 + packed) continue;
+    streams.push_back(Stream{std::vector<uint8_t>(bytes.begin() + static_cast<long>(head) + 8,
+                                                  bytes.begin() + static_cast<long>(head + 8 + packed)),
+                             unpacked});
+  }
+  if (streams.empty()) {
+    st.SkipWithError("no binary_compressed cloud in the scene");
+    return;
+  }
+  std::vector<uint8_t> out;
+  uint64_t bytes_out = 0;
+  for (const Stream& s : streams) bytes_out += s.out_size;
+  std::string err;
+  for (auto _ : st) {
+    for (const Stream& s : streams) {
+      out.resize(s.out_size);
+      if (!fg::host::lzf::decompress(s.in.data(), s.in.size(), out.data(), out.size(), err))
+        st.SkipWithError(err.c_str());
+      benchmark::DoNotOptimize(out.data());
+    }
+  }
+  st.SetBytesProcessed(static_cast<int64_t>(st.iterations() * bytes_out));
+}
+
 void BM_AnalyzeViewpoint(benchmark::State& st) {
   fg::Planner& p = planned();
   auto d = std::make_unique<fg::ViewDetail>();
@@ -325,6 +392,8 @@ BENCHMARK(BM_ConvexHull)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_ScanLinesAndWindows)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_AnalyzeViewpoint)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_WholePlan)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_ReadClouds)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_LzfDecode)->Unit(benchmark::kMicrosecond);
 
 int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
