@@ -197,7 +197,7 @@ class VoxelGrid {
     uint32_t key;
     uint32_t offset;
   };
-  static_assert(sizeof(float) * 4 * kMaxVoxels <= 0xFFFFFFFFull, "a voxel's byte offset fits 32 bits");
+  static_assert(uint64_t{4} * sizeof(float) * kMaxVoxels <= 0xFFFFFFFFull, "a voxel's byte offset fits 32 bits");
   // The ingest's recent-cell cache; once the grid is finalized (no more inserts) the
   // same memory holds a Bloom filter of the indexed keys, which find() consults first:
   // most neighbour lookups of the clustering and the normals ask for cells that are
