@@ -2,7 +2,72 @@
 
 #include <cstring>
 
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#define FG_CLUSTER_AVX2 1
+#include <immintrin.h>
+#else
+#define FG_CLUSTER_AVX2 0
+#endif
+
 namespace fg {
+
+namespace detail {
+uint32_t filter_mask_scalar(const VoxelGrid::LookupFilter& f, uint64_t kh, const uint64_t* oh, uint32_t n) {
+  uint32_t out = 0;
+  for (uint32_t o = 0; o < n; ++o)
+    if (f.may_hold(kh + oh[o])) out |= 1u << o;
+  return out;
+}
+
+#if FG_CLUSTER_AVX2
+// may_hold()'s arithmetic, four hashes per step: the 64-bit multiply of filter_mix from
+// 32-bit halves (AVX2 multiplies 32 x 32 -> 64 bits only; the same product mod 2^64),
+// the two bits by variable shifts, the four words gathered. The hash array is read in
+// whole steps of four (the caller pads it); bits at and past n are cleared.
+__attribute__((target("avx2"))) uint32_t filter_mask_avx2(const VoxelGrid::LookupFilter& f, uint64_t kh,
+                                                          const uint64_t* oh, uint32_t n) {
+  const uint64_t mul = VoxelGrid::kFilterMixMul;
+  const __m256i vkh = _mm256_set1_epi64x(static_cast<long long>(kh));
+  const __m256i mul_lo = _mm256_set1_epi64x(static_cast<long long>(mul & 0xFFFFFFFFu));
+  const __m256i mul_hi = _mm256_set1_epi64x(static_cast<long long>(mul >> 32));
+  const __m256i six_bits = _mm256_set1_epi64x(63), one = _mm256_set1_epi64x(1);
+  const __m128i shift = _mm_cvtsi32_si128(static_cast<int>(f.shift));
+  const long long* const words = reinterpret_cast<const long long*>(f.words);
+  uint32_t out = 0;
+  for (uint32_t o = 0; o < n; o += 4) {
+    const __m256i h = _mm256_add_epi64(vkh, _mm256_loadu_si256(reinterpret_cast<const __m256i*>(oh + o)));
+    const __m256i a = _mm256_xor_si256(h, _mm256_srli_epi64(h, 32));
+    const __m256i cross = _mm256_add_epi64(_mm256_mul_epu32(_mm256_srli_epi64(a, 32), mul_lo),
+                                           _mm256_mul_epu32(a, mul_hi));
+    const __m256i g = _mm256_add_epi64(_mm256_mul_epu32(a, mul_lo), _mm256_slli_epi64(cross, 32));
+    const __m256i m = _mm256_or_si256(_mm256_sllv_epi64(one, _mm256_and_si256(_mm256_srli_epi64(g, 32), six_bits)),
+                                      _mm256_sllv_epi64(one, _mm256_and_si256(_mm256_srli_epi64(g, 26), six_bits)));
+    const __m256i w = _mm256_i64gather_epi64(words, _mm256_srl_epi64(g, shift), 8);
+    const __m256i hit = _mm256_cmpeq_epi64(_mm256_and_si256(w, m), m);
+    out |= static_cast<uint32_t>(_mm256_movemask_pd(_mm256_castsi256_pd(hit))) << o;
+  }
+  return n >= 32u ? out : out & ((1u << n) - 1u);
+}
+#endif
+
+bool filter_mask_vector_available() {
+#if FG_CLUSTER_AVX2
+  __builtin_cpu_init();  // idempotent
+  return __builtin_cpu_supports("avx2") != 0;
+#else
+  return false;
+#endif
+}
+
+uint32_t filter_mask_vector(const VoxelGrid::LookupFilter& f, uint64_t kh, const uint64_t* oh, uint32_t n) {
+#if FG_CLUSTER_AVX2
+  return filter_mask_avx2(f, kh, oh, n);
+#else
+  return filter_mask_scalar(f, kh, oh, n);
+#endif
+}
+}  // namespace detail
+
 namespace {
 struct Offset {
   uint32_t delta;     // pack(dx, dy, dz) in two's complement per field, summed
@@ -11,8 +76,14 @@ struct Offset {
 };
 // Offsets within 2 cells: 32 (26 within 1).
 constexpr uint32_t kMaxOffsets = 32;
+// The offsets' filter hashes on their own, zero-padded to a whole vector step.
+struct OffsetHashes {
+  alignas(32) uint64_t h[kMaxOffsets] = {};
+};
+static_assert(kMaxOffsets % 4 == 0 && kMaxOffsets <= 32, "whole steps of four; one mask bit per offset");
+
 // Neighbour offsets within `cells` (Euclidean in cell units, so 1 -> 26, 2 -> 32).
-uint32_t make_offsets(uint32_t cells, Offset* out) {
+uint32_t make_offsets(uint32_t cells, Offset* out, OffsetHashes& hashes) {
   const int32_t r = static_cast<int32_t>(cells);
   uint32_t n = 0;
   for (int32_t dz = -r; dz <= r; ++dz)
@@ -26,6 +97,7 @@ uint32_t make_offsets(uint32_t cells, Offset* out) {
                           static_cast<int8_t>(dx), static_cast<int8_t>(dy), static_cast<int8_t>(dz),
                           VoxelGrid::filter_hash_of_offset(dx + dy * (int64_t{1} << 11) +
                                                            dz * (int64_t{1} << 22))};
+        hashes.h[n - 1] = out[n - 1].hash;
       }
   return n;
 }
@@ -53,24 +125,39 @@ struct Walk {
 // Breadth-first walk of the component of `seed` through the voxels in state `from`;
 // marks it `mark` (!= from); returns its size and leaves its voxels in queue[0, size).
 uint32_t flood(const VoxelGrid& grid, uint8_t* state, uint32_t* queue, uint32_t seed,
-               const Offset* off, uint32_t n_off, uint8_t from, uint8_t mark, Walk& w) {
+               const Offset* off, const OffsetHashes& hashes, uint32_t n_off, uint8_t from, uint8_t mark,
+               Walk& w) {
   uint32_t head = 0, tail = 0;
   queue[tail++] = seed;
   state[seed] = mark;
   w = Walk{};
   const VoxelGrid::LookupFilter filter = grid.lookup_filter();
+  // The filter's verdicts on all the neighbours at once where the CPU has AVX2 (about
+  // 5 instructions a test instead of 23: the worst case, isolated voxels up to
+  // kMaxVoxels whose cells the bitmap cannot hold, is 32 tests a voxel); the same
+  // neighbours in the same order either way.
+  const bool vector = filter.words != nullptr && detail::filter_mask_vector_available();
   while (head < tail) {  // bounded: each voxel enters the queue at most once
     // A neighbour's key is the packed sum: inserted cells keep a 2-cell margin inside
     // each field's range, so no field under- or overflows into the next.
     // The filter's hash of a neighbour is a sum too (voxel_grid.hpp).
     const uint32_t k = w.add(grid, queue[head++]);
     const uint64_t kh = VoxelGrid::filter_hash(k);
-    for (uint32_t o = 0; o < n_off; ++o) {
-      if (filter.words != nullptr && !filter.may_hold(kh + off[o].hash)) continue;  // most absent cells
+    const auto visit = [&](uint32_t o) {
       const uint32_t j = grid.find_in_table(k + off[o].delta);
-      if (j == VoxelGrid::kNone || state[j] != from) continue;
+      if (j == VoxelGrid::kNone || state[j] != from) return;
       state[j] = mark;
       queue[tail++] = j;
+    };
+    if (vector) {
+      for (uint32_t maybe = detail::filter_mask_vector(filter, kh, hashes.h, n_off); maybe != 0u;
+           maybe &= maybe - 1u)
+        visit(static_cast<uint32_t>(__builtin_ctz(maybe)));
+      continue;
+    }
+    for (uint32_t o = 0; o < n_off; ++o) {
+      if (filter.words != nullptr && !filter.may_hold(kh + hashes.h[o])) continue;  // most absent cells
+      visit(o);
     }
   }
   return tail;
@@ -210,7 +297,8 @@ ClusterResult cluster_and_pick(const VoxelGrid& grid, uint8_t* state, uint32_t* 
                                const ClusterParams& prm, uint32_t* target,
                                uint32_t target_capacity, CellBitmap* free_cells) {
   Offset off[kMaxOffsets];
-  const uint32_t n_off = make_offsets(prm.cells > 2 ? 2u : prm.cells, off);
+  OffsetHashes hashes;
+  const uint32_t n_off = make_offsets(prm.cells > 2 ? 2u : prm.cells, off, hashes);
   int32_t lin[kMaxOffsets];
   if (free_cells != nullptr)
     for (uint32_t o = 0; o < n_off; ++o)
@@ -225,7 +313,7 @@ ClusterResult cluster_and_pick(const VoxelGrid& grid, uint8_t* state, uint32_t* 
     Walk w;
     const uint32_t size = free_cells != nullptr
                               ? flood_bits(grid, state, queue, i, off, lin, n_off, *free_cells, kVoxelVisited, w)
-                              : flood(grid, state, queue, i, off, n_off, kVoxelFree, kVoxelVisited, w);
+                              : flood(grid, state, queue, i, off, hashes, n_off, kVoxelFree, kVoxelVisited, w);
     free_total += size;
     if (size < prm.min_points) continue;
     ++res.clusters;
@@ -263,7 +351,7 @@ ClusterResult cluster_and_pick(const VoxelGrid& grid, uint8_t* state, uint32_t* 
   for (uint32_t i = 0; i < n; ++i)
     if (state[i] == kVoxelVisited) state[i] = kVoxelFree;
   Walk w;
-  (void)flood(grid, state, queue, best_seed, off, n_off, kVoxelFree, kVoxelTarget, w);
+  (void)flood(grid, state, queue, best_seed, off, hashes, n_off, kVoxelFree, kVoxelTarget, w);
   for (uint32_t i = 0; i < n; ++i)
     if (state[i] == kVoxelFree) state[i] = kVoxelVisited;
   for (uint32_t i = 0; i < target_capacity; ++i) target[i] = queue[i];
@@ -275,7 +363,8 @@ uint32_t retarget_to_cover(const VoxelGrid& grid, uint8_t* state, uint32_t* queu
                            float cx, float cy, uint32_t* target, uint32_t target_capacity,
                            const ClusterResult* labelled) {
   Offset off[kMaxOffsets];
-  const uint32_t n_off = make_offsets(prm.cells > 2 ? 2u : prm.cells, off);
+  OffsetHashes hashes;
+  const uint32_t n_off = make_offsets(prm.cells > 2 ? 2u : prm.cells, off, hashes);
   const uint32_t n = grid.size();
   // The largest that covers (cx, cy) wins, the first found on ties.
   uint32_t best_seed = VoxelGrid::kNone, best_size = 0;
@@ -295,7 +384,7 @@ uint32_t retarget_to_cover(const VoxelGrid& grid, uint8_t* state, uint32_t* queu
     for (uint32_t i = 0; i < n; ++i) {
       if (state[i] != kVoxelVisited) continue;
       Walk w;
-      const uint32_t size = flood(grid, state, queue, i, off, n_off, kVoxelVisited, kVoxelFree, w);
+      const uint32_t size = flood(grid, state, queue, i, off, hashes, n_off, kVoxelVisited, kVoxelFree, w);
       consider(ClusterSummary{i, size, w.x0, w.x1, w.y0, w.y1});
     }
   }
@@ -305,7 +394,7 @@ uint32_t retarget_to_cover(const VoxelGrid& grid, uint8_t* state, uint32_t* queu
     // reaches it.
     for (uint32_t k = 0; k < old_size; ++k) state[old_target[k]] = kVoxelVisited;
     Walk w;
-    (void)flood(grid, state, queue, best_seed, off, n_off, from_list ? kVoxelVisited : kVoxelFree, kVoxelTarget,
+    (void)flood(grid, state, queue, best_seed, off, hashes, n_off, from_list ? kVoxelVisited : kVoxelFree, kVoxelTarget,
                 w);
     for (uint32_t k = 0; k < best_size; ++k) target[k] = queue[k];
   }

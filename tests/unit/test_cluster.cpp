@@ -661,3 +661,39 @@ TEST(Cluster, RetargetFromTheLabellingMatchesTheWalk) {
 }
 
 }  // namespace
+
+// The flood's neighbour test in vector lanes (AVX2 where the CPU has it) gives, bit for
+// bit, the verdicts of VoxelGrid::LookupFilter::may_hold, one hash at a time: random
+// filters of every density, word counts and hashes (the 64-bit products' high halves
+// and the shifts' top counts included), every neighbour count 1-32.
+TEST(ClusterFilterMask, VectorLanesGiveMayHoldsVerdicts) {
+  std::mt19937_64 rng(2026);
+  if (!fg::detail::filter_mask_vector_available()) GTEST_LOG_(INFO) << "no AVX2 here: the vector form is the scalar one";
+  uint32_t hits = 0, tests = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    const uint32_t word_bits = 1u + static_cast<uint32_t>(rng() % 20u);
+    std::vector<uint64_t> words(size_t{1} << word_bits);
+    const int density = static_cast<int>(rng() % 4);  // 0: sparse .. 3: nearly full
+    for (uint64_t& w : words) {
+      w = rng();
+      for (int d = 0; d < 3 - density; ++d) w &= rng();
+      if (density == 3) w |= rng();
+    }
+    const VoxelGrid::LookupFilter f{words.data(), 64u - word_bits};
+    alignas(32) uint64_t oh[32];
+    for (uint64_t& h : oh) h = rng();
+    const uint64_t kh = rng();
+    for (uint32_t n = 1; n <= 32; ++n) {
+      uint32_t expect = 0;
+      for (uint32_t o = 0; o < n; ++o)
+        if (f.may_hold(kh + oh[o])) expect |= 1u << o;
+      ASSERT_EQ(fg::detail::filter_mask_scalar(f, kh, oh, n), expect) << "trial " << trial << " n " << n;
+      ASSERT_EQ(fg::detail::filter_mask_vector(f, kh, oh, n), expect) << "trial " << trial << " n " << n;
+      hits += static_cast<uint32_t>(__builtin_popcount(expect));
+      tests += n;
+    }
+  }
+  // Both verdicts occur often enough for a wrong lane to show.
+  EXPECT_GT(hits, tests / 20u);
+  EXPECT_LT(hits, tests - tests / 20u);
+}

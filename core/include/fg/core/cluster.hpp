@@ -89,4 +89,14 @@ uint32_t retarget_to_cover(const VoxelGrid& grid, uint8_t* state, uint32_t* queu
                            float cx, float cy, uint32_t* target, uint32_t target_capacity,
                            const ClusterResult* labelled = nullptr);
 
+namespace detail {
+//! The lookup filter's verdicts on the hashes kh + oh[o], o < n <= 32: bit o set when
+//! f.may_hold(kh + oh[o]). The flood's neighbour test; exposed for its tests. The
+//! vector form reads oh in whole steps of four (pad it) and needs
+//! filter_mask_vector_available() (AVX2 on x86-64; elsewhere it is the scalar form).
+uint32_t filter_mask_scalar(const VoxelGrid::LookupFilter& f, uint64_t kh, const uint64_t* oh, uint32_t n);
+uint32_t filter_mask_vector(const VoxelGrid::LookupFilter& f, uint64_t kh, const uint64_t* oh, uint32_t n);
+bool filter_mask_vector_available();
+}  // namespace detail
+
 }  // namespace fg

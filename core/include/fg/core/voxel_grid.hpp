@@ -127,6 +127,8 @@ class VoxelGrid {
   static uint64_t filter_hash_of_offset(int64_t d) { return static_cast<uint64_t>(d) * kFilterMul; }
   //! The filter as neighbour loops test it themselves, read once: may_hold() false
   //! means absent for sure; true, ask find_in_table(). `words` is null when off.
+  //! filter_mix's multiplier (public for the clustering's vector form of may_hold()).
+  static constexpr uint64_t kFilterMixMul = 0xD6E8FEB86659FD93ull;
   struct LookupFilter {
     const uint64_t* words;
     uint32_t shift;  // 64 - log2(word count)
@@ -216,7 +218,7 @@ class VoxelGrid {
   static_assert(kCacheBits <= kMaxFilterWordBits, "filter word and bit fields are disjoint");
   // The sum hash is linear, so structured keys (a lattice of cells) give correlated
   // fields; one xor-shift and multiply per test decorrelates word and bits.
-  static uint64_t filter_mix(uint64_t h) { return (h ^ (h >> 32)) * 0xD6E8FEB86659FD93ull; }
+  static uint64_t filter_mix(uint64_t h) { return (h ^ (h >> 32)) * kFilterMixMul; }
   static uint64_t filter_bits(uint64_t g) {
     return (uint64_t{1} << ((g >> 32) & 63u)) | (uint64_t{1} << ((g >> 26) & 63u));
   }
