@@ -5,6 +5,10 @@
 #include "fg/core/hull.hpp"
 #include "fg/core/vec4.hpp"
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -92,11 +96,19 @@ struct Raster {
   //! points of cell i lie in [xs[i], xs[i+1]] (one exactly on a corner may go to
   //! either cell, and lies on both). The points lie at least a cell inside the raster
   //! (its margin); the clamps only keep a broken caller's point from indexing outside.
+  //! x and y go in the two lanes of one double vector (the same IEEE operations), are
+  //! clamped to [0, w - 1] x [0, h - 1] before the truncation (the same cell as
+  //! truncating then clamping), and so convert to 32-bit integers.
   void cell_of(const Vec2& p, uint32_t& col, uint32_t& row) const {
-    const int64_t i = static_cast<int64_t>((static_cast<double>(p.x) - origin_x) * inv_cell);
-    const int64_t j = static_cast<int64_t>((static_cast<double>(p.y) - origin_y) * inv_cell);
-    col = static_cast<uint32_t>(i < 0 ? 0 : (i >= static_cast<int64_t>(w) ? w - 1 : i));
-    row = static_cast<uint32_t>(j < 0 ? 0 : (j >= static_cast<int64_t>(h) ? h - 1 : j));
+    typedef double V2d __attribute__((vector_size(16)));
+    typedef int32_t V2i __attribute__((vector_size(8)));
+    V2d t = (V2d{static_cast<double>(p.x), static_cast<double>(p.y)} - V2d{origin_x, origin_y}) * inv_cell;
+    const V2d top{static_cast<double>(w - 1), static_cast<double>(h - 1)};
+    t = t > 0.0 ? t : V2d{};  // a finite point's t is finite
+    t = t < top ? t : top;
+    const V2i ij = __builtin_convertvector(t, V2i);
+    col = static_cast<uint32_t>(ij[0]);
+    row = static_cast<uint32_t>(ij[1]);
   }
   uint32_t index_of(const Vec2& p) const {
     uint32_t col, row;
@@ -104,6 +116,22 @@ struct Raster {
     return row * w + col;
   }
 };
+
+//! Bit b set when byte b of p[0..7] is not 0.
+inline uint32_t nonzero_bytes8(const uint8_t* p) {
+  static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "byte b of the word is p[b]");
+  uint64_t v;
+  std::memcpy(&v, p, sizeof v);
+  const uint64_t ones = ((((v & 0x7F7F7F7F7F7F7F7Fu) + 0x7F7F7F7F7F7F7F7Fu) | v) >> 7) & kBytes01;
+  return static_cast<uint32_t>((ones * 0x0102040810204080u) >> 56);  // byte b's bit to bit b
+}
+#if defined(__SSE2__)
+//! The same for p[0..15].
+inline uint32_t nonzero_bytes16(const uint8_t* p) {
+  const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p));
+  return ~static_cast<uint32_t>(_mm_movemask_epi8(_mm_cmpeq_epi8(v, _mm_setzero_si128()))) & 0xFFFFu;
+}
+#endif
 
 //! Rows of a raster as bit sets: cell i of a row is bit i % 64 of word i / 64; bits
 //! at and past the row's width stay 0.
@@ -131,6 +159,20 @@ struct BitRows {
     for (uint32_t j = 0; j < h; ++j) {
       const uint64_t* src = in.row(j);
       uint64_t* dst = row(j);
+      if (r < 64) {
+        // Shifts within a word and its two neighbours: shifted_word's values.
+        for (uint32_t k = 0; k < words; ++k) {
+          const uint64_t prev = k > 0 ? src[k - 1] : 0, cur = src[k], next = k + 1 < words ? src[k + 1] : 0;
+          uint64_t acc = cur;
+          for (uint32_t s = 1; s <= r; ++s) {
+            const uint64_t a = (cur << s) | (prev >> (64 - s));
+            const uint64_t b = (cur >> s) | (next << (64 - s));
+            acc = erode ? (acc & a & b) : (acc | a | b);
+          }
+          dst[k] = k + 1 == words ? (acc & last_mask) : acc;
+        }
+        continue;
+      }
       for (uint32_t k = 0; k < words; ++k) {
         uint64_t acc = src[k];
         for (uint32_t s = 1; s <= r; ++s) {
@@ -417,8 +459,8 @@ Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& 
   uint32_t finite = 1;
   float xmin = points[first].x, xmax = xmin, ymin = points[first].y, ymax = ymin;
   {
-    // Two points (x, y, x, y) per step while both are finite (one lane test); a pair
-    // with a non-finite coordinate goes point by point.
+    // Four points, two (x, y, x, y) vectors, per step while all are finite (one lane
+    // test); a step with a non-finite coordinate goes point by point.
     V4f lo{xmin, ymin, xmin, ymin}, hi = lo;
     uint32_t i = first + 1;
     auto one = [&](const Vec2& p) {
@@ -427,22 +469,23 @@ Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& 
       hi = V4f{p.x > hi[0] ? p.x : hi[0], p.y > hi[1] ? p.y : hi[1], hi[2], hi[3]};
       ++finite;
     };
-    for (; i + 2 <= n; i += 2) {
-      V4f v;
-      std::memcpy(&v, points + i, sizeof v);
-      V4i bits;
-      std::memcpy(&bits, &v, sizeof bits);
-      const V4i exp = bits & 0x7F800000;
-      if (!all_lanes(exp != 0x7F800000)) {
-        one(points[i]);
-        one(points[i + 1]);
+    for (; i + 4 <= n; i += 4) {
+      V4f a, b;
+      std::memcpy(&a, points + i, sizeof a);
+      std::memcpy(&b, points + i + 2, sizeof b);
+      V4i bits_a, bits_b;
+      std::memcpy(&bits_a, &a, sizeof bits_a);
+      std::memcpy(&bits_b, &b, sizeof bits_b);
+      if (!all_lanes(((bits_a & 0x7F800000) != 0x7F800000) & ((bits_b & 0x7F800000) != 0x7F800000))) {
+        for (uint32_t m = 0; m < 4; ++m) one(points[i + m]);
         continue;
       }
-      lo = v < lo ? v : lo;
-      hi = v > hi ? v : hi;
-      finite += 2;
+      const V4f lo_ab = a < b ? a : b, hi_ab = a > b ? a : b;
+      lo = lo_ab < lo ? lo_ab : lo;
+      hi = hi_ab > hi ? hi_ab : hi;
+      finite += 4;
     }
-    if (i < n) one(points[i]);
+    for (; i < n; ++i) one(points[i]);
     xmin = lo[2] < lo[0] ? lo[2] : lo[0];
     ymin = lo[3] < lo[1] ? lo[3] : lo[1];
     xmax = hi[2] > hi[0] ? hi[2] : hi[0];
@@ -505,34 +548,66 @@ Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& 
   const BitRows occ{scratch.rows[0], words, h, tail_bits == 64 ? ~uint64_t{0} : (uint64_t{1} << tail_bits) - 1};
   const BitRows tmp{scratch.rows[1], words, h, occ.last_mask};
   for (uint32_t k = 0; k < words * h; ++k) occ.bits[k] = 0;
-  // Bin the points. A cell reaching 255 points takes a slot of the full cells' table
-  // (its slot + 1 in the cell's high bits) while there is one; the table's counts are
-  // exact. Component sums stay below 2^31 (label_runs) when n does.
+  // Bin the points: per point only its cell's count, saturated at 255 (almost always
+  // the first branch); a cell reaching 255 points takes a slot of the full cells'
+  // table (its slot + 1 in the cell's high bits) while there is one, and the table's
+  // counts are exact. Component sums stay below 2^31 (label_runs) when n does.
   ConcaveHullScratch::FullCell* const full = scratch.full;
   const uint32_t full_capacity = n < 0x80000000u ? ConcaveHullScratch::kMaxFullCells : 0;
   uint32_t n_full = 0;
   const bool all_finite = finite == n;
-  for (uint32_t i = 0; i < n; ++i) {
-    if (!all_finite && !is_finite(points[i])) continue;
-    uint32_t col, row;
-    ras.cell_of(points[i], col, row);
-    const uint32_t k = row * w + col;
-    occ.row(row)[col / 64] |= uint64_t{1} << (col % 64);
+  auto bin = [&](uint32_t k) {
     const uint8_t c = counts[k];
     if (c < 254) {
       counts[k] = static_cast<uint8_t>(c + 1);
-      g[k] = kOcc;  // no slot yet: its high bits are 0
     } else if (c == 254) {
       counts[k] = 255;
-      g[k] = kOcc;
       if (n_full < full_capacity) {
         full[n_full] = ConcaveHullScratch::FullCell{k, 255};
-        g[k] = static_cast<uint8_t>(kOcc | ((n_full + 1) << kSlotShift));
+        g[k] = static_cast<uint8_t>((n_full + 1) << kSlotShift);
         ++n_full;
       }
     } else if (const uint32_t slot = g[k] >> kSlotShift; slot != 0) {
       ++full[slot - 1].points;
     }
+  };
+  if (all_finite) {
+    uint32_t i = 0;
+#if defined(__SSE2__)
+    // Two points per step: cell_of()'s operations in the lanes of two double vectors,
+    // then each cell's index row * w + col in one multiply-add of 16-bit lanes (rows
+    // and columns are below kHullGridDim <= 4096).
+    const __m128d org = _mm_set_pd(ras.origin_y, ras.origin_x), inv = _mm_set1_pd(ras.inv_cell);
+    const __m128d top = _mm_set_pd(static_cast<double>(h - 1), static_cast<double>(w - 1));
+    const __m128i row_len = _mm_set_epi16(static_cast<int16_t>(w), 1, static_cast<int16_t>(w), 1,
+                                          static_cast<int16_t>(w), 1, static_cast<int16_t>(w), 1);
+    for (; i + 2 <= n; i += 2) {
+      const __m128 xy = _mm_loadu_ps(&points[i].x);  // x0 y0 x1 y1
+      const __m128d t0 = _mm_mul_pd(_mm_sub_pd(_mm_cvtps_pd(xy), org), inv);
+      const __m128d t1 = _mm_mul_pd(_mm_sub_pd(_mm_cvtps_pd(_mm_movehl_ps(xy, xy)), org), inv);
+      const __m128i ij = _mm_unpacklo_epi64(_mm_cvttpd_epi32(_mm_min_pd(_mm_max_pd(t0, _mm_setzero_pd()), top)),
+                                            _mm_cvttpd_epi32(_mm_min_pd(_mm_max_pd(t1, _mm_setzero_pd()), top)));
+      const __m128i k = _mm_madd_epi16(_mm_packs_epi32(ij, ij), row_len);
+      bin(static_cast<uint32_t>(_mm_cvtsi128_si32(k)));
+      bin(static_cast<uint32_t>(_mm_cvtsi128_si32(_mm_shuffle_epi32(k, 1))));
+    }
+#endif
+    for (; i < n; ++i) bin(ras.index_of(points[i]));
+  } else {
+    for (uint32_t i = 0; i < n; ++i)
+      if (is_finite(points[i])) bin(ras.index_of(points[i]));
+  }
+  // The occupied cells (a count above 0) as the rows' bits.
+  for (uint32_t j = 0; j < h; ++j) {
+    const uint8_t* count_line = counts + j * w;
+    uint64_t* bits = occ.row(j);
+    uint32_t c = 0;
+#if defined(__SSE2__)
+    for (; c + 16 <= w; c += 16) bits[c / 64] |= static_cast<uint64_t>(nonzero_bytes16(count_line + c)) << (c % 64);
+#endif
+    for (; c + 8 <= w; c += 8) bits[c / 64] |= static_cast<uint64_t>(nonzero_bytes8(count_line + c)) << (c % 64);
+    for (; c < w; ++c)
+      if (count_line[c] != 0) bits[c / 64] |= uint64_t{1} << (c % 64);
   }
   // Sorted by cell, for the look-ups of the component counts (at most a few dozen).
   for (uint32_t a = 1; a < n_full; ++a) {
@@ -553,20 +628,32 @@ Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& 
   occ.across_rows(tmp, r, true);
   for (uint32_t j = 0; j < h; ++j) {
     const uint64_t* closed = occ.row(j);
+    const uint8_t* count_line = counts + j * w;
     uint8_t* line = g + j * w;
-    static_assert(kFg == 1 && kOcc == 1, "the closed bit and the occupied bit are both bit 0");
-    static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "8 cells are read as one little-endian word");
+    static_assert(kFg == 1, "the foreground bit is bit 0");
     uint32_t c = 0;
+#if defined(__SSE2__)
+    for (; c + 16 <= w; c += 16) {  // 16 cells: bit b of the closed row or a point -> byte b = 1
+      const uint32_t bits16 = static_cast<uint32_t>(closed[c / 64] >> (c % 64)) & 0xFFFFu;
+      const __m128i one = _mm_set1_epi8(1), pick = _mm_set1_epi64x(static_cast<int64_t>(0x8040201008040201u));
+      const __m128i spread = _mm_set_epi64x(static_cast<int64_t>((bits16 >> 8) * kBytes01),
+                                            static_cast<int64_t>((bits16 & 0xFFu) * kBytes01));
+      const __m128i set = _mm_cmpeq_epi8(_mm_and_si128(spread, pick), pick);
+      const __m128i empty = _mm_cmpeq_epi8(_mm_loadu_si128(reinterpret_cast<const __m128i*>(count_line + c)),
+                                           _mm_setzero_si128());
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(line + c), _mm_and_si128(_mm_or_si128(set, ~empty), one));
+    }
+#endif
     for (; c + 8 <= w; c += 8) {  // 8 cells at a time: bit b of the byte -> byte b (0 or 1)
       const uint64_t byte = (closed[c / 64] >> (c % 64)) & 0xFFu;
       const uint64_t picked = (byte * kBytes01) & 0x8040201008040201u;
       const uint64_t spread = ((picked + 0x7F7F7F7F7F7F7F7Fu) >> 7) & kBytes01;
-      uint64_t cells8;
-      std::memcpy(&cells8, line + c, sizeof cells8);  // little-endian: byte b is cell c + b
-      cells8 = (cells8 | spread) & kBytes01;
+      uint64_t c8;
+      std::memcpy(&c8, count_line + c, sizeof c8);  // little-endian: byte b is cell c + b
+      const uint64_t cells8 = spread | (((((c8 & 0x7F7F7F7F7F7F7F7Fu) + 0x7F7F7F7F7F7F7F7Fu) | c8) >> 7) & kBytes01);
       std::memcpy(line + c, &cells8, sizeof cells8);
     }
-    for (; c < w; ++c) line[c] = static_cast<uint8_t>(((closed[c / 64] >> (c % 64)) | line[c]) & kFg);
+    for (; c < w; ++c) line[c] = static_cast<uint8_t>(((closed[c / 64] >> (c % 64)) & kFg) | (count_line[c] != 0));
   }
   // The dilation cannot reach the outer ring of cells; make that an invariant: the ring
   // is background, and marked visited for the hole filling below.
