@@ -317,6 +317,18 @@ bool label_runs(const uint8_t* g, const CellCounts& counts, uint32_t w, uint32_t
     const uint8_t* line = g + j * w;
     const uint8_t* cnt = counts.counts + j * w;
     for (uint32_t i = 0; i < w;) {
+#if defined(__SSE2__)
+      // Background skipped 16 cells at a time, to the first foreground one.
+      if (i + 16 <= w) {
+        const __m128i fg16 = _mm_and_si128(_mm_loadu_si128(reinterpret_cast<const __m128i*>(line + i)), _mm_set1_epi8(kFg));
+        const uint32_t set = static_cast<uint32_t>(_mm_movemask_epi8(_mm_cmpeq_epi8(fg16, _mm_set1_epi8(kFg))));
+        if (set == 0) {
+          i += 16;
+          continue;
+        }
+        i += static_cast<uint32_t>(__builtin_ctz(set));
+      }
+#endif
       if ((line[i] & kFg) == 0) {
         ++i;
         continue;
@@ -325,6 +337,20 @@ bool label_runs(const uint8_t* g, const CellCounts& counts, uint32_t w, uint32_t
       uint32_t pts = 0;
       bool sat = false;
       for (;;) {
+#if defined(__SSE2__)
+        // Sixteen foreground cells at a time while none of them is full: their counts
+        // summed by psadbw (two sums of eight, at most 8 * 254 each).
+        for (; i + 16 <= w; i += 16) {
+          const __m128i fg16 = _mm_and_si128(_mm_loadu_si128(reinterpret_cast<const __m128i*>(line + i)), _mm_set1_epi8(kFg));
+          const __m128i cnt16 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(cnt + i));
+          const __m128i bad = _mm_or_si128(_mm_cmpeq_epi8(fg16, _mm_setzero_si128()),
+                                           _mm_cmpeq_epi8(cnt16, _mm_set1_epi8(static_cast<char>(0xFF))));
+          if (_mm_movemask_epi8(bad) != 0) break;
+          const __m128i sums = _mm_sad_epu8(cnt16, _mm_setzero_si128());
+          pts += static_cast<uint32_t>(_mm_cvtsi128_si32(sums)) +
+                 static_cast<uint32_t>(_mm_cvtsi128_si32(_mm_unpackhi_epi64(sums, sums)));
+        }
+#endif
         // Eight foreground cells at a time while none of them is full: their counts
         // summed as one word (bytes -> 16-bit lanes -> one sum, at most 8 * 254).
         for (; i + 8 <= w; i += 8) {
@@ -459,9 +485,11 @@ Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& 
   uint32_t finite = 1;
   float xmin = points[first].x, xmax = xmin, ymin = points[first].y, ymax = ymin;
   {
-    // Four points, two (x, y, x, y) vectors, per step while all are finite (one lane
-    // test); a step with a non-finite coordinate goes point by point.
-    V4f lo{xmin, ymin, xmin, ymin}, hi = lo;
+    // Four points, two (x, y, x, y) vectors, per step, the non-finite coordinates only
+    // noted (an exponent of all ones); where there was one, every point again one by
+    // one (the steps' bounds may hold NaN).
+    const V4f start{xmin, ymin, xmin, ymin};
+    V4f lo = start, hi = start;
     uint32_t i = first + 1;
     auto one = [&](const Vec2& p) {
       if (!is_finite(p)) return;
@@ -469,6 +497,7 @@ Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& 
       hi = V4f{p.x > hi[0] ? p.x : hi[0], p.y > hi[1] ? p.y : hi[1], hi[2], hi[3]};
       ++finite;
     };
+    V4i inf_or_nan{};
     for (; i + 4 <= n; i += 4) {
       V4f a, b;
       std::memcpy(&a, points + i, sizeof a);
@@ -476,14 +505,16 @@ Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& 
       V4i bits_a, bits_b;
       std::memcpy(&bits_a, &a, sizeof bits_a);
       std::memcpy(&bits_b, &b, sizeof bits_b);
-      if (!all_lanes(((bits_a & 0x7F800000) != 0x7F800000) & ((bits_b & 0x7F800000) != 0x7F800000))) {
-        for (uint32_t m = 0; m < 4; ++m) one(points[i + m]);
-        continue;
-      }
+      inf_or_nan |= ((bits_a & 0x7F800000) == 0x7F800000) | ((bits_b & 0x7F800000) == 0x7F800000);
       const V4f lo_ab = a < b ? a : b, hi_ab = a > b ? a : b;
       lo = lo_ab < lo ? lo_ab : lo;
       hi = hi_ab > hi ? hi_ab : hi;
-      finite += 4;
+    }
+    if (lane_mask(inf_or_nan) != 0) {
+      lo = hi = start;
+      i = first + 1;
+    } else {
+      finite += i - (first + 1);
     }
     for (; i < n; ++i) one(points[i]);
     xmin = lo[2] < lo[0] ? lo[2] : lo[0];
