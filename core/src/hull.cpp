@@ -475,16 +475,27 @@ Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& 
   if (!std::isfinite(params.cell_m) || !(params.cell_m > 0.0f)) return Status::invalid_argument;
   if (params.closing_cells > kMaxClosing) return Status::invalid_argument;
 
-  // Bounding box of the finite points.
+  if (params.bounds_given && !(std::isfinite(params.xmin) && std::isfinite(params.ymin) &&
+                               std::isfinite(params.xmax) && std::isfinite(params.ymax) &&
+                               params.xmin <= params.xmax && params.ymin <= params.ymax)) {
+    return Status::invalid_argument;
+  }
+  // Bounding box of the finite points (or the caller's).
   uint32_t first = 0;
-  while (first < n && !is_finite(points[first])) ++first;
+  if (!params.bounds_given)
+    while (first < n && !is_finite(points[first])) ++first;
   if (first == n) {
     all_inside = true;
     return Status::ok;
   }
-  uint32_t finite = 1;
+  uint32_t finite = params.bounds_given ? n : 1;
   float xmin = points[first].x, xmax = xmin, ymin = points[first].y, ymax = ymin;
-  {
+  if (params.bounds_given) {
+    xmin = params.xmin;
+    ymin = params.ymin;
+    xmax = params.xmax;
+    ymax = params.ymax;
+  } else {
     // Four points, two (x, y, x, y) vectors, per step, the non-finite coordinates only
     // noted (an exponent of all ones); where there was one, every point again one by
     // one (the steps' bounds may hold NaN).

@@ -3,12 +3,11 @@
 // executability checks are in planner_checks.cpp.
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <limits>
 
 #include "fg/core/eigen_sym3.hpp"
 #include "fg/core/planner.hpp"
-#include "fg/core/vec4.hpp"
+#include "fg/core/projection.hpp"
 #include "fg/platform/platform.hpp"
 
 namespace fg {
@@ -574,40 +573,6 @@ bool Planner::seen_from_a_sensor(const Vec3& approach) const {
   return false;
 }
 
-void Planner::project(const ViewFrame& f) {
-  const uint32_t n = object_.size();
-  const Vec3* p = object_.data();
-  static_assert(sizeof(Vec3) == 3 * sizeof(float) && sizeof(Vec2) == 2 * sizeof(float), "packed points");
-  // Four points per step, a coordinate per vector; each lane computes Eigen's dot of a
-  // Vector3f in its order, (X.x d.x + X.y d.y) + X.z d.z, so the same floats.
-  const V4f cx = V4f{} + centroid_.x(), cy = V4f{} + centroid_.y(), cz = V4f{} + centroid_.z();
-  const V4f xx = V4f{} + f.X.x(), xy = V4f{} + f.X.y(), xz = V4f{} + f.X.z();
-  const V4f yx = V4f{} + f.Y.x(), yy = V4f{} + f.Y.y(), yz = V4f{} + f.Y.z();
-  uint32_t i = 0;
-  for (; i + 4 <= n; i += 4) {
-    V4f a, b, c;  // x0 y0 z0 x1 | y1 z1 x2 y2 | z2 x3 y3 z3
-    const float* q = p[i].data();
-    std::memcpy(&a, q, sizeof a);
-    std::memcpy(&b, q + 4, sizeof b);
-    std::memcpy(&c, q + 8, sizeof c);
-    // Five shuffles of two lanes from each source (one SSE shufps each).
-    const V4f t0 = __builtin_shufflevector(b, c, 2, 3, 5, 6);  // x2 y2 x3 y3
-    const V4f t1 = __builtin_shufflevector(a, b, 1, 2, 4, 5);  // y0 z0 y1 z1
-    const V4f dx = __builtin_shufflevector(a, t0, 0, 3, 4, 6) - cx;
-    const V4f dy = __builtin_shufflevector(t1, t0, 0, 2, 5, 7) - cy;
-    const V4f dz = __builtin_shufflevector(t1, c, 1, 3, 4, 7) - cz;
-    const V4f px = (xx * dx + xy * dy) + xz * dz;
-    const V4f py = (yx * dx + yy * dy) + yz * dz;
-    const V4f lo = __builtin_shufflevector(px, py, 0, 4, 1, 5), hi = __builtin_shufflevector(px, py, 2, 6, 3, 7);
-    std::memcpy(&view_.proj[i], &lo, sizeof lo);
-    std::memcpy(&view_.proj[i + 2], &hi, sizeof hi);
-  }
-  for (; i < n; ++i) {
-    const Vec3 d = p[i] - centroid_;
-    view_.proj[i] = Vec2{f.X.dot(d), f.Y.dot(d)};
-  }
-}
-
 void Planner::project_depth(const ViewFrame& f) {
   const uint32_t n = object_.size();
   for (uint32_t i = 0; i < n; ++i) view_.depth[i] = f.Z.dot(object_[i] - centroid_);
@@ -619,8 +584,8 @@ Status Planner::silhouette_windows(const ViewFrame& f, Vec2* contour, uint32_t& 
                                    ScanLine* lines, uint32_t& n_lines, SideFit* windows,
                                    uint32_t max_windows, uint32_t& n_windows) {
   n_contour = n_lines = n_windows = 0;
-  project(f);
   ConcaveHullParams hp;
+  project_to_view(object_.data(), object_.size(), centroid_, f.X, f.Y, view_.proj, hp);
   hp.cell_m = cfg_.hull_cell_m;
   hp.closing_cells = cfg_.hull_closing_cells;
   float cell = 0.f;

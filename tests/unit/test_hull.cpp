@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <random>
 #include <vector>
@@ -227,8 +228,9 @@ struct Concave {
 };
 
 Concave concave(const std::vector<Vec2>& pts, float cell_m = 0.0025f, uint32_t closing = 2,
-                uint32_t capacity = fg::kMaxContourVertices) {
+                uint32_t capacity = fg::kMaxContourVertices, const fg::ConcaveHullParams* bounds = nullptr) {
   fg::ConcaveHullParams params;
+  if (bounds != nullptr) params = *bounds;
   params.cell_m = cell_m;
   params.closing_cells = closing;
   Concave r{};
@@ -856,6 +858,67 @@ TEST(ConcaveHull, Deterministic) {
   const Concave a = concave(pts), b = concave(pts);
   ASSERT_EQ(a.poly.size(), b.poly.size());
   for (size_t i = 0; i < a.poly.size(); ++i) EXPECT_TRUE(same(a.poly[i], b.poly[i]));
+}
+
+// The caller's bounding box (the planner's projection computes it in passing) gives
+// the hull computed without it, bit for bit, whatever the order of the points (the
+// box here in reverse order, with -0.0 and +0.0 both present where a box is at 0).
+TEST(ConcaveHull, GivenBoundsGiveTheHullWithout) {
+  std::mt19937 rng(9001u);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  for (int trial = 0; trial < 80; ++trial) {
+    const float radius = trial % 3 == 0 ? 0.3f * std::fabs(u(rng)) + 1e-4f : 0.06f * std::fabs(u(rng)) + 1e-4f;
+    std::vector<Vec2> pts = random_blob(rng, 1 + static_cast<int>(rng() % 4000u), Vec2{u(rng), u(rng)}, radius);
+    if (trial % 4 == 1) pts.push_back(Vec2{0.0f, -0.0f});
+    if (trial % 4 == 1) pts.push_back(Vec2{-0.0f, 0.0f});
+    if (trial % 5 == 2) pts.resize(1 + rng() % 3);  // a few points, some steps' tails only
+    fg::ConcaveHullParams b;
+    b.bounds_given = true;
+    b.xmin = b.xmax = pts.back().x;
+    b.ymin = b.ymax = pts.back().y;
+    for (size_t i = pts.size(); i-- > 0;) {
+      b.xmin = std::min(b.xmin, pts[i].x);
+      b.xmax = std::max(b.xmax, pts[i].x);
+      b.ymin = std::min(b.ymin, pts[i].y);
+      b.ymax = std::max(b.ymax, pts[i].y);
+    }
+    const uint32_t closing = static_cast<uint32_t>(trial % 4);
+    const Concave own = concave(pts, 0.0025f, closing), given = concave(pts, 0.0025f, closing, fg::kMaxContourVertices, &b);
+    SCOPED_TRACE("trial " + std::to_string(trial));
+    ASSERT_EQ(own.status, given.status);
+    EXPECT_EQ(std::memcmp(&own.cell, &given.cell, sizeof own.cell), 0);
+    EXPECT_EQ(own.all_inside, given.all_inside);
+    ASSERT_EQ(own.poly.size(), given.poly.size());
+    EXPECT_EQ(std::memcmp(own.poly.data(), given.poly.data(), own.poly.size() * sizeof(Vec2)), 0);
+  }
+}
+
+// Bounds that are not finite or not ordered are refused; bounds that are wrong (the
+// points beyond them, NaN points the caller said were finite) stay in the raster.
+TEST(ConcaveHull, WrongBoundsAreRefusedOrStayInTheRaster) {
+  std::mt19937 rng(77u);
+  std::vector<Vec2> pts = random_blob(rng, 500, Vec2{0.2f, -0.1f}, 0.05f);
+  fg::ConcaveHullParams b;
+  b.bounds_given = true;
+  b.xmin = 0.1f, b.xmax = 0.3f, b.ymin = -0.2f, b.ymax = 0.0f;
+  for (const float bad : {kNaN, kInf, -kInf}) {
+    fg::ConcaveHullParams c = b;
+    c.xmax = bad;
+    EXPECT_EQ(concave(pts, 0.0025f, 2, fg::kMaxContourVertices, &c).status, Status::invalid_argument);
+  }
+  fg::ConcaveHullParams swapped = b;
+  std::swap(swapped.ymin, swapped.ymax);
+  EXPECT_EQ(concave(pts, 0.0025f, 2, fg::kMaxContourVertices, &swapped).status, Status::invalid_argument);
+  // Too small a box, and NaN points: defined statuses, no read or write outside the
+  // scratch (the sanitizer builds run this too).
+  fg::ConcaveHullParams small = b;
+  small.xmin = 0.19f, small.xmax = 0.21f, small.ymin = -0.11f, small.ymax = -0.09f;
+  pts[7] = Vec2{kNaN, 0.2f};
+  pts[8] = Vec2{0.2f, kNaN};
+  for (const fg::ConcaveHullParams* p : {&b, &small}) {
+    const Concave r = concave(pts, 0.0025f, 2, fg::kMaxContourVertices, p);
+    EXPECT_TRUE(r.status == Status::ok || r.status == Status::capacity_exceeded) << static_cast<int>(r.status);
+  }
 }
 
 // ---------------------------------------------------------------------------------

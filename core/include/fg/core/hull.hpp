@@ -61,6 +61,12 @@ struct ConcaveHullScratch {
 struct ConcaveHullParams {
   float cell_m = 0.0025f;     //!< raster cell size (> 0, finite); grown automatically to fit the grid
   uint32_t closing_cells = 2; //!< closing radius in cells, at most (kHullGridDim - 5) / 2
+  //! Optional: the caller states that every point is finite and gives their bounding
+  //! box (the planner's projection computes it in passing), so the hull skips its own
+  //! pass over the points. With the exact box the result is the one without it;
+  //! with a wrong one it is undefined but memory-safe (cells are clamped).
+  bool bounds_given = false;
+  float xmin = 0.f, ymin = 0.f, xmax = 0.f, ymax = 0.f;
 };
 
 //! Concave hull of n points: the outer boundary of one 8-connected component of the
@@ -85,7 +91,7 @@ struct ConcaveHullParams {
 //! out_cell_m receives the cell size actually used (0 when there is no finite point).
 //! Statuses: ok (out_n = 0 when there is no finite point); invalid_argument (null
 //! points with n > 0, null out with out_capacity > 0, cell_m not a finite value > 0,
-//! closing_cells too large); capacity_exceeded (more than out_capacity vertices);
+//! closing_cells too large, given bounds not finite or min above max); capacity_exceeded (more than out_capacity vertices);
 //! numeric_failure (the raster's corners overflow float: coordinates near FLT_MAX).
 //! out_n = 0 whenever the status is not ok. Time: O(n + raster cells) (the raster
 //! is at most kHullGridDim^2 cells). Cells with more than 254 points keep an exact

@@ -209,7 +209,6 @@ class Planner {
   uint32_t add_family(ViewFamily fam, const Vec3& axis, const Vec3& X0, float from, float to,
                       bool skip_arc, float arc_from, float arc_to);
   void analyse_views(uint32_t first, uint32_t last, PlanResult& out);
-  void project(const ViewFrame& f);        // view_.proj: the object points in the view's XOY
   void project_depth(const ViewFrame& f);  // view_.depth: their Z (for the views with windows)
   Status silhouette_windows(const ViewFrame& f, Vec2* contour, uint32_t& n_contour, ScanLine* lines,
                             uint32_t& n_lines, SideFit* windows, uint32_t max_windows,
