@@ -13,9 +13,10 @@ void project_to_view(const Vec3* p, uint32_t n, const Vec3& origin, const Vec3& 
   hull.bounds_given = false;
   if (n == 0) return;
   static_assert(sizeof(Vec3) == 3 * sizeof(float) && sizeof(Vec2) == 2 * sizeof(float), "packed points");
-  // Four points per step, a coordinate per vector; each lane computes Eigen's dot of a
-  // Vector3f in its order, X.x d.x + (X.y d.y + X.z d.z) (its unrolled sum halves the
-  // vector), so the same floats.
+  // Four points per step, a coordinate per vector; every coordinate (lanes and tail) is
+  // X.x d.x + (X.y d.y + X.z d.z) in float, on every target: the order of Eigen's
+  // Vector3f dot on x86-64 (on aarch64 Eigen sums (X.x d.x + X.y d.y) + X.z d.z), so
+  // host plans are what they were with X.dot(d).
   const V4f cx = V4f{} + origin.x(), cy = V4f{} + origin.y(), cz = V4f{} + origin.z();
   const V4f xx = V4f{} + X.x(), xy = V4f{} + X.y(), xz = V4f{} + X.z();
   const V4f yx = V4f{} + Y.x(), yy = V4f{} + Y.y(), yz = V4f{} + Y.z();
@@ -23,8 +24,9 @@ void project_to_view(const Vec3* p, uint32_t n, const Vec3& origin, const Vec3& 
   // order (a zero's sign aside, which moves no raster cell), so they are the hull's
   // own. Finite points in a finite frame project to finite values or overflow to an
   // infinity, which the box then shows.
+  auto dot = [](const Vec3& a, const Vec3& d) { return a.x() * d.x() + (a.y() * d.y() + a.z() * d.z()); };
   const Vec3 d0 = p[0] - origin;
-  const V4f first{X.dot(d0), Y.dot(d0), X.dot(d0), Y.dot(d0)};
+  const V4f first{dot(X, d0), dot(Y, d0), dot(X, d0), dot(Y, d0)};
   V4f lo_xy = first, hi_xy = first;
   uint32_t i = 0;
   for (; i + 4 <= n; i += 4) {
@@ -52,7 +54,7 @@ void project_to_view(const Vec3* p, uint32_t n, const Vec3& origin, const Vec3& 
   float by[2] = {std::min(lo_xy[1], lo_xy[3]), std::max(hi_xy[1], hi_xy[3])};
   for (; i < n; ++i) {
     const Vec3 d = p[i] - origin;
-    const Vec2 q{X.dot(d), Y.dot(d)};
+    const Vec2 q{dot(X, d), dot(Y, d)};
     out[i] = q;
     bx[0] = std::min(bx[0], q.x);
     bx[1] = std::max(bx[1], q.x);

@@ -1,6 +1,9 @@
-// D.1, the projection into a viewpoint's XOY plane: every coordinate the float Eigen's
-// Vector3f::dot gives (the oracle), bit for bit, for every count (the four-point steps
-// and the tail), and the bounding box the hull would find itself.
+// D.1, the projection into a viewpoint's XOY plane: every coordinate within float
+// rounding of the dot in double (the oracle) and, bit for bit, the float formula of the
+// header for every count (the four-point steps and the tail alike, on every target);
+// on x86-64 also Eigen's Vector3f dot bit for bit (the planner's projection before it
+// had its own file, so host plans are unchanged); and the bounding box the hull would
+// find itself.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -32,9 +35,20 @@ TEST(Projection, EveryCoordinateIsEigensDotBitForBit) {
       float xmin = INFINITY, xmax = -INFINITY, ymin = INFINITY, ymax = -INFINITY;
       for (uint32_t i = 0; i < n; ++i) {
         const Vec3 d = pts[i] - origin;
-        const float ex = X.dot(d), ey = Y.dot(d);
+        const float ex = X.x() * d.x() + (X.y() * d.y() + X.z() * d.z());
+        const float ey = Y.x() * d.x() + (Y.y() * d.y() + Y.z() * d.z());
         ASSERT_EQ(std::memcmp(&out[i].x, &ex, sizeof ex), 0) << "n " << n << " point " << i;
         ASSERT_EQ(std::memcmp(&out[i].y, &ey, sizeof ey), 0) << "n " << n << " point " << i;
+#if defined(__x86_64__)
+        const float eigen_x = X.dot(d), eigen_y = Y.dot(d);
+        ASSERT_EQ(std::memcmp(&out[i].x, &eigen_x, sizeof ex), 0) << "n " << n << " point " << i;
+        ASSERT_EQ(std::memcmp(&out[i].y, &eigen_y, sizeof ey), 0) << "n " << n << " point " << i;
+#endif
+        // The exact dot of the float inputs: three products and two sums, each off by
+        // at most half an ulp of its own magnitude (|d| < 0.3, |X| = 1).
+        const Eigen::Vector3d dd = d.cast<double>();
+        EXPECT_NEAR(out[i].x, X.cast<double>().dot(dd), 4 * 0.3 * std::ldexp(1.0, -24));
+        EXPECT_NEAR(out[i].y, Y.cast<double>().dot(dd), 4 * 0.3 * std::ldexp(1.0, -24));
         xmin = std::fmin(xmin, ex), xmax = std::fmax(xmax, ex), ymin = std::fmin(ymin, ey), ymax = std::fmax(ymax, ey);
       }
       ASSERT_TRUE(hp.bounds_given);
