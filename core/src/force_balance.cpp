@@ -173,6 +173,12 @@ uint32_t best_windows(const ScanLine* lines, uint32_t n, float dx_threshold, uin
           step(s, -1);
           step(s + k - 1, 1);
         }
+        // rank = beta + centre term, beta >= 0: once the list is full, a window whose
+        // centre term alone reaches the last rank cannot enter it (the float sum of
+        // non-negative terms is at least each term), so its fit is skipped.
+        const float y_centre = 0.5f * (lines[s].y + lines[s + k - 1].y);
+        const float centre_term = centre_weight * std::fabs(y_centre - y_ref);
+        if (found >= max_out && !(centre_term < out[max_out - 1].rank)) continue;
         const double my = sy * inv_k;
         const double vyy = syy - sy * my;  // k * var(y)
         if (!(vyy > 1e-18)) continue;
@@ -189,21 +195,24 @@ uint32_t best_windows(const ScanLine* lines, uint32_t n, float dx_threshold, uin
               std::isfinite(c.b_right)))
           continue;
         c.beta = side_angle(c.a_left, c.a_right);
-        c.y_centre = 0.5f * (lines[s].y + lines[s + k - 1].y);
-        c.rank = c.beta + centre_weight * std::fabs(c.y_centre - y_ref);
-        // Only a window that enters the list needs its mean centre and width.
+        c.y_centre = y_centre;
+        c.rank = c.beta + centre_term;
         if (found >= max_out && !(c.rank < out[max_out - 1].rank)) continue;
-        float xc = 0.f, w = 0.f;
-        for (uint32_t i = 0; i < k; ++i) {
-          xc += 0.5f * (lines[s + i].left + lines[s + i].right);
-          w += lines[s + i].right - lines[s + i].left;
-        }
-        c.x_centre = xc / static_cast<float>(k);
-        c.width = w / static_cast<float>(k);
         insert_best(out, found, max_out, c);
       }
     }
     j = e;
+  }
+  // Only the windows that stayed in the list need their mean centre and width.
+  for (uint32_t q = 0; q < found; ++q) {
+    SideFit& c = out[q];
+    float xc = 0.f, w = 0.f;
+    for (uint32_t i = 0; i < k; ++i) {
+      xc += 0.5f * (lines[c.first + i].left + lines[c.first + i].right);
+      w += lines[c.first + i].right - lines[c.first + i].left;
+    }
+    c.x_centre = xc / static_cast<float>(k);
+    c.width = w / static_cast<float>(k);
   }
   return found;
 }
