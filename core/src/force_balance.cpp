@@ -53,20 +53,40 @@ uint32_t build_scan_lines(const Vec2* contour, uint32_t n_contour, float y_min, 
         last = mid;
       }
     }
+    const auto meet = [](ScanLine& l, double x) {
+      if (!std::isfinite(x)) return;
+      const float xf = static_cast<float>(x);
+      if (!l.hit) {
+        l.left = l.right = xf;
+        l.hit = true;
+      } else {
+        l.left = std::min(l.left, xf);
+        l.right = std::max(l.right, xf);
+      }
+    };
+    // edge_meets_line() for each line of the run, its per-edge tests taken out of the
+    // loop (the same operations on the same values for each line): an edge with a
+    // non-finite end meets nothing; a horizontal one gives the lines along it both
+    // ends; else a line through an end takes that end, the others the clamped crossing.
+    if (!std::isfinite(a.x) || !std::isfinite(a.y) || !std::isfinite(b.x) || !std::isfinite(b.y)) continue;
+    const double ax = a.x, ay = a.y, bx = b.x, by = b.y;
+    if (ay == by) {
+      for (uint32_t j = first; j < n && static_cast<double>(lines[j].y) <= hi; ++j) {
+        meet(lines[j], ax);
+        meet(lines[j], bx);
+      }
+      continue;
+    }
+    const double dx = bx - ax, dy = by - ay, x_lo = std::min(ax, bx), x_hi = std::max(ax, bx);
     for (uint32_t j = first; j < n && static_cast<double>(lines[j].y) <= hi; ++j) {
-      double x[2];
-      const uint32_t m = edge_meets_line(a, b, lines[j].y, x);
-      for (uint32_t k = 0; k < m; ++k) {
-        if (!std::isfinite(x[k])) continue;
-        const float xf = static_cast<float>(x[k]);
-        ScanLine& l = lines[j];
-        if (!l.hit) {
-          l.left = l.right = xf;
-          l.hit = true;
-        } else {
-          l.left = std::min(l.left, xf);
-          l.right = std::max(l.right, xf);
-        }
+      const double yl = lines[j].y;
+      if (yl == ay) {
+        meet(lines[j], ax);
+      } else if (yl == by) {
+        meet(lines[j], bx);
+      } else {
+        const double t = (yl - ay) / dy;
+        meet(lines[j], std::min(std::max(ax + t * dx, x_lo), x_hi));
       }
     }
   }

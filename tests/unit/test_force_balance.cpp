@@ -277,6 +277,8 @@ TEST(ScanLines, SweepEqualsEachLineOnItsOwn) {
       poly.push_back({r * std::cos(ang), y});
     }
     if (trial % 5 == 0) poly.push_back({poly.back().x + 0.01f, poly.back().y});  // a horizontal edge
+    if (trial % 7 == 3) poly.insert(poly.begin() + 1, Vec2{std::numeric_limits<float>::quiet_NaN(), 0.f});
+    if (trial % 11 == 4) poly.insert(poly.begin() + 2, Vec2{0.01f, std::numeric_limits<float>::infinity()});
     float used = 0;
     const uint32_t n = fg::build_scan_lines(poly.data(), static_cast<uint32_t>(poly.size()), y0, y0 + 0.5f, delta,
                                             lines.data(), fg::kMaxScanLines, used);
