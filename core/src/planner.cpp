@@ -673,8 +673,17 @@ bool Planner::xoz(const ViewFrame& f, const SideFit& w, Candidate& c) {
   double zl = 0, zr = 0;
   uint32_t nl = 0, nr = 0;
   float z_first_palm = 1e9f;
+  // The later passes look only at points within `slab` of the window's centre line:
+  // they are listed here in index order, so those passes sum the same terms in the
+  // same order as passes over every point.
+  const float band = half_pad + 0.5f * cfg_.voxel_leaf_m;
+  const float slab = std::max(half_pad, band);
+  uint32_t* const near = view_.slab;
+  uint32_t n_near = 0;
   for (uint32_t i = 0; i < n; ++i) {
     const float x = view_.proj[i].x, y = view_.proj[i].y - yc, z = view_.depth[i];
+    near[n_near] = i;
+    n_near += std::fabs(y) <= slab ? 1u : 0u;
     if (std::fabs(y) <= half_palm && std::fabs(x - xc) <= half_outer) z_first_palm = std::min(z_first_palm, z);
     if (std::fabs(y) > half_pad) continue;
     const float yy = view_.proj[i].y;
@@ -716,7 +725,8 @@ bool Planner::xoz(const ViewFrame& f, const SideFit& w, Candidate& c) {
 
   // Contacts within the pads' reach at that depth.
   float xmin = 1e9f, xmax = -1e9f;
-  for (uint32_t i = 0; i < n; ++i) {
+  for (uint32_t q = 0; q < n_near; ++q) {
+    const uint32_t i = near[q];
     if (std::fabs(view_.proj[i].y - yc) > half_pad || std::fabs(view_.depth[i] - pos_z) > half_fd) continue;
     xmin = std::min(xmin, view_.proj[i].x);
     xmax = std::max(xmax, view_.proj[i].x);
@@ -746,9 +756,9 @@ bool Planner::xoz(const ViewFrame& f, const SideFit& w, Candidate& c) {
   double wl = 0, wr = 0, wzl = 0, wzr = 0;
   const float inv_ramp = 1.f / cfg_.voxel_leaf_m;
   c.corners_clear = true;
-  const float band = half_pad + 0.5f * cfg_.voxel_leaf_m;
   const float tip_band = half_fd + 0.5f * cfg_.voxel_leaf_m;
-  for (uint32_t i = 0; i < n; ++i) {
+  for (uint32_t q = 0; q < n_near; ++q) {
+    const uint32_t i = near[q];
     const float dy = std::fabs(view_.proj[i].y - yc);
     const float dd = view_.depth[i] - pos_z;
     if (dy > band || dd < -half_fd || dd > tip_band) continue;

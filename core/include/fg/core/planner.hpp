@@ -283,8 +283,15 @@ class Planner {
   struct ViewWork {
     Vec2 proj[kMaxObjectPoints];
     float depth[kMaxObjectPoints];
-    ConcaveHullScratch hull;
+    // The hull's scratch is idle once the view's silhouette is traced: xoz() lists
+    // there the points near a window's centre line.
+    union {
+      ConcaveHullScratch hull;
+      uint32_t slab[kMaxObjectPoints];
+    };
   };
+  static_assert(sizeof(uint32_t) * kMaxObjectPoints <= sizeof(ConcaveHullScratch),
+                "xoz()'s list borrows the hull's scratch without growing the workspace");
   static constexpr uint32_t kViewWorkWordBits = floor_log2(sizeof(ViewWork) / sizeof(uint64_t));
   // The near list (below) is sorted with two tables of 2^kNearCellBits words, which
   // borrow this memory too (build_near_list, between the clustering and the views).
