@@ -42,13 +42,13 @@ double cross(const Vec2& o, const Vec2& a, const Vec2& b) {
 
 // ----------------------------------------------------------------------------------
 // Raster concave hull helpers. Cell flag bits (the first half of ConcaveHullScratch::raster):
-//   binning       : bit0 occupied, bits1-7 a full cell's slot + 1 (0: none)
+//   binning       : bits1-7 a full cell's slot + 1 (0: none); occupied cells are
+//                   those with a count (the closed image ORs them in)
 //   after closing : bit0 foreground (F), bit1 visited, bits2-4 DFS parent direction,
 //                   bit5 "current component" mark used by the exact recount
 // The second half holds the number of points per cell, saturated at 255, and
 // ConcaveHullScratch::full the exact counts of the saturated ("full") cells;
 // ConcaveHullScratch::rows holds the closing's images, one bit per cell.
-constexpr uint8_t kOcc = 0x01;
 constexpr uint8_t kSlotShift = 1;
 
 constexpr uint8_t kFg = 0x01;
