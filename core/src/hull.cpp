@@ -117,13 +117,16 @@ struct Raster {
   }
 };
 
+//! Byte b of the result is 1 when byte b of v is not 0, else 0.
+inline uint64_t nonzero_ones8(uint64_t v) {
+  return ((((v & 0x7F7F7F7F7F7F7F7Fu) + 0x7F7F7F7F7F7F7F7Fu) | v) >> 7) & kBytes01;
+}
 //! Bit b set when byte b of p[0..7] is not 0.
 inline uint32_t nonzero_bytes8(const uint8_t* p) {
   static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "byte b of the word is p[b]");
   uint64_t v;
   std::memcpy(&v, p, sizeof v);
-  const uint64_t ones = ((((v & 0x7F7F7F7F7F7F7F7Fu) + 0x7F7F7F7F7F7F7F7Fu) | v) >> 7) & kBytes01;
-  return static_cast<uint32_t>((ones * 0x0102040810204080u) >> 56);  // byte b's bit to bit b
+  return static_cast<uint32_t>((nonzero_ones8(v) * 0x0102040810204080u) >> 56);  // byte b's bit to bit b
 }
 #if defined(__SSE2__)
 //! The same for p[0..15].
@@ -692,7 +695,7 @@ Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& 
       const uint64_t spread = ((picked + 0x7F7F7F7F7F7F7F7Fu) >> 7) & kBytes01;
       uint64_t c8;
       std::memcpy(&c8, count_line + c, sizeof c8);  // little-endian: byte b is cell c + b
-      const uint64_t cells8 = spread | (((((c8 & 0x7F7F7F7F7F7F7F7Fu) + 0x7F7F7F7F7F7F7F7Fu) | c8) >> 7) & kBytes01);
+      const uint64_t cells8 = spread | nonzero_ones8(c8);
       std::memcpy(line + c, &cells8, sizeof cells8);
     }
     for (; c < w; ++c) line[c] = static_cast<uint8_t>(((closed[c / 64] >> (c % 64)) & kFg) | (count_line[c] != 0));
