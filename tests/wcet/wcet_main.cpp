@@ -270,7 +270,8 @@ nlohmann::json to_json(const std::vector<CaseReport>& reps, const Options& o) {
                      {"kRansacMaxIters", fg::kRansacMaxIters},
                      {"kMaxSensors", fg::kMaxSensors},
                      {"kSightBins", fg::kSightBins},
-                     {"kVoxelCacheBits", fg::kVoxelCacheBits}};
+                     {"kVoxelCacheBits", fg::kVoxelCacheBits},
+                     {"kIngestCacheBits", fg::kIngestCacheBits}};
   nlohmann::json cs = nlohmann::json::array();
   for (const CaseReport& r : reps) {
     nlohmann::json c;
