@@ -3,6 +3,8 @@
 // plus small polygon queries. No allocation, no exceptions; every loop is bounded by
 // n, the raster size or a small constant.
 #include "fg/core/hull.hpp"
+
+#include "fg/core/byte_flags.hpp"
 #include "fg/core/vec4.hpp"
 
 #if defined(__SSE2__)
@@ -117,17 +119,6 @@ struct Raster {
   }
 };
 
-//! Byte b of the result is 1 when byte b of v is not 0, else 0.
-inline uint64_t nonzero_ones8(uint64_t v) {
-  return ((((v & 0x7F7F7F7F7F7F7F7Fu) + 0x7F7F7F7F7F7F7F7Fu) | v) >> 7) & kBytes01;
-}
-//! Bit b set when byte b of p[0..7] is not 0.
-inline uint32_t nonzero_bytes8(const uint8_t* p) {
-  static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "byte b of the word is p[b]");
-  uint64_t v;
-  std::memcpy(&v, p, sizeof v);
-  return static_cast<uint32_t>((nonzero_ones8(v) * 0x0102040810204080u) >> 56);  // byte b's bit to bit b
-}
 #if defined(__SSE2__)
 //! The same for p[0..15].
 inline uint32_t nonzero_bytes16(const uint8_t* p) {

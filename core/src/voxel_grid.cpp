@@ -1,5 +1,7 @@
 #include "fg/core/voxel_grid.hpp"
 
+#include "fg/core/byte_flags.hpp"
+
 #include <cstring>
 
 namespace fg {
@@ -28,11 +30,10 @@ void VoxelGrid::build_filter(const uint8_t* keep) {
   uint64_t* const words = wide_ != nullptr ? wide_ : filter_;
   const uint32_t shift = 64u - filter_word_bits_;
   for (uint32_t w = 0; w < (1u << filter_word_bits_); ++w) words[w] = 0u;
-  for (uint32_t i = 0; i < size_; ++i) {
-    if (keep != nullptr && keep[i] == 0) continue;
+  for_each_flagged(keep, size_, [&](uint32_t i) {
     const uint64_t g = filter_mix(filter_hash(keys_[i]));
     words[g >> shift] |= filter_bits(g);
-  }
+  });
   filter_on_ = true;
 }
 
@@ -159,15 +160,16 @@ bool VoxelGrid::rebuild_index(const uint8_t* keep, uint32_t bits) {
   slot_bits_ = bits;
   slot_mask_ = (1u << bits) - 1u;
   for (uint32_t s = 0; s <= slot_mask_; ++s) slots_[s] = 0u;
-  for (uint32_t i = 0; i < size_; ++i) {
-    if (keep[i] == 0) continue;
+  bool ok = true;
+  for_each_flagged(keep, size_, [&](uint32_t i) {
+    if (!ok) return;  // refused: the rest is only skipped
     uint32_t s = slot_of(keys_[i]);
     uint32_t probe = 0;
     for (; probe < kMaxProbe && slots_[s] != 0; ++probe) s = (s + 1) & slot_mask_;
-    if (probe == kMaxProbe) return false;
-    slots_[s] = tag_of(keys_[i]) | (i + 1);
-  }
-  return true;
+    if (probe == kMaxProbe) ok = false;  // the caller starts again with the full table
+    else slots_[s] = tag_of(keys_[i]) | (i + 1);
+  });
+  return ok;
 }
 
 void VoxelGrid::keep_in_index_only(const uint8_t* keep) {

@@ -2,6 +2,8 @@
 // points (path_check.hpp).
 #include "fg/robot/path_check.hpp"
 
+#include "fg/core/byte_flags.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -219,14 +221,15 @@ PathScene prepare_path_scene(const GraspQuery& q, PathSceneScratch* scratch) {
   uint32_t n_kept = 0;
   uint32_t* count = scratch != nullptr ? scratch->column_start : nullptr;
   if (count != nullptr) std::fill(count, count + kPathColumns * kPathColumns + 1, 0u);
-  for (uint32_t i = 0; i < q.n_scene_points; ++i) {
-    if (!kept(q, i)) continue;
+  // The flagged points only (a scene's voxels are mostly the plane's, not flagged).
+  for_each_flagged(q.scene_keep, q.n_scene_points, [&](uint32_t i) {
+    if (!q.scene_points[i].allFinite()) return;
     const V3d p = q.scene_points[i].cast<double>();
     s.lo = s.lo.cwiseMin(p);
     s.hi = s.hi.cwiseMax(p);
     ++n_kept;
     if (count != nullptr) ++count[column_of(p.x(), p.y()) + 1];
-  }
+  });
   s.has_points = n_kept > 0;
   if (count == nullptr || n_kept > kMaxObjectPoints) return s;
   // Counting sort in place: count[c + 1] becomes the end of column c, each index is
@@ -234,11 +237,11 @@ PathScene prepare_path_scene(const GraspQuery& q, PathSceneScratch* scratch) {
   // one shift down makes count[c] the start of column c.
   constexpr uint32_t kCells = kPathColumns * kPathColumns;
   for (uint32_t c = 0; c < kCells; ++c) count[c + 1] += count[c];
-  for (uint32_t i = 0; i < q.n_scene_points; ++i) {
-    if (!kept(q, i)) continue;
+  for_each_flagged(q.scene_keep, q.n_scene_points, [&](uint32_t i) {
+    if (!q.scene_points[i].allFinite()) return;
     const V3d p = q.scene_points[i].cast<double>();
     scratch->idx[--count[column_of(p.x(), p.y()) + 1]] = i;
-  }
+  });
   for (uint32_t c = 0; c < kCells; ++c) count[c] = count[c + 1];
   count[kCells] = n_kept;
   s.idx = scratch->idx;
