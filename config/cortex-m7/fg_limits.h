@@ -17,7 +17,7 @@
 #define FG_RANSAC_MAX_ITERS 256u     /* upper bound of the configured iteration count */
 #define FG_MAX_SENSORS 2u            /* head and hand */
 #define FG_SIGHT_BINS 64u            /* nearest-return direction bins per axis, per sensor */
-#define FG_VOXEL_CACHE_BITS 8u       /* the grid's lookup memory: the ingest's cell cache, then the lookup filter */
+#define FG_VOXEL_CACHE_BITS 8u       /* 2^bits recent cells cached by the ingest loop */
 
 /* The workspace budget: firmware_api's FG_WORKSPACE_SIZE, a compile-time upper bound of
  * fg_workspace_size() (checked by a static_assert in firmware_api/src/fg_api.cpp).

@@ -17,8 +17,7 @@
 #define FG_RANSAC_MAX_ITERS 1024u     /* upper bound of the configured iteration count */
 #define FG_MAX_SENSORS 2u             /* head and hand */
 #define FG_SIGHT_BINS 256u            /* nearest-return direction bins per axis, per sensor */
-#define FG_VOXEL_CACHE_BITS 13u       /* the grid's lookup memory: the ingest's cell cache, then the lookup filter (64 KiB) */
-#define FG_INGEST_CACHE_BITS 11u      /* 2^bits recent cells cached by the ingest loop (16 KiB: stays in the L1 data cache) */
+#define FG_VOXEL_CACHE_BITS 13u       /* 2^bits recent cells cached by the ingest loop; then the lookup filter (64 KiB) */
 
 /* The workspace budget: firmware_api's FG_WORKSPACE_SIZE, a compile-time upper bound of
  * fg_workspace_size() (checked by a static_assert in firmware_api/src/fg_api.cpp). */

@@ -18,10 +18,10 @@ void VoxelGrid::reset(const Vec3& origin, float leaf_m) {
   finalized_ = false;
   filter_on_ = false;
   wide_ = nullptr;
-  filter_word_bits_ = kFilterBits;
+  filter_word_bits_ = kCacheBits;
   size_ = 0;
   indexed_ = kIndexAll;
-  for (uint32_t i = 0; i < (1u << kIngestCacheBits); ++i) cache_[i] = CacheEntry{0xFFFFFFFFu, 0u};
+  for (uint32_t i = 0; i < (1u << kCacheBits); ++i) cache_[i] = CacheEntry{0xFFFFFFFFu, 0u};
 }
 
 void VoxelGrid::build_filter(const uint8_t* keep) {
@@ -183,8 +183,8 @@ void VoxelGrid::keep_in_index_only(const uint8_t* keep) {
   // the whole set did, so each finds its slot within kMaxProbe again.
   filter_on_ = false;
   wide_ = nullptr;
-  filter_word_bits_ = kFilterBits;
-  for (uint32_t s = 0; s < (1u << kIngestCacheBits); ++s) cache_[s] = CacheEntry{0xFFFFFFFFu, 0u};
+  filter_word_bits_ = kCacheBits;
+  for (uint32_t s = 0; s < (1u << kCacheBits); ++s) cache_[s] = CacheEntry{0xFFFFFFFFu, 0u};
   if (!rebuild_index(keep, bits)) (void)rebuild_index(keep, kSlotBits);
   indexed_ = kept;
 }
@@ -192,7 +192,7 @@ void VoxelGrid::keep_in_index_only(const uint8_t* keep) {
 void VoxelGrid::prepare_lookups(const uint8_t* keep, uint64_t* wide, uint32_t wide_bits) {
   filter_on_ = false;
   wide_ = nullptr;
-  filter_word_bits_ = kFilterBits;
+  filter_word_bits_ = kCacheBits;
   // The filter pays when the table is more than half full (an absent key's walk
   // averages about 8 slots at 3/4 load) or larger than kSmallTableSlots (its walks are
   // cache misses, a filter test is one load of a smaller array). A small table at most
@@ -202,7 +202,7 @@ void VoxelGrid::prepare_lookups(const uint8_t* keep, uint64_t* wide, uint32_t wi
   const uint32_t n = pruned ? indexed_ : size_;
   const uint32_t slots = slot_mask_ + 1u;
   if (!finalized_ || n == 0 || (2u * n <= slots && slots <= kSmallTableSlots)) return;
-  if (wide != nullptr && wide_bits > kFilterBits && wide_bits <= kMaxFilterWordBits) {
+  if (wide != nullptr && wide_bits > kCacheBits && wide_bits <= kMaxFilterWordBits) {
     wide_ = wide;
     filter_word_bits_ = wide_bits;
   }

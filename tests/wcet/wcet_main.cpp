@@ -270,8 +270,7 @@ nlohmann::json to_json(const std::vector<CaseReport>& reps, const Options& o) {
                      {"kRansacMaxIters", fg::kRansacMaxIters},
                      {"kMaxSensors", fg::kMaxSensors},
                      {"kSightBins", fg::kSightBins},
-                     {"kVoxelCacheBits", fg::kVoxelCacheBits},
-                     {"kIngestCacheBits", fg::kIngestCacheBits}};
+                     {"kVoxelCacheBits", fg::kVoxelCacheBits}};
   nlohmann::json cs = nlohmann::json::array();
   for (const CaseReport& r : reps) {
     nlohmann::json c;

@@ -43,9 +43,6 @@
 #ifndef FG_VOXEL_CACHE_BITS
 #define FG_VOXEL_CACHE_BITS 12u
 #endif
-#ifndef FG_INGEST_CACHE_BITS
-#define FG_INGEST_CACHE_BITS (FG_VOXEL_CACHE_BITS < 11u ? FG_VOXEL_CACHE_BITS : 11u)
-#endif
 
 namespace fg {
 inline constexpr uint32_t kMaxVoxels = FG_MAX_VOXELS;
@@ -60,10 +57,7 @@ inline constexpr uint32_t kMaxCheckedCandidates = FG_MAX_CHECKED_CANDIDATES;  //
 inline constexpr uint32_t kRansacMaxIters = FG_RANSAC_MAX_ITERS;
 inline constexpr uint32_t kMaxSensors = FG_MAX_SENSORS;
 inline constexpr uint32_t kSightBins = FG_SIGHT_BINS;           //!< per axis, per sensor
-//! The grid's lookup memory: 2^bits 64-bit words (the lookup filter after the ingest).
-inline constexpr uint32_t kVoxelCacheBits = FG_VOXEL_CACHE_BITS;
-//! The ingest's cache of recent cells, 2^bits entries in the same memory.
-inline constexpr uint32_t kIngestCacheBits = FG_INGEST_CACHE_BITS;
+inline constexpr uint32_t kVoxelCacheBits = FG_VOXEL_CACHE_BITS;  //!< ingest's cell cache
 
 static_assert(kMaxVoxels > 0 && kMaxObjectPoints > 0, "capacities must be positive");
 static_assert((kVoxelHashSlots & (kVoxelHashSlots - 1)) == 0, "hash slots must be a power of two");
@@ -76,8 +70,6 @@ static_assert(kMaxCheckedCandidates >= 1 && kMaxCheckedCandidates <= kMaxCandida
               "checked candidates: 1 .. FG_MAX_CANDIDATES");
 static_assert(kSightBins >= 16 && kSightBins <= 1024, "sight map size out of range");
 static_assert(kVoxelCacheBits >= 4 && kVoxelCacheBits <= 16, "voxel cache size out of range");
-static_assert(kIngestCacheBits >= 4 && kIngestCacheBits <= kVoxelCacheBits,
-              "the ingest's cell cache: 2^4 .. 2^FG_VOXEL_CACHE_BITS entries");
 
 //! floor(log2(v)) for v >= 1 (0 for v <= 1), at compile time: power-of-two sizing.
 constexpr uint32_t floor_log2(uint64_t v) { return v <= 1 ? 0 : 1 + floor_log2(v / 2); }

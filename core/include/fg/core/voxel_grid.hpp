@@ -66,7 +66,7 @@ class VoxelGrid {
   bool add_to_cell(uint32_t key, V4f o) {
     // A small direct-mapped cache of recent cells: neighbouring pixels of a depth
     // image (in this row and the rows above) mostly fall in the same few hundred cells.
-    CacheEntry& e = cache_[(key * 0x9E3779B1u) >> (32 - kIngestCacheBits)];
+    CacheEntry& e = cache_[(key * 0x9E3779B1u) >> (32 - kCacheBits)];
     if (e.key != key) {
       const uint32_t idx = find_or_add(key);
       if (idx == kNone) return false;
@@ -179,7 +179,7 @@ class VoxelGrid {
   float leaf_ = 0.005f;
   float inv_leaf_ = 200.f;
   uint32_t size_ = 0;
-  static constexpr uint32_t kFilterBits = kVoxelCacheBits;
+  static constexpr uint32_t kCacheBits = kVoxelCacheBits;
   // No key sits more than kMaxProbe slots past its home slot: an insert that would is
   // refused (capacity_exceeded), so every probe loop stays bounded even for a cloud
   // crafted to collide, and find() stops there too. Random keys at the 3/4 load limit
@@ -200,26 +200,22 @@ class VoxelGrid {
     uint32_t offset;
   };
   static_assert(uint64_t{4} * sizeof(float) * kMaxVoxels <= 0xFFFFFFFFull, "a voxel's byte offset fits 32 bits");
-  // The ingest's recent-cell cache: 2^kIngestCacheBits entries (16 KiB on the host),
-  // small enough to stay in the level-1 data cache. On the example the 8,192 entries
-  // before cost the ingest 215,000 level-1 misses against 91,000 now (callgrind's model
-  // of this machine), for 2% more grid look-ups. Once the grid is finalized (no more
-  // inserts) the same memory holds a Bloom filter of the indexed keys (2^kFilterBits
-  // words), which find() consults first:
+  // The ingest's recent-cell cache; once the grid is finalized (no more inserts) the
+  // same memory holds a Bloom filter of the indexed keys, which find() consults first:
   // most neighbour lookups of the clustering and the normals ask for cells that are
   // empty, and at the table's 3/4 load an absent key's probe walk is long (about 8
   // slots on average) where one load and mask test settles most of them (87% with
   // kMaxVoxels isolated cells on the host; the two-word filter of murmur bits before
   // it settled 89% at 12 more instructions per test).
   union {
-    CacheEntry cache_[1u << kIngestCacheBits];
-    uint64_t filter_[1u << kFilterBits];
+    CacheEntry cache_[1u << kCacheBits];
+    uint64_t filter_[1u << kCacheBits];
   };
   // A blocked Bloom filter: each key sets two bits of one 64-bit word, so a test is one
   // load. Word and bits come from disjoint fields of the mixed hash (filter_mix).
   static constexpr uint64_t kFilterMul = 0x9E3779B97F4A7C15ull;  // 2^64 / golden ratio, odd
   static constexpr uint32_t kMaxFilterWordBits = 26;  // word bits [38, 64), bit fields [26, 38)
-  static_assert(kFilterBits <= kMaxFilterWordBits, "filter word and bit fields are disjoint");
+  static_assert(kCacheBits <= kMaxFilterWordBits, "filter word and bit fields are disjoint");
   // The sum hash is linear, so structured keys (a lattice of cells) give correlated
   // fields; one xor-shift and multiply per test decorrelates word and bits.
   static uint64_t filter_mix(uint64_t h) { return (h ^ (h >> 32)) * kFilterMixMul; }
@@ -229,7 +225,7 @@ class VoxelGrid {
   void build_filter(const uint8_t* keep);  // keep null: every voxel
   bool filter_on_ = false;
   uint64_t* wide_ = nullptr;  // the caller's memory holding the filter, or null: filter_
-  uint32_t filter_word_bits_ = kFilterBits;
+  uint32_t filter_word_bits_ = kCacheBits;
   static constexpr uint32_t kIndexAll = 0xFFFFFFFFu;
   uint32_t indexed_ = kIndexAll;  // voxels in the index when pruned (kIndexAll: every one)
   bool finalized_ = false;
