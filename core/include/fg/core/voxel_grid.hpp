@@ -11,6 +11,7 @@
 // rest, no longer needed, is lent to the clustering as its queue.
 #pragma once
 #include <cstdint>
+#include <cstring>
 #include "fg/core/limits.hpp"
 #include "fg/core/status.hpp"
 #include "fg/core/types.hpp"
@@ -237,5 +238,61 @@ class VoxelGrid {
   // After: size() packed centroids (3 floats each), then the lendable rest.
   alignas(16) float store_[4 * kMaxVoxels];
 };
+
+// The ingest's walk of the hash for a cell the recent-cell cache missed: inline, so
+// the ingest's loop keeps its registers across it (a call cost it about a dozen
+// instructions of spills, pushes and pops per miss, and the adversarial ingests miss on
+// most points).
+inline uint32_t VoxelGrid::find_or_add(uint32_t key) {
+  uint32_t s = slot_of(key);
+  // The table is never more than 3/4 full (limits.hpp), so an empty slot is near; past
+  // kMaxProbe the cell is refused (a cloud crafted to collide).
+  const uint32_t tag = tag_of(key);
+  uint32_t probe = 0;
+#if defined(__SSE2__) || defined(__aarch64__)
+  // Eight slots per step where a vector unit compares them at once, while the window
+  // does not wrap: the same walk as the loop below (the first slot holding the key or
+  // the first empty one), with a branch per window instead of one per slot, whose
+  // outcome (about three slots to the first empty at this load) the predictor cannot
+  // know. kMaxProbe is a multiple of 8 here, so the windows end where the loop would.
+  static_assert(kMaxProbe % 8 == 0, "whole windows of probes");
+  const uint32_t slots = slot_mask_ + 1u;
+  const V4i tag4 = V4i{} + static_cast<int32_t>(tag);
+  const V4i hi_mask = V4i{} + static_cast<int32_t>(~kIndexMask);
+  for (; probe < kMaxProbe && s + 8 <= slots; probe += 8, s += 8) {
+    V4i a, b;
+    std::memcpy(&a, slots_ + s, sizeof a);
+    std::memcpy(&b, slots_ + s + 4, sizeof b);
+    // Slots are never emptied until reset(), so a key held by the table lies before
+    // the first empty slot of its walk: a tag match past it is another key, which the
+    // key test rejects (a tag matches another key 1 time in 16,384 or less; no tag
+    // matches an empty slot).
+    for (uint32_t cand = lane_mask((a & hi_mask) == tag4) | (lane_mask((b & hi_mask) == tag4) << 4); cand != 0;
+         cand &= cand - 1) {
+      const uint32_t index = (slots_[s + static_cast<uint32_t>(__builtin_ctz(cand))] & kIndexMask) - 1;
+      if (keys_[index] == key) return index;
+    }
+    const uint32_t empty = lane_mask(a == 0) | (lane_mask(b == 0) << 4);
+    if (empty != 0) return add_at(s + static_cast<uint32_t>(__builtin_ctz(empty)), tag, key);
+  }
+#endif
+  for (; probe < kMaxProbe; ++probe) {
+    const uint32_t slot = slots_[s];
+    if (slot == 0) return add_at(s, tag, key);
+    const uint32_t index = (slot & kIndexMask) - 1;
+    if ((slot & ~kIndexMask) == tag && keys_[index] == key) return index;
+    s = (s + 1) & slot_mask_;
+  }
+  return kNone;
+}
+
+inline uint32_t VoxelGrid::add_at(uint32_t s, uint32_t tag, uint32_t key) {
+  if (size_ >= kMaxVoxels) return kNone;
+  keys_[size_] = key;
+  float* acc = store_ + 4 * size_;
+  acc[0] = acc[1] = acc[2] = acc[3] = 0.f;
+  slots_[s] = tag | ++size_;
+  return size_ - 1;
+}
 
 }  // namespace fg
