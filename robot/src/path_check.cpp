@@ -50,6 +50,15 @@ bool kept(const GraspQuery& q, uint32_t i) {
   return (q.scene_keep == nullptr || q.scene_keep[i] != 0) && q.scene_points[i].allFinite();
 }
 
+// f(i) for every kept point, in index order: the flags are read eight at a time (a
+// scene's voxels are mostly the plane's, not flagged), then finiteness as kept() tests it.
+template <class F>
+void for_each_kept(const GraspQuery& q, F&& f) {
+  for_each_flagged(q.scene_keep, q.n_scene_points, [&](uint32_t i) {
+    if (q.scene_points[i].allFinite()) f(i);
+  });
+}
+
 // The tool at joints qs against the scene.
 // `budget` (optional) pays one sample, and the points scanned: a pose it cannot pay
 // for in full is not tested (PathHit::budget), so the answer never depends on where in
@@ -221,9 +230,7 @@ PathScene prepare_path_scene(const GraspQuery& q, PathSceneScratch* scratch) {
   uint32_t n_kept = 0;
   uint32_t* count = scratch != nullptr ? scratch->column_start : nullptr;
   if (count != nullptr) std::fill(count, count + kPathColumns * kPathColumns + 1, 0u);
-  // The flagged points only (a scene's voxels are mostly the plane's, not flagged).
-  for_each_flagged(q.scene_keep, q.n_scene_points, [&](uint32_t i) {
-    if (!q.scene_points[i].allFinite()) return;
+  for_each_kept(q, [&](uint32_t i) {
     const V3d p = q.scene_points[i].cast<double>();
     s.lo = s.lo.cwiseMin(p);
     s.hi = s.hi.cwiseMax(p);
@@ -237,8 +244,7 @@ PathScene prepare_path_scene(const GraspQuery& q, PathSceneScratch* scratch) {
   // one shift down makes count[c] the start of column c.
   constexpr uint32_t kCells = kPathColumns * kPathColumns;
   for (uint32_t c = 0; c < kCells; ++c) count[c + 1] += count[c];
-  for_each_flagged(q.scene_keep, q.n_scene_points, [&](uint32_t i) {
-    if (!q.scene_points[i].allFinite()) return;
+  for_each_kept(q, [&](uint32_t i) {
     const V3d p = q.scene_points[i].cast<double>();
     scratch->idx[--count[column_of(p.x(), p.y()) + 1]] = i;
   });

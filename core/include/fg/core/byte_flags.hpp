@@ -12,12 +12,17 @@ inline uint64_t nonzero_ones8(uint64_t v) {
   return ((((v & 0x7F7F7F7F7F7F7F7Fu) + 0x7F7F7F7F7F7F7F7Fu) | v) >> 7) & 0x0101010101010101u;
 }
 
+//! Bit b set when byte b of v is not 0.
+inline uint32_t nonzero_bits8(uint64_t v) {
+  return static_cast<uint32_t>((nonzero_ones8(v) * 0x0102040810204080u) >> 56);  // byte b's bit to bit b
+}
+
 //! Bit b set when byte b of p[0..7] is not 0.
 inline uint32_t nonzero_bytes8(const uint8_t* p) {
   static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "byte b of the word is p[b]");
   uint64_t v;
   std::memcpy(&v, p, sizeof v);
-  return static_cast<uint32_t>((nonzero_ones8(v) * 0x0102040810204080u) >> 56);  // byte b's bit to bit b
+  return nonzero_bits8(v);
 }
 
 //! Calls f(i) for every i < n with flags[i] != 0, in increasing order (flags null:
@@ -33,7 +38,8 @@ inline void for_each_flagged(const uint8_t* flags, uint32_t n, F&& f) {
     uint64_t v;
     std::memcpy(&v, flags + i, sizeof v);
     if (v == 0) continue;  // the common case: one load and test for eight
-    for (uint32_t m = nonzero_bytes8(flags + i); m != 0; m &= m - 1) f(i + static_cast<uint32_t>(__builtin_ctz(m)));
+    static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "byte b of the word is flags[i + b]");
+    for (uint32_t m = nonzero_bits8(v); m != 0; m &= m - 1) f(i + static_cast<uint32_t>(__builtin_ctz(m)));
   }
   for (; i < n; ++i)
     if (flags[i] != 0) f(i);
