@@ -3,7 +3,7 @@
 // in-process through Planner::add_depth_image, and judge the grasp (both pads on the
 // target, contact normals inside the mu = 0.5 cone, width within 1 cm, no collision at
 // the open pose) or the no_grasp answer (right iff the target fits in no direction).
-//   fg_quality [--count N] [--seed S] [--kinds a,b] [--min-rate R] [--verbose]
+//   fg_quality [--count N] [--seed S] [--kinds a,b] [--min-rate R] [--verbose] [--sensors both|head|hand]
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -41,6 +41,7 @@ int main(int argc, char** argv) {
   uint64_t seed = 1000;
   double min_rate = -1;
   bool verbose = false;
+  bool use_head = true, use_hand = true;  // --sensors: both (the default), head or hand
   std::vector<std::string> sets;
   std::vector<fg::sim::ObjectKind> kinds = fg::sim::all_kinds();
   for (int i = 1; i < argc; ++i) {
@@ -57,6 +58,15 @@ int main(int argc, char** argv) {
     else if (a == "--min-rate") min_rate = std::atof(next().c_str());
     else if (a == "--verbose") verbose = true;
     else if (a == "--set") sets.push_back(next());
+    else if (a == "--sensors") {
+      const std::string v = next();
+      use_head = v == "both" || v == "head";
+      use_hand = v == "both" || v == "hand";
+      if (!use_head && !use_hand) {
+        std::fprintf(stderr, "--sensors %s: expected both, head or hand\n", v.c_str());
+        return 2;
+      }
+    }
     else if (a == "--kinds") {
       kinds.clear();
       std::stringstream ss(next());
@@ -70,7 +80,7 @@ int main(int argc, char** argv) {
         kinds.push_back(kind);
       }
     } else {
-      std::fprintf(stderr, "usage: fg_quality [--count N] [--seed S] [--kinds a,b] [--min-rate R] [--verbose] [--set name=value]\n");
+      std::fprintf(stderr, "usage: fg_quality [--count N] [--seed S] [--kinds a,b] [--min-rate R] [--verbose] [--set name=value] [--sensors both|head|hand]\n");
       return 2;
     }
   }
@@ -94,10 +104,12 @@ int main(int argc, char** argv) {
     const fg::sim::GeneratedScene scene = fg::sim::make_scene(kind, s);
     const fg::sim::SceneImages img = fg::sim::render_scene(scene);
     planner->reset();
-    fg::Status st = planner->add_depth_image(
-        fg::SensorRole::head, img.head.mm.data(), static_cast<uint16_t>(img.head.width),
-        static_cast<uint16_t>(img.head.height), fg::sim::to_pinhole(scene.head.K), scene.head.world_T_sensor.to_pose());
-    if (st == fg::Status::ok)
+    fg::Status st = fg::Status::ok;
+    if (use_head)
+      st = planner->add_depth_image(
+          fg::SensorRole::head, img.head.mm.data(), static_cast<uint16_t>(img.head.width),
+          static_cast<uint16_t>(img.head.height), fg::sim::to_pinhole(scene.head.K), scene.head.world_T_sensor.to_pose());
+    if (st == fg::Status::ok && use_hand)
       st = planner->add_depth_image(
           fg::SensorRole::hand, img.hand.mm.data(), static_cast<uint16_t>(img.hand.width),
           static_cast<uint16_t>(img.hand.height), fg::sim::to_pinhole(scene.hand.K), scene.hand.world_T_sensor.to_pose());

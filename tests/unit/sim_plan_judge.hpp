@@ -38,23 +38,32 @@ struct JudgedPlan {
   fg::Status status = fg::Status::internal_error;
   std::string message;
   JudgeResult judge;  //!< set when status is ok
+  float width = 0.f;  //!< the planned grasp's width, when status is ok
 };
 
-inline JudgedPlan plan_and_judge(fg::Planner& planner, const GeneratedScene& s) {
+//! The sensors a plan is given: both cameras (the normal case) or one of them.
+enum class Sensors { both, head, hand };
+
+inline JudgedPlan plan_and_judge(fg::Planner& planner, const GeneratedScene& s, Sensors sensors = Sensors::both) {
   JudgedPlan out;
   const SceneImages img = render_scene(s);
   planner.reset();
-  EXPECT_EQ(planner.add_depth_image(fg::SensorRole::head, img.head.mm.data(), static_cast<uint16_t>(img.head.width),
-                                    static_cast<uint16_t>(img.head.height), to_pinhole(s.head.K),
-                                    s.head.world_T_sensor.to_pose()),
-            fg::Status::ok);
-  EXPECT_EQ(planner.add_depth_image(fg::SensorRole::hand, img.hand.mm.data(), static_cast<uint16_t>(img.hand.width),
-                                    static_cast<uint16_t>(img.hand.height), to_pinhole(s.hand.K),
-                                    s.hand.world_T_sensor.to_pose()),
-            fg::Status::ok);
+  if (sensors != Sensors::hand) {
+    EXPECT_EQ(planner.add_depth_image(fg::SensorRole::head, img.head.mm.data(),
+                                      static_cast<uint16_t>(img.head.width), static_cast<uint16_t>(img.head.height),
+                                      to_pinhole(s.head.K), s.head.world_T_sensor.to_pose()),
+              fg::Status::ok);
+  }
+  if (sensors != Sensors::head) {
+    EXPECT_EQ(planner.add_depth_image(fg::SensorRole::hand, img.hand.mm.data(),
+                                      static_cast<uint16_t>(img.hand.width), static_cast<uint16_t>(img.hand.height),
+                                      to_pinhole(s.hand.K), s.hand.world_T_sensor.to_pose()),
+              fg::Status::ok);
+  }
   fg::PlanResult r;
   out.status = planner.plan(r);
   out.message = r.message;
+  out.width = r.grasp.width;
   if (out.status != fg::Status::ok) return out;
   Grasp g;
   g.position = r.grasp.position;
