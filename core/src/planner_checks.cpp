@@ -37,6 +37,10 @@ constexpr float kSteepClosingCos = 0.7071f;
 // A grasp at most this many voxels wide closes on a single layer of voxels (a sheet);
 // sideways, fingers_clear_of_footprint then tests the open fingers under the target.
 constexpr float kThinSheetLeaves = 2.5f;
+// Such a layer is a plate only where the space on both of its sides was seen into:
+// each open finger of a thin grasp needs at least this many of its 30 samples in space
+// some sensor saw through (fingers_in_seen_space).
+constexpr uint32_t kThinSeenFree = 10;
 // A partly hidden finger's side with no contact normal at all is taken to mirror the
 // seen side: a flat seen face (a box's), or a curved one within this tilt of the closing
 // line (a cylinder across its axis). A curved seen side tilted more is a chord across a
@@ -208,7 +212,7 @@ int Planner::first_failed_check(const Candidate& c) {
   // The open fingers must not sit in space the sensors saw only from behind a surface;
   // while first_pass_ is set, a finger with a few hidden samples waits too (7).
   uint32_t hidden_sides = 0;
-  const int sight = fingers_in_seen_space(c.position, f, hidden_sides);
+  const int sight = fingers_in_seen_space(c.position, f, c.width, hidden_sides);
   if (sight == 2) return 4;
   if (sight == 1 && first_pass_) return 7;
   // Such a finger may meet the object's unseen side, which bulges past what was seen
@@ -483,16 +487,23 @@ int Planner::visibility(const Vec3& q) const {
 }
 
 // Samples of each open finger box: too many hidden ones (behind the object as every
-// sensor saw it, and free to none) mean the finger would sit inside unseen matter (2).
+// sensor saw it, and free to none) mean the finger would sit inside unseen matter (2);
+// so do too few seen free beside a thin grasp (2).
 // A few (1) are allowed, but the unseen side of a rounded object bulges past what was
 // seen there, so such grasps come after those whose fingers lie in seen space (0).
-int Planner::fingers_in_seen_space(const Vec3& pos, const ViewFrame& f, uint32_t& partly_hidden) {
+int Planner::fingers_in_seen_space(const Vec3& pos, const ViewFrame& f, float width, uint32_t& partly_hidden) {
   const GripperGeometry& g = cfg_.gripper;
   const float half_open = 0.5f * g.max_opening_m, t = g.finger_thickness_m;
-  uint32_t hidden = 0, total = 0;
+  // A thin grasp (kThinSheetLeaves) closes on a single layer of voxels. Seen by one
+  // sensor, the near surface of any solid is such a layer (a can's wall, a box's face),
+  // and the space behind it may be unknown rather than hidden: no return at all there
+  // (closer than the sensor's minimum range, a dropout) says nothing about it. Only a
+  // layer with space seen on both sides is a plate (kThinSeenFree).
+  const bool thin = width <= kThinSheetLeaves * cfg_.voxel_leaf_m;
+  uint32_t hidden = 0, total = 0, seen_free = 0;
   partly_hidden = 0;
   for (int side = 0; side < 2; ++side) {
-    const uint32_t before = hidden;
+    const uint32_t before = hidden, free_before = seen_free;
     const float x0 = side == 0 ? -half_open - t : half_open;
     for (int ix = 0; ix < 2; ++ix)
       for (int iy = 0; iy < 3; ++iy)
@@ -501,9 +512,12 @@ int Planner::fingers_in_seen_space(const Vec3& pos, const ViewFrame& f, uint32_t
           const float y = g.finger_width_m * (static_cast<float>(iy) - 1.f) * 0.5f;
           const float z = g.finger_depth_m * (static_cast<float>(iz) * 0.25f - 0.5f);
           ++total;
-          hidden += visibility(pos + f.X * x + f.Y * y + f.Z * z) < 0 ? 1u : 0u;
+          const int v = visibility(pos + f.X * x + f.Y * y + f.Z * z);
+          hidden += v < 0 ? 1u : 0u;
+          seen_free += v > 0 ? 1u : 0u;
         }
     if (hidden - before > kSeenFingerHidden) partly_hidden |= 1u << side;
+    if (thin && seen_free - free_before < kThinSeenFree) return 2;
   }
   // Straight down onto a target standing on the plane, with one finger hidden beside
   // the side the sensors did not see (the far face of a tall box: the top hides it from

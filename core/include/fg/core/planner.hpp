@@ -235,7 +235,7 @@ class Planner {
   bool fingers_clear_of_footprint(const Vec3& pos, const ViewFrame& f, float width);
   bool lower_tip_unseen(const Vec3& pos, const ViewFrame& f, float width);
   bool straight_down(const Vec3& approach) const;  //!< within kTopDownCos of the plane's down
-  int fingers_in_seen_space(const Vec3& pos, const ViewFrame& f, uint32_t& partly_hidden);
+  int fingers_in_seen_space(const Vec3& pos, const ViewFrame& f, float width, uint32_t& partly_hidden);
   bool unseen_side_clear(const Vec3& pos, const ViewFrame& f, int side);
   bool blind_side_mirrors_seen(const Vec3& pos, const ViewFrame& f, float width, uint32_t hidden_sides);
   bool round_front_clears_blind_side(const Vec3& pos, const ViewFrame& f, int blind_side);
