@@ -105,14 +105,8 @@ int main(int argc, char** argv) {
     const fg::sim::SceneImages img = fg::sim::render_scene(scene);
     planner->reset();
     fg::Status st = fg::Status::ok;
-    if (use_head)
-      st = planner->add_depth_image(
-          fg::SensorRole::head, img.head.mm.data(), static_cast<uint16_t>(img.head.width),
-          static_cast<uint16_t>(img.head.height), fg::sim::to_pinhole(scene.head.K), scene.head.world_T_sensor.to_pose());
-    if (st == fg::Status::ok && use_hand)
-      st = planner->add_depth_image(
-          fg::SensorRole::hand, img.hand.mm.data(), static_cast<uint16_t>(img.hand.width),
-          static_cast<uint16_t>(img.hand.height), fg::sim::to_pinhole(scene.hand.K), scene.hand.world_T_sensor.to_pose());
+    if (use_head) st = fg::sim::add_rendered(*planner, fg::SensorRole::head, img.head, scene.head);
+    if (st == fg::Status::ok && use_hand) st = fg::sim::add_rendered(*planner, fg::SensorRole::hand, img.hand, scene.hand);
     fg::PlanResult res;
     if (st == fg::Status::ok) st = planner->plan(res);
     bool right = false;

@@ -49,16 +49,10 @@ inline JudgedPlan plan_and_judge(fg::Planner& planner, const GeneratedScene& s, 
   const SceneImages img = render_scene(s);
   planner.reset();
   if (sensors != Sensors::hand) {
-    EXPECT_EQ(planner.add_depth_image(fg::SensorRole::head, img.head.mm.data(),
-                                      static_cast<uint16_t>(img.head.width), static_cast<uint16_t>(img.head.height),
-                                      to_pinhole(s.head.K), s.head.world_T_sensor.to_pose()),
-              fg::Status::ok);
+    EXPECT_EQ(add_rendered(planner, fg::SensorRole::head, img.head, s.head), fg::Status::ok);
   }
   if (sensors != Sensors::head) {
-    EXPECT_EQ(planner.add_depth_image(fg::SensorRole::hand, img.hand.mm.data(),
-                                      static_cast<uint16_t>(img.hand.width), static_cast<uint16_t>(img.hand.height),
-                                      to_pinhole(s.hand.K), s.hand.world_T_sensor.to_pose()),
-              fg::Status::ok);
+    EXPECT_EQ(add_rendered(planner, fg::SensorRole::hand, img.hand, s.hand), fg::Status::ok);
   }
   fg::PlanResult r;
   out.status = planner.plan(r);
