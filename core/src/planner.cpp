@@ -387,6 +387,9 @@ uint32_t Planner::search_grasp(PlanResult& out, NoGraspReason& reason, const cha
     reason = NoGraspReason::friction;
     why = "every candidate's contact normals lie outside the friction cone";
   } else if (rj.occluded > rj.collision + rj.table) {
+    // Not a collision: nothing was seen where the finger goes. The robot can look
+    // from elsewhere (the wrist camera) and plan again.
+    reason = NoGraspReason::occluded;
     why = "every candidate puts a finger in space the sensors saw only behind the object";
   } else {
     why = "every candidate hits the support plane or another object";

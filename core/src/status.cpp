@@ -33,6 +33,7 @@ const char* to_string(NoGraspReason r) {
     case NoGraspReason::unreachable: return "unreachable";
     case NoGraspReason::friction: return "friction";
     case NoGraspReason::degenerate: return "degenerate";
+    case NoGraspReason::occluded: return "occluded";
   }
   return "unknown_reason";
 }

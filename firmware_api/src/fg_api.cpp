@@ -135,6 +135,7 @@ FG_SAME(FG_REASON_COLLISION, fg::NoGraspReason::collision);
 FG_SAME(FG_REASON_UNREACHABLE, fg::NoGraspReason::unreachable);
 FG_SAME(FG_REASON_FRICTION, fg::NoGraspReason::friction);
 FG_SAME(FG_REASON_DEGENERATE, fg::NoGraspReason::degenerate);
+FG_SAME(FG_REASON_OCCLUDED, fg::NoGraspReason::occluded);
 FG_SAME(FG_STAGE_INGEST, fg::Stage::ingest);
 FG_SAME(FG_STAGE_TOTAL, fg::Stage::total);
 FG_SAME(FG_STAGE_COUNT, fg::Stage::count);
@@ -325,7 +326,7 @@ const char* fg_status_str(int32_t status) {
 }
 
 const char* fg_reason_str(int32_t reason) {
-  if (reason < FG_REASON_NONE || reason > FG_REASON_DEGENERATE) return "unknown_reason";
+  if (reason < FG_REASON_NONE || reason > FG_REASON_OCCLUDED) return "unknown_reason";
   return fg::to_string(static_cast<fg::NoGraspReason>(reason));
 }
 

@@ -194,7 +194,16 @@ static void test_status_strings(void) {
   CHECK(strcmp(fg_status_str(12345), "FG_UNKNOWN_STATUS") == 0);
   CHECK(strcmp(fg_status_str(FG_ERR_INVALID_POSE), "FG_ERR_INVALID_POSE") == 0);
   CHECK(strcmp(fg_reason_str(FG_REASON_TOO_WIDE), "too_wide") == 0);
-  CHECK(strcmp(fg_reason_str(-5), "unknown_reason") == 0 && strcmp(fg_reason_str(11), "unknown_reason") == 0);
+  CHECK(strcmp(fg_reason_str(FG_REASON_OCCLUDED), "occluded") == 0);
+  CHECK(strcmp(fg_reason_str(-5), "unknown_reason") == 0 && strcmp(fg_reason_str(12), "unknown_reason") == 0);
+  {
+    /* Every reason has a name of its own. */
+    int r, q;
+    for (r = FG_REASON_NONE; r <= FG_REASON_OCCLUDED; ++r) {
+      CHECK(strcmp(fg_reason_str(r), "unknown_reason") != 0);
+      for (q = FG_REASON_NONE; q < r; ++q) CHECK(strcmp(fg_reason_str(r), fg_reason_str(q)) != 0);
+    }
+  }
 }
 
 static void test_config(void) {

@@ -91,7 +91,9 @@ typedef enum fg_no_grasp_reason {
   FG_REASON_COLLISION = 7,      /**< every candidate hit the support plane or another object */
   FG_REASON_UNREACHABLE = 8,    /**< every candidate failed inverse kinematics */
   FG_REASON_FRICTION = 9,       /**< every candidate's contact normals left the friction cone */
-  FG_REASON_DEGENERATE = 10     /**< the object cloud has no defined principal axis */
+  FG_REASON_DEGENERATE = 10,    /**< the object cloud has no defined principal axis */
+  FG_REASON_OCCLUDED = 11       /**< every candidate put a finger in space the sensors saw only
+                                     behind the object: a view from elsewhere may find a grasp */
 } fg_no_grasp_reason;
 
 typedef enum fg_sensor_role { FG_SENSOR_HEAD = 0, FG_SENSOR_HAND = 1 } fg_sensor_role;

@@ -42,6 +42,7 @@ enum class NoGraspReason : int32_t {
   unreachable = 8,      //!< every candidate failed inverse kinematics
   friction = 9,         //!< every candidate's contact normals lay outside the friction cone
   degenerate = 10,      //!< the object cloud has no defined principal axis
+  occluded = 11,        //!< every candidate put a finger where no sensor looked (see the object from elsewhere)
 };
 
 const char* to_string(Status s);
