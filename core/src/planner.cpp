@@ -759,6 +759,7 @@ bool Planner::xoz(const ViewFrame& f, const SideFit& w, Candidate& c) {
   double wl = 0, wr = 0, wzl = 0, wzr = 0;
   const float inv_ramp = 1.f / cfg_.voxel_leaf_m;
   c.corners_clear = true;
+  c.tangent_contacts = false;
   const float tip_band = half_fd + 0.5f * cfg_.voxel_leaf_m;
   for (uint32_t q = 0; q < n_near; ++q) {
     const uint32_t i = near[q];

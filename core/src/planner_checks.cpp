@@ -224,7 +224,9 @@ int Planner::first_failed_check(const Candidate& c) {
   if (hidden_sides != 0u && !blind_side_mirrors_seen(c.position, f, c.width, hidden_sides)) return 4;
   // Each fitted side's normal within the cone in XOY (beta alone only compares the two
   // sides), and the contact normals in 3D.
-  if (cfg_.friction_mu > 0.f && (!c.sides_in_cone || !friction_ok(c.position, f, c.width))) return 5;
+  // A round body closed on its unseen tangents: the model is the friction argument.
+  if (cfg_.friction_mu > 0.f && !c.tangent_contacts && (!c.sides_in_cone || !friction_ok(c.position, f, c.width)))
+    return 5;
   // A cap grasped off straight down whose lower fingertip closes through space no
   // sensor saw waits too: the body under the cap may flare out there.
   if (first_pass_ && lower_tip_unseen(c.position, f, c.width)) return 7;
@@ -243,6 +245,18 @@ bool Planner::executable(Candidate& c, PlanResult& out) {
       const int t = first_failed_check(turned);
       if (t == 0 || t == 7) {
         c = turned;
+        failed = t;
+      }
+    }
+  }
+  // Still outside the cone: a round body whose flanks were seen only to a grazing edge
+  // (grazed_round.cpp) closes on its tangents beyond them, with the width between them.
+  if (failed == 5) {
+    Candidate round;
+    if (grazed_round_body(c, round)) {
+      const int t = first_failed_check(round);
+      if (t == 0 || t == 7) {
+        c = round;
         failed = t;
       }
     }

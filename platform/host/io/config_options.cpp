@@ -56,6 +56,7 @@ std::vector<ConfigOption> config_options(PlannerConfig& c) {
       {"contact_band", "contact region depth (m)", K::real, &c.contact_band_m},
       {"reach_width_ratio", "width within the pads' reach / silhouette width, at least", K::real, &c.reach_width_ratio},
       {"friction_mu", "friction coefficient of the contact-normal test (0: off)", K::real, &c.friction_mu},
+      {"round_flanks", "round flanks seen to a grazing edge close on their unseen tangents", K::flag, &c.round_flanks},
       {"table_clearance", "gripper clearance above the support plane (m)", K::real, &c.table_clearance_m},
       {"collision_tolerance", "points this close to a gripper box face are tolerated (m)", K::real, &c.collision_tolerance_m},
       {"pregrasp_clearance", "pre-grasp back-off beyond the finger depth (m)", K::real, &c.pregrasp_clearance_m},

@@ -56,6 +56,8 @@ struct PlannerConfig {
   float contact_band_m = 0.004f;     //!< contact region depth inside each side
   float reach_width_ratio = 0.6f;    //!< width within the pads' reach / silhouette width, at least
   float friction_mu = 0.5f;          //!< friction-cone test of contact normals (0 = off)
+  bool round_flanks = true;          //!< a round body's flanks seen to a grazing edge close on
+                                     //!< their unseen tangents (docs/method.md, check 5)
   float table_clearance_m = 0.003f;  //!< gripper boxes stay this far above the plane
   float collision_tolerance_m = 0.001f;
   float pregrasp_clearance_m = 0.02f;

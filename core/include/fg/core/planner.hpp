@@ -188,6 +188,7 @@ class Planner {
     bool balanced;  //!< beta <= beta_max
     bool sides_in_cone;  //!< both fitted sides within atan(mu) of the closing normal (XOY)
     bool corners_clear;  //!< nothing beside the pads or just past their tips stands out past their contacts (xoz)
+    bool tangent_contacts;  //!< the pads close on a round body's unseen tangents (grazed_round_body)
   };
   struct ViewFrame {
     Vec3 X, Y, Z;
@@ -219,6 +220,7 @@ class Planner {
   void build_near_list(uint32_t* storage);
   int first_failed_check(const Candidate& c);
   bool refine_closing(Candidate& c);
+  bool grazed_round_body(const Candidate& c, Candidate& round);  // grazed_round.cpp
   struct ContactNormalStats {
     uint32_t total[2] = {0, 0};        //!< left, right
     uint32_t inside_cone[2] = {0, 0};
