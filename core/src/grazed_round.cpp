@@ -56,15 +56,8 @@ bool Planner::grazed_round_body(const Candidate& c, Candidate& round) {
   const float half_fd = 0.5f * g.finger_depth_m;
   const float half_palm = 0.5f * std::max(g.palm_width_m, g.finger_width_m);
   const float half_outer = 0.5f * g.max_opening_m + g.finger_thickness_m;
-  float ext[2] = {1e9f, -1e9f};
-  for (uint32_t i = 0; i < n; ++i) {
-    const Vec3 d = object_[i] - c.position;
-    const float y = Y.dot(d), z = Z.dot(d);
-    if (std::fabs(y) > 0.5f * g.finger_width_m || std::fabs(z) > half_fd) continue;
-    const float x = X.dot(d);
-    ext[0] = std::min(ext[0], x);
-    ext[1] = std::max(ext[1], x);
-  }
+  float ext[2];
+  footprint_extremes(c.position, ViewFrame{X, Y, Z}, ext);
   if (!(ext[1] > ext[0])) return false;
   // Each side's seen edge: mean point and mean normal in (x, z).
   float px[2] = {0, 0}, pz[2] = {0, 0}, nx[2] = {0, 0}, nz[2] = {0, 0};
@@ -113,7 +106,7 @@ bool Planner::grazed_round_body(const Candidate& c, Candidate& round) {
   if (std::hypot(c0x - c1x, c0z - c1z) > kCentreAgree) return false;
   const float cx = 0.5f * (c0x + c1x), cz = 0.5f * (c0z + c1z);
   // The whole seen arc between the edges lies on that circle (a rounded box's flat
-  // front does not), and the first surface ahead of the palm at the new centre.
+  // front does not); and the first surface ahead of the palm centred on the circle.
   double sq = 0.0;
   uint32_t n_arc = 0;
   float z_first_palm = 1e9f;

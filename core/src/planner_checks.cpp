@@ -239,27 +239,24 @@ bool Planner::executable(Candidate& c, PlanResult& out) {
   // A contact a little outside the cone (closing across a prism's diagonal, a tilted
   // handle): turn the closing direction about the approach towards the contact
   // normals, and check the turned grasp from the start.
+  // An alternative to a candidate outside the cone, checked from the start, replaces it
+  // when it passes or waits for the second pass.
+  const auto take_if_it_passes = [this, &c, &failed](const Candidate& alt) {
+    const int t = first_failed_check(alt);
+    if (t == 0 || t == 7) {
+      c = alt;
+      failed = t;
+    }
+  };
   if (failed == 5) {
     Candidate turned = c;
-    if (refine_closing(turned)) {
-      const int t = first_failed_check(turned);
-      if (t == 0 || t == 7) {
-        c = turned;
-        failed = t;
-      }
-    }
+    if (refine_closing(turned)) take_if_it_passes(turned);
   }
   // Still outside the cone: a round body whose flanks were seen only to a grazing edge
   // (grazed_round.cpp) closes on its tangents beyond them, with the width between them.
   if (failed == 5) {
     Candidate round;
-    if (grazed_round_body(c, round)) {
-      const int t = first_failed_check(round);
-      if (t == 0 || t == 7) {
-        c = round;
-        failed = t;
-      }
-    }
+    if (grazed_round_body(c, round)) take_if_it_passes(round);
   }
   // A grasp that passes with its contact normals off the closing line: closing along
   // them gives friction margin, when the turned grasp passes too.
@@ -752,6 +749,22 @@ bool Planner::normal_at(uint32_t oi, Vec3& nrm) {
   return true;
 }
 
+// The object points' least and greatest x (closing) within the pads' footprint: |y|
+// within half the finger width, |z| within half the finger depth. Empty: ext[1] < ext[0].
+void Planner::footprint_extremes(const Vec3& pos, const ViewFrame& f, float ext[2]) const {
+  const GripperGeometry& g = cfg_.gripper;
+  ext[0] = 1e9f;
+  ext[1] = -1e9f;
+  const uint32_t n = object_.size();
+  for (uint32_t i = 0; i < n; ++i) {
+    const Vec3 d = object_[i] - pos;
+    const float x = f.X.dot(d), y = f.Y.dot(d), z = f.Z.dot(d);
+    if (std::fabs(y) > 0.5f * g.finger_width_m || std::fabs(z) > 0.5f * g.finger_depth_m) continue;
+    ext[0] = std::min(ext[0], x);
+    ext[1] = std::max(ext[1], x);
+  }
+}
+
 // The tilt of each pad's contact normal from the closing line, extrapolated to the
 // side's extreme (where the pad touches first): over the points within the pad's
 // footprint up to kTiltFitDepth inside the side, with a defined normal not facing the
@@ -767,14 +780,8 @@ void Planner::contact_tilt(const Vec3& pos, const ViewFrame& f, float one_minus_
                            float near_face[2], float edge_face[2]) {
   const GripperGeometry& g = cfg_.gripper;
   const uint32_t n = object_.size();
-  float ext[2] = {1e9f, -1e9f};  // the sides' extremes in the footprint (x)
-  for (uint32_t i = 0; i < n; ++i) {
-    const Vec3 d = object_[i] - pos;
-    const float x = f.X.dot(d), y = f.Y.dot(d), z = f.Z.dot(d);
-    if (std::fabs(y) > 0.5f * g.finger_width_m || std::fabs(z) > 0.5f * g.finger_depth_m) continue;
-    ext[0] = std::min(ext[0], x);
-    ext[1] = std::max(ext[1], x);
-  }
+  float ext[2];  // the sides' extremes in the footprint (x)
+  footprint_extremes(pos, f, ext);
   double sd[2] = {0, 0}, sdd[2] = {0, 0}, sv[2] = {0, 0}, sdv[2] = {0, 0};
   uint32_t cnt[2] = {0, 0};
   float dmin[2] = {1e9f, 1e9f}, dmax[2] = {-1e9f, -1e9f};

@@ -231,6 +231,7 @@ class Planner {
   };
   void contact_normal_stats(const Vec3& pos, const ViewFrame& f, float width, ContactNormalStats& st);
   bool friction_ok(const Vec3& pos, const ViewFrame& f, float width);
+  void footprint_extremes(const Vec3& pos, const ViewFrame& f, float ext[2]) const;
   void contact_tilt(const Vec3& pos, const ViewFrame& f, float one_minus_cos[2], bool valid[2], bool flat[2],
                     float near_face[2], float edge_face[2]);
   bool fingers_clear_of_hull(const Vec3& pos, const ViewFrame& f);
