@@ -336,7 +336,7 @@ GeneratedScene make_scene(ObjectKind kind, uint64_t seed, const SceneOptions& op
 
   // Target.
   Object target = make_object(kind, rng.bits(), opt.mesh_dir);
-  const double tx = rng.uniform(0.4, 0.6), ty = rng.uniform(-0.15, 0.15);
+  const double tx = rng.uniform(opt.target_x_min, opt.target_x_max), ty = rng.uniform(-opt.target_y_half, opt.target_y_half);
   const double yaw = rng.uniform(0.0, 2.0 * kPi);
   transform(target, Rigid::translation(V3(tx, ty, z0)) * Rigid::rot_z(yaw));
   {
@@ -379,7 +379,8 @@ GeneratedScene make_scene(ObjectKind kind, uint64_t seed, const SceneOptions& op
   s.head.K = opt.intrinsics;
   s.hand.K = opt.intrinsics;
   const V3 head_eye(rng.uniform(-0.05, 0.05), rng.uniform(-0.1, 0.1), z0 + rng.uniform(0.75, 0.9));
-  s.head.world_T_sensor = look_at(head_eye, tc);
+  s.head.world_T_sensor =
+      look_at(head_eye, opt.head_at_workspace ? V3(opt.workspace_centre.x(), opt.workspace_centre.y(), z0) : tc);
   const double az_head = std::atan2(head_eye.y() - tc.y(), head_eye.x() - tc.x());
   const double delta = rng.uniform(40.0, 120.0) * kDeg * (rng.chance(0.5) ? 1.0 : -1.0);
   const double az = az_head + delta;

@@ -58,6 +58,13 @@ struct SceneOptions {
   Table table;
   double fit_margin = 0.005;          //!< "fits" means min width <= max_opening - margin
   V3 workspace_centre = V3(0.5, 0.0, 0.0);  //!< a second object is kept farther from it
+  //! Where the target stands: x in [target_x_min, target_x_max], |y| <= target_y_half.
+  //! The defaults keep it near the workspace centre; the scene contract's whole area
+  //! (shared/spec/scene-and-cli.md) is x 0.3..0.7, y -0.35..0.35.
+  double target_x_min = 0.4, target_x_max = 0.6, target_y_half = 0.15;
+  //! The head camera looks at the workspace centre (a head that does not turn towards the
+  //! target) instead of the target's centre.
+  bool head_at_workspace = false;
   std::string mesh_dir = default_mesh_dir();  //!< folder of the ycb_* OBJ files
 };
 

@@ -4,6 +4,11 @@
 // target, contact normals inside the mu = 0.5 cone, width within 1 cm, no collision at
 // the open pose) or the no_grasp answer (right iff the target fits in no direction).
 //   fg_quality [--count N] [--seed S] [--kinds a,b] [--min-rate R] [--verbose] [--sensors both|head|hand]
+//              [--spread] [--head-at-workspace] [--noise-scale F] [--table-height H]
+// --spread puts the target anywhere in the scene contract's area (x 0.3..0.7, y
+// -0.35..0.35) instead of near the workspace centre; --head-at-workspace keeps the head
+// camera looking at the workspace centre instead of at the target; --noise-scale
+// multiplies the depth noise's sigma (0: none); --table-height raises the table (m).
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -43,6 +48,7 @@ int main(int argc, char** argv) {
   bool verbose = false;
   bool use_head = true, use_hand = true;  // --sensors: both (the default), head or hand
   std::vector<std::string> sets;
+  fg::sim::SceneOptions scene_opt;
   std::vector<fg::sim::ObjectKind> kinds = fg::sim::all_kinds();
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -58,6 +64,17 @@ int main(int argc, char** argv) {
     else if (a == "--min-rate") min_rate = std::atof(next().c_str());
     else if (a == "--verbose") verbose = true;
     else if (a == "--set") sets.push_back(next());
+    else if (a == "--spread") {
+      scene_opt.target_x_min = 0.3;
+      scene_opt.target_x_max = 0.7;
+      scene_opt.target_y_half = 0.35;
+    } else if (a == "--head-at-workspace") scene_opt.head_at_workspace = true;
+    else if (a == "--noise-scale") {
+      const double k = std::atof(next().c_str());
+      scene_opt.noise.sigma_a *= k;
+      scene_opt.noise.sigma_b *= k;
+      scene_opt.noise.gaussian = k > 0;
+    } else if (a == "--table-height") scene_opt.table.height = std::atof(next().c_str());
     else if (a == "--sensors") {
       const std::string v = next();
       use_head = v == "both" || v == "head";
@@ -80,7 +97,7 @@ int main(int argc, char** argv) {
         kinds.push_back(kind);
       }
     } else {
-      std::fprintf(stderr, "usage: fg_quality [--count N] [--seed S] [--kinds a,b] [--min-rate R] [--verbose] [--set name=value] [--sensors both|head|hand]\n");
+      std::fprintf(stderr, "usage: fg_quality [--count N] [--seed S] [--kinds a,b] [--min-rate R] [--verbose] [--set name=value] [--sensors both|head|hand] [--spread] [--head-at-workspace] [--noise-scale F] [--table-height H]\n");
       return 2;
     }
   }
@@ -101,7 +118,7 @@ int main(int argc, char** argv) {
   for (int t = 0; t < count; ++t) {
     const fg::sim::ObjectKind kind = kinds[static_cast<size_t>(t) % kinds.size()];
     const uint64_t s = seed + static_cast<uint64_t>(t);
-    const fg::sim::GeneratedScene scene = fg::sim::make_scene(kind, s);
+    const fg::sim::GeneratedScene scene = fg::sim::make_scene(kind, s, scene_opt);
     const fg::sim::SceneImages img = fg::sim::render_scene(scene);
     planner->reset();
     fg::Status st = fg::Status::ok;
