@@ -26,6 +26,8 @@ Status validate(const PlannerConfig& c, const char** field) {
     bad = "crop_half_x";
   else if (!in(c.crop_half_y_m, 0.01f, 1000.f) || 2.f * c.crop_half_y_m / c.voxel_leaf_m > 2040.f)
     bad = "crop_half_y";
+  else if (!in(c.crop_shrink_min_m, 0.01f, 1000.f))
+    bad = "crop_shrink_min";
   else if (!in(c.crop_min_z_m, -100.f, 100.f)) bad = "crop_min_z";
   else if (!in(c.crop_max_z_m, c.crop_min_z_m + 0.01f, 100.f) ||
            (c.crop_max_z_m - c.crop_min_z_m) / c.voxel_leaf_m > 1016.f)

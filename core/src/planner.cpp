@@ -120,6 +120,8 @@ Status Planner::plan(PlanResult& out) {
     out.message = msg;
     message_ = msg;
     out.points = counts_;
+    out.points.after_filter -= crop_used_.points_dropped;
+    out.crop = crop_used_;
     out.viewpoints = views_before + n_views_;
     out.candidates = candidates_before + n_candidates_;
     stage(out, Stage::total) =

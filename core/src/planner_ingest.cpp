@@ -35,6 +35,13 @@ void Planner::reset() {
   // 2.5 cells of margin below the crop box: every accepted point has a key with room
   // for the +-2 cell neighbour offsets of the clustering (voxel_grid.hpp).
   grid_.reset(crop_min_ - Vec3::Constant(2.5f * cfg_.voxel_leaf_m), cfg_.voxel_leaf_m);
+  const float inv = 1.f / grid_.leaf();
+  const Vec3 lo = (crop_min_ - grid_.origin()) * inv, hi = (crop_max_ - grid_.origin()) * inv;
+  for (int j = 0; j < 3; ++j) {
+    crop_lo_cells_[j] = lo[j];
+    crop_hi_cells_[j] = hi[j];
+  }
+  crop_used_ = CropUsed{crop_min_.x(), crop_min_.y(), crop_max_.x(), crop_max_.y(), 0u, 0u};
   object_.clear();
   plane_found_ = false;
   n_views_ = 0;
@@ -136,16 +143,15 @@ void gather(Block& blk, const uint8_t* const b[3], uint32_t stride, uint32_t n, 
 }
 
 void make_ingest(ingest::State& in, const Pose& p, const PlannerConfig& cfg, const VoxelGrid& grid,
-                 const Vec3& crop_lo, const Vec3& crop_hi, uint16_t* sight) {
+                 const float crop_lo[3], const float crop_hi[3], uint16_t* sight) {
   const float inv = 1.f / grid.leaf();
   for (int j = 0; j < 3; ++j)
     for (int k = 0; k < 3; ++k) in.r[j][k] = p.R(j, k) * inv;
-  const Vec3 c = (p.t - grid.origin()) * inv, lo = (crop_lo - grid.origin()) * inv,
-             hi = (crop_hi - grid.origin()) * inv;
+  const Vec3 c = (p.t - grid.origin()) * inv;
   for (int j = 0; j < 3; ++j) {
     in.c[j] = c[j];
-    in.lo[j] = lo[j];
-    in.hi[j] = hi[j];
+    in.lo[j] = crop_lo[j];
+    in.hi[j] = crop_hi[j];
   }
   in.leaf = grid.leaf();
   in.zmin = cfg.range_min_m;
@@ -166,9 +172,61 @@ Status Planner::end_ingest(uint32_t offered, uint32_t finite, uint32_t kept, uin
   ingest_us_ += static_cast<uint32_t>(platform::monotonic_us() - t0);
   if (st != Status::ok) {
     overflow_ = true;
-    message_ = "more occupied voxels than the build's FG_MAX_VOXELS (or a cloud that crowds the voxel hash); shrink the crop box or enlarge the voxel leaf";
+    message_ = "more occupied voxels than the build's FG_MAX_VOXELS with the crop box shrunk to crop_shrink_min (or a cloud that crowds the voxel hash); shrink the crop box or enlarge the voxel leaf";
   }
   return st;
+}
+
+void Planner::make_room(ingest::State& in, uint32_t n) {
+  if (grid_.size() + n > kMaxVoxels) shrink_crop(in);
+}
+
+// The merged cloud needs more voxels than the grid holds (a noisy sensor smears the
+// table over several layers of cells, most of them far from the target): rather than
+// refuse the capture, the crop box's x and y halves shrink about the workspace centre,
+// kCropShrink a step and not below crop_shrink_min, to whole cells, until the voxels
+// left fill at most kCropRefill of the grid. The voxels outside are dropped and the
+// ingest goes on in the smaller box, so the grid is the one the points inside it alone
+// would have made (same voxels, order and sums). Bounded: each step shrinks both halves
+// by a cell at least, or ends at the floor.
+void Planner::shrink_crop(ingest::State& in) {
+  constexpr float kCropShrink = 0.85f, kCropRefill = 0.75f;
+  const float leaf = grid_.leaf();
+  const float floor_cells = cfg_.crop_shrink_min_m / leaf;
+  const Vec3 centre = (Vec3(cfg_.workspace_centre_x_m, cfg_.workspace_centre_y_m, 0.f) - grid_.origin()) / leaf;
+  while (static_cast<float>(grid_.size()) > kCropRefill * static_cast<float>(kMaxVoxels)) {
+    uint32_t lo[2], hi[2];
+    bool moved = false;
+    for (int j = 0; j < 2; ++j) {
+      // The whole cells the box in use accepts entirely: [ceil(lo), floor(hi+)), where
+      // hi+ is the next float up (a box of whole cells holds hi just below a boundary).
+      const float first = std::ceil(crop_lo_cells_[j]);
+      const float end = std::floor(std::nextafter(crop_hi_cells_[j], 3.0e38f));
+      // Its half, shrunk by kCropShrink (a cell at least), not below the floor.
+      const float half_now = 0.5f * (end - first);
+      const float half = std::fmax(floor_cells, std::fmin(half_now - 1.f, kCropShrink * half_now));
+      const float a = std::fmax(std::ceil(centre[j] - half), first);
+      const float b = std::fmin(std::floor(centre[j] + half), end);
+      if (!(a < b)) return;  // the workspace centre lies outside the box
+      lo[j] = static_cast<uint32_t>(a);
+      hi[j] = static_cast<uint32_t>(b);
+      moved = moved || a > first || b < end;
+    }
+    if (!moved) break;  // at the floor
+    crop_used_.points_dropped += grid_.keep_xy_range(lo[0], hi[0], lo[1], hi[1]);
+    for (int j = 0; j < 2; ++j) {
+      crop_lo_cells_[j] = static_cast<float>(lo[j]);
+      // f <= hi keeps exactly the cells below hi[j]: the largest float under it.
+      crop_hi_cells_[j] = std::nextafter(static_cast<float>(hi[j]), 0.f);
+      in.lo[j] = crop_lo_cells_[j];
+      in.hi[j] = crop_hi_cells_[j];
+    }
+    ++crop_used_.shrinks;
+    crop_used_.min_x = grid_.origin().x() + static_cast<float>(lo[0]) * leaf;
+    crop_used_.max_x = grid_.origin().x() + static_cast<float>(hi[0]) * leaf;
+    crop_used_.min_y = grid_.origin().y() + static_cast<float>(lo[1]) * leaf;
+    crop_used_.max_y = grid_.origin().y() + static_cast<float>(hi[1]) * leaf;
+  }
 }
 
 Status Planner::add_points(SensorRole role, const float* xyz, uint32_t count,
@@ -204,7 +262,7 @@ Status Planner::add_coordinates(SensorRole role, const uint8_t* const base[3], u
   if (s != Status::ok) return s;
   const uint64_t t0 = platform::monotonic_us();
   ingest::State in;
-  make_ingest(in, world_T_sensor, cfg_, grid_, crop_min_, crop_max_, sight_mm_[static_cast<uint32_t>(role)]);
+  make_ingest(in, world_T_sensor, cfg_, grid_, crop_lo_cells_, crop_hi_cells_, sight_mm_[static_cast<uint32_t>(role)]);
   Status st = Status::ok;
   const uint8_t *bx = base[0], *by = base[1], *bz = base[2];
   // x, y and z arrays are read in place; other strides are gathered into a block.
@@ -222,6 +280,7 @@ Status Planner::add_coordinates(SensorRole role, const uint8_t* const base[3], u
       const uint8_t* const b[3] = {bx + off, by + off, bz + off};
       gather(blk, b, stride_bytes, n, i + n < count ? n : n - 1);
     }
+    make_room(in, n);
     if (!ingest::add_block(in, grid_, x, y, z, n)) {
       st = Status::capacity_exceeded;
       break;
@@ -250,7 +309,7 @@ Status Planner::add_depth_image(SensorRole role, const uint16_t* depth_mm, uint1
   if (s != Status::ok) return s;
   const uint64_t t0 = platform::monotonic_us();
   ingest::State in;
-  make_ingest(in, world_T_sensor, cfg_, grid_, crop_min_, crop_max_, sight_mm_[static_cast<uint32_t>(role)]);
+  make_ingest(in, world_T_sensor, cfg_, grid_, crop_lo_cells_, crop_hi_cells_, sight_mm_[static_cast<uint32_t>(role)]);
   Status st = Status::ok;
   const float ifx = 1.f / k.fx, ify = 1.f / k.fy;
   Block blk;
@@ -265,6 +324,7 @@ Status Planner::add_depth_image(SensorRole role, const uint16_t* depth_mm, uint1
       blk.z[blk.n] = z;
       if (++blk.n == ingest::State::kBatch) {
         blk.n = 0;
+        make_room(in, ingest::State::kBatch);
         if (!ingest::add_block(in, grid_, blk.x, blk.y, blk.z, ingest::State::kBatch)) {
           st = Status::capacity_exceeded;
           break;
@@ -272,7 +332,10 @@ Status Planner::add_depth_image(SensorRole role, const uint16_t* depth_mm, uint1
       }
     }
   }
-  if (st == Status::ok && !ingest::add_block(in, grid_, blk.x, blk.y, blk.z, blk.n)) st = Status::capacity_exceeded;
+  if (st == Status::ok) {
+    make_room(in, blk.n);
+    if (!ingest::add_block(in, grid_, blk.x, blk.y, blk.z, blk.n)) st = Status::capacity_exceeded;
+  }
   return end_ingest(static_cast<uint32_t>(width) * height, in.offered - in.nonfinite, in.kept, t0, st);
 }
 

@@ -64,6 +64,28 @@ Vec3 VoxelGrid::centroid(uint32_t i) const {
               origin_.z() + static_cast<float>(key_z(k)) * leaf_ + acc[2] * inv);
 }
 
+uint32_t VoxelGrid::keep_xy_range(uint32_t x0, uint32_t x1, uint32_t y0, uint32_t y1) {
+  if (finalized_) return 0;
+  uint32_t kept = 0, dropped_points = 0;
+  for (uint32_t i = 0; i < size_; ++i) {
+    const uint32_t k = keys_[i], x = key_x(k), y = key_y(k);
+    if (x >= x0 && x < x1 && y >= y0 && y < y1) {
+      keys_[kept] = k;
+      std::memmove(store_ + 4 * kept, store_ + 4 * i, 4 * sizeof(float));
+      ++kept;
+    } else {
+      dropped_points += static_cast<uint32_t>(store_[4 * i + 3]);
+    }
+  }
+  size_ = kept;
+  // Re-inserted in their order into the empty full-size table, the kept keys probe no
+  // farther than they did among all keys (linear probing, no deletions), so each finds
+  // its slot within kMaxProbe again.
+  for (uint32_t i = 0; i < (1u << kCacheBits); ++i) cache_[i] = CacheEntry{0xFFFFFFFFu, 0u};
+  (void)rebuild_index(nullptr, kSlotBits);
+  return dropped_points;
+}
+
 void VoxelGrid::finalize() {
   if (finalized_) return;
   // In place, front to back, four voxels per step: their sums (floats 4i..4i+15) are

@@ -80,6 +80,7 @@ std::vector<FloatField> float_fields() {
       {"voxel_leaf", FF(voxel_leaf_m), {kNaN, kInf, -0.005f, 0.f, 0.0001f, 0.1f, kHuge}, {0.003f, 0.01f}},
       {"crop_half_x", FF(crop_half_x_m), {kNaN, kInf, -0.6f, 0.f, 6.f, kHuge}, {0.1f, 1.f}},
       {"crop_half_y", FF(crop_half_y_m), {kNaN, kInf, -0.6f, 0.f, 6.f, kHuge}, {0.1f, 1.f}},
+      {"crop_shrink_min", FF(crop_shrink_min_m), {kNaN, kInf, -0.45f, 0.f, 0.005f, kHuge}, {0.1f, 0.6f, 2.f}},
       {"crop_min_z", FF(crop_min_z_m), {kNaN, -kInf, -kHuge, -200.f}, {-0.2f, 0.5f}},
       {"crop_max_z", FF(crop_max_z_m), {kNaN, kInf, -0.6f, -0.5f, 5.f, kHuge}, {0.f, 2.f}},
       {"plane_distance", FF(plane_distance_m), {kNaN, kInf, -0.01f, 0.f, 0.2f, kHuge}, {0.001f, 0.05f}},

@@ -42,9 +42,9 @@ fg::Planner& planner() {
 }
 
 //! Generates, renders and plans one scene with the default configuration.
-Planned plan_scene(ObjectKind kind, uint64_t seed) {
+Planned plan_scene(ObjectKind kind, uint64_t seed, const SceneOptions& options = {}) {
   Planned out;
-  out.scene = make_scene(kind, seed);
+  out.scene = make_scene(kind, seed, options);
   const SceneImages img = render_scene(out.scene);
   fg::Planner& p = planner();
   p.reset();
@@ -286,4 +286,40 @@ TEST(E2eSimSupportFamilies, BoxesWhoseCloudTiltsThePrincipalAxis) {
     for (const std::string& s : f) all += "\n  - " + s;
     EXPECT_TRUE(f.empty()) << "box seed " << seed << ": " << describe(p) << all;
   }
+}
+
+// Sensors twice as noisy as the Xtion-like default smear the table over more layers of
+// voxels than the grid holds: 1,032 of 1,100 such scenes of `fg_quality --noise-scale 2`
+// were refused (capacity_exceeded) before the crop box learned to shrink. Now every scene
+// is planned, the box shrunk where the grid would overflow, and judged on the true
+// geometry most answers are right (fg_quality: 1,018 of those 1,100).
+TEST(E2eSimNoisySensors, TwiceTheNoiseShrinksTheCropBoxInsteadOfRefusing) {
+  SceneOptions noisy;
+  noisy.noise.sigma_a *= 2.0;
+  noisy.noise.sigma_b *= 2.0;
+  int scenes = 0, shrunk = 0, right = 0;
+  std::string wrong;
+  for (ObjectKind k : all_kinds())
+    for (uint64_t seed : {1ull, 2ull, 3ull}) {
+      const Planned p = plan_scene(k, seed, noisy);
+      ++scenes;
+      ASSERT_TRUE(p.status == fg::Status::ok || p.status == fg::Status::no_grasp) << describe(p);
+      shrunk += p.result.crop.shrinks > 0 ? 1 : 0;
+      bool ok = false;
+      if (p.status == fg::Status::no_grasp) {
+        ok = !p.scene.truth.target_fits;
+      } else {
+        Grasp g;
+        g.position = p.result.grasp.position;
+        g.approach = p.result.grasp.approach;
+        g.closing = p.result.grasp.closing;
+        g.width = p.result.grasp.width;
+        ok = judge_grasp(p.scene.world, p.scene.target, g, p.scene.gripper).success;
+      }
+      right += ok ? 1 : 0;
+      if (!ok) wrong += "\n  " + describe(p);
+    }
+  std::printf("%d scenes, %d with the crop box shrunk, %d right%s\n", scenes, shrunk, right, wrong.c_str());
+  EXPECT_GE(shrunk, scenes * 3 / 4);
+  EXPECT_GE(right, scenes * 8 / 10) << wrong;
 }

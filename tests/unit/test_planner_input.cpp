@@ -15,6 +15,7 @@
 #include <memory>
 #include <random>
 #include <set>
+#include <string>
 #include <tuple>
 #include <vector>
 
@@ -367,6 +368,117 @@ TEST(PlannerInput, IngestMatchesABruteForceForEveryCountAndInputKind) {
   }
   }
   fg::Planner::set_ingest_lanes(0);
+}
+
+// A cloud that needs more voxels than the grid holds (a table smeared over two layers
+// of cells across the whole crop box, as a noisy sensor makes it): the crop box shrinks
+// about the workspace centre instead of the capture being refused, and the grid is the
+// one a brute force written here makes of the points inside the box the planner
+// reports: the same cells, in the order their first points came, with the same means.
+// Two points per cell in a random order, half from each sensor (the second sensor is
+// ingested in the box the first one shrank). With the floor at the configured half
+// nothing may shrink, and the capture is refused as before.
+TEST(PlannerInput, CropShrinksWhenTheCloudNeedsMoreVoxelsThanTheGrid) {
+  const PlannerConfig cfg;
+  const double leaf = cfg.voxel_leaf_m;
+  const Eigen::Vector3d origin = Eigen::Vector3d(cfg.workspace_centre_x_m - cfg.crop_half_x_m,
+                                                 cfg.workspace_centre_y_m - cfg.crop_half_y_m, cfg.crop_min_z_m) -
+                                 Eigen::Vector3d::Constant(2.5 * leaf);
+  // Whole cells inside the configured box (it starts 2.5 cells past the origin).
+  const int cells = static_cast<int>(2.0 * cfg.crop_half_x_m / leaf) - 2;
+  const int layers = static_cast<int>(1.3 * fg::kMaxVoxels / (static_cast<double>(cells) * cells)) + 1;
+  ASSERT_GT(static_cast<double>(cells) * cells * layers, 1.2 * fg::kMaxVoxels);
+  const int iz0 = static_cast<int>(std::floor(-origin.z() / leaf));  // the cell holding z = 0
+  std::vector<Eigen::Vector3d> world;
+  for (int iz = iz0; iz < iz0 + layers; ++iz)
+    for (int iy = 3; iy < 3 + cells; ++iy)
+      for (int ix = 3; ix < 3 + cells; ++ix)
+        for (const Eigen::Vector3d& f : {Eigen::Vector3d(0.3, 0.35, 0.4), Eigen::Vector3d(0.7, 0.6, 0.55)})
+          world.push_back(origin + (Eigen::Vector3d(ix, iy, iz) + f) * leaf);
+  std::mt19937 rng(2026);
+  std::shuffle(world.begin(), world.end(), rng);
+  // Both sensors 1 m above the workspace centre, looking straight down.
+  Pose pose;
+  pose.R = (Eigen::Matrix3f() << 1, 0, 0, 0, -1, 0, 0, 0, -1).finished();
+  pose.t = Vec3(cfg.workspace_centre_x_m, cfg.workspace_centre_y_m, 1.0f);
+  std::vector<Vec3> head, hand;
+  for (size_t k = 0; k < world.size(); ++k) {
+    const Vec3 s = pose.R.transpose() * (world[k].cast<float>() - pose.t);
+    (k < world.size() / 2 ? head : hand).push_back(s);
+  }
+  const auto ingest = [&](fg::Planner& pl) {
+    const Status a = add(pl, head, pose, SensorRole::head);
+    const Status b = a == Status::ok ? add(pl, hand, pose, SensorRole::hand) : a;
+    return b;
+  };
+
+  auto pl = make_planner(cfg);
+  ASSERT_EQ(ingest(*pl), Status::ok) << pl->last_message();
+  // Read before plan() finalizes the grid, with the box plan() reports.
+  const fg::VoxelGrid& g = pl->voxels();
+  std::vector<uint32_t> keys;
+  std::vector<Eigen::Vector3d> means;
+  for (uint32_t i = 0; i < g.size(); ++i) {
+    keys.push_back(g.key(i));
+    means.push_back(g.centroid(i).cast<double>());
+  }
+  PlanResult r;
+  pl->plan(r);
+  EXPECT_NE(r.status, Status::capacity_exceeded) << r.message;
+  const fg::CropUsed& c = r.crop;
+  EXPECT_GE(c.shrinks, 1u);
+  // Inside the configured box, and no smaller than the floor (less a cell each side).
+  EXPECT_GE(c.min_x, cfg.workspace_centre_x_m - cfg.crop_half_x_m);
+  EXPECT_LE(c.max_x, cfg.workspace_centre_x_m + cfg.crop_half_x_m);
+  EXPECT_GE(c.min_y, cfg.workspace_centre_y_m - cfg.crop_half_y_m);
+  EXPECT_LE(c.max_y, cfg.workspace_centre_y_m + cfg.crop_half_y_m);
+  EXPECT_LT(c.max_x - c.min_x, 2.f * cfg.crop_half_x_m - leaf);
+  EXPECT_GE(c.max_x - c.min_x, 2.f * cfg.crop_shrink_min_m - 2.f * leaf);
+  EXPECT_GE(c.max_y - c.min_y, 2.f * cfg.crop_shrink_min_m - 2.f * leaf);
+  EXPECT_LE(c.min_x, cfg.workspace_centre_x_m - cfg.crop_shrink_min_m + leaf);
+  EXPECT_GE(c.max_x, cfg.workspace_centre_x_m + cfg.crop_shrink_min_m - leaf);
+
+  // The brute force: the points inside the reported box, by cell, in arrival order.
+  std::map<std::tuple<int64_t, int64_t, int64_t>, size_t> index;
+  std::vector<std::pair<Eigen::Vector3d, int>> sums;
+  std::vector<std::tuple<int64_t, int64_t, int64_t>> order;
+  uint32_t kept = 0;
+  for (size_t k = 0; k < world.size(); ++k) {
+    const Eigen::Vector3d& w = world[k];
+    if (!(w.x() >= c.min_x && w.x() < c.max_x && w.y() >= c.min_y && w.y() < c.max_y)) continue;
+    ++kept;
+    const Eigen::Vector3d cell = ((w - origin) / leaf).array().floor();
+    const auto key = std::make_tuple(static_cast<int64_t>(cell.x()), static_cast<int64_t>(cell.y()),
+                                     static_cast<int64_t>(cell.z()));
+    const auto it = index.try_emplace(key, sums.size()).first;
+    if (it->second == sums.size()) {
+      sums.emplace_back(Eigen::Vector3d::Zero(), 0);
+      order.push_back(key);
+    }
+    sums[it->second].first += w;
+    sums[it->second].second += 1;
+  }
+  ASSERT_EQ(keys.size(), order.size());
+  for (size_t i = 0; i < keys.size(); ++i) {
+    const auto& [x, y, z] = order[i];
+    ASSERT_EQ(keys[i], fg::VoxelGrid::pack(static_cast<uint32_t>(x), static_cast<uint32_t>(y), static_cast<uint32_t>(z)))
+        << "voxel " << i;
+    EXPECT_LT((means[i] - sums[i].first / sums[i].second).norm(), 2e-6) << "voxel " << i;
+  }
+  EXPECT_EQ(r.points.after_filter, kept);
+  EXPECT_EQ(r.points.voxels, static_cast<uint32_t>(order.size()));
+  EXPECT_GT(c.points_dropped, 0u);
+  EXPECT_LE(kept + c.points_dropped, static_cast<uint32_t>(world.size()));
+
+  // The floor at the configured half: no room is made, the capture is refused.
+  PlannerConfig fixed = cfg;
+  fixed.crop_shrink_min_m = cfg.crop_half_x_m;
+  auto refused = make_planner(fixed);
+  EXPECT_EQ(ingest(*refused), Status::capacity_exceeded);
+  EXPECT_NE(std::string(refused->last_message()).find("FG_MAX_VOXELS"), std::string::npos);
+  PlanResult rr;
+  EXPECT_EQ(refused->plan(rr), Status::capacity_exceeded);
+  EXPECT_EQ(rr.crop.shrinks, 0u);
 }
 
 // Every vector width gives the same voxels bit for bit, and so the same grasp: the box
@@ -762,7 +874,8 @@ TEST(PlannerInput, RangeFilterAndCropBoxCounts) {
 
 // A full grid stops the read at the first point that needs one more cell, and the
 // counts say so exactly: points 1 cm apart (each in a cell of its own at 5 mm), with
-// NaN points mixed in, so the finite count is known point by point.
+// NaN points mixed in, so the finite count is known point by point. The crop box may
+// not shrink here (its floor is the configured half), as when it is at its floor.
 TEST(PlannerInput, FullGridCountsEveryPointUpToTheRefusedOne) {
   std::vector<Vec3> pts;
   const float nan = std::numeric_limits<float>::quiet_NaN();
@@ -796,6 +909,7 @@ TEST(PlannerInput, FullGridCountsEveryPointUpToTheRefusedOne) {
   auto pl = make_planner();
   fg::PlannerConfig cfg;
   cfg.workspace_centre_x_m = 0.5f;
+  cfg.crop_shrink_min_m = cfg.crop_half_x_m;
   ASSERT_EQ(pl->configure(cfg), Status::ok);
   EXPECT_EQ(add(*pl, pts), Status::capacity_exceeded);
   PlanResult r;

@@ -186,6 +186,12 @@ PlanOutcome run_plan(const PlanOptions& opts) {
                        {"voxels", res.points.voxels},
                        {"plane", res.points.plane},
                        {"object", res.points.object}};
+    // The crop box the grid was built in: the configured one, or the smaller one about
+    // the workspace centre a cloud too large for the voxel grid left (docs/method.md A).
+    j["crop"] = json{{"min", json::array({res.crop.min_x, res.crop.min_y})},
+                     {"max", json::array({res.crop.max_x, res.crop.max_y})},
+                     {"shrinks", res.crop.shrinks},
+                     {"points_dropped", res.crop.points_dropped}};
     json timing = json::object();
     timing["total"] = res.stage_us[static_cast<int>(Stage::total)];
     for (int s = 0; s < static_cast<int>(Stage::total); ++s)
@@ -243,6 +249,12 @@ std::string human_summary(const json& r) {
     const json& p = r["points"];
     os << "  points   " << p["input"] << " input, " << p["after_filter"] << " after filters, "
        << p["voxels"] << " voxels, " << p["object"] << " on the object\n";
+  }
+  if (r.contains("crop") && r["crop"].value("shrinks", 0) > 0) {
+    const json& c = r["crop"];
+    os << "  crop     shrunk to x " << c["min"][0].get<double>() << ".." << c["max"][0].get<double>() << ", y "
+       << c["min"][1].get<double>() << ".." << c["max"][1].get<double>() << " m (too many voxels; "
+       << c["points_dropped"] << " points dropped)\n";
   }
   if (r.contains("timing_us")) os << "  time     " << r["timing_us"]["total"] << " us in the planner\n";
   if (r.contains("pictures")) os << "  pictures " << r["pictures"].get<std::string>() << "\n";

@@ -25,6 +25,8 @@ std::vector<ConfigOption> config_options(PlannerConfig& c) {
       {"range_max", "sensor depth filter, far limit (m)", K::real, &c.range_max_m},
       {"crop_half_x", "crop box half size in x about the workspace centre (m)", K::real, &c.crop_half_x_m},
       {"crop_half_y", "crop box half size in y about the workspace centre (m)", K::real, &c.crop_half_y_m},
+      {"crop_shrink_min", "on voxel overflow the crop box x/y halves shrink down to this (m)", K::real,
+       &c.crop_shrink_min_m},
       {"crop_min_z", "crop box lower z (m)", K::real, &c.crop_min_z_m},
       {"crop_max_z", "crop box upper z (m)", K::real, &c.crop_max_z_m},
       {"voxel_leaf", "voxel grid leaf (m)", K::real, &c.voxel_leaf_m},

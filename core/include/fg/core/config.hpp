@@ -17,6 +17,9 @@ struct PlannerConfig {
   float range_max_m = 1.50f;
   float crop_half_x_m = 0.60f;       //!< workspace crop box about the workspace centre
   float crop_half_y_m = 0.60f;
+  //! When the merged cloud would need more than kMaxVoxels voxels, the crop box's x and
+  //! y halves shrink about the workspace centre, not below this (docs/method.md A).
+  float crop_shrink_min_m = 0.45f;
   float crop_min_z_m = -0.50f;       //!< world z limits of the crop box
   float crop_max_z_m = 1.50f;
   float voxel_leaf_m = 0.005f;

@@ -19,6 +19,9 @@
 #include "fg/core/voxel_grid.hpp"
 
 namespace fg {
+namespace ingest {
+struct State;
+}
 
 enum class SensorRole : uint8_t { head = 0, hand = 1 };
 
@@ -69,6 +72,14 @@ struct PointCounts {
   uint32_t object = 0;        //!< voxels of the target object
 };
 
+//! The crop box the grid was built in (x, y; world): the configured one, or a smaller
+//! one about the workspace centre when the cloud needed more than kMaxVoxels voxels.
+struct CropUsed {
+  float min_x = 0, min_y = 0, max_x = 0, max_y = 0;
+  uint32_t shrinks = 0;         //!< times it shrank (0: as configured)
+  uint32_t points_dropped = 0;  //!< points kept before a shrink and outside the box after it
+};
+
 //! Why candidates were turned down during the checks (counts).
 struct RejectCounts {
   uint32_t table = 0, collision = 0, friction = 0, occluded = 0, unreachable = 0;
@@ -80,6 +91,7 @@ struct PlanResult {
   const char* message = "";  //!< static text naming the problem
   Grasp grasp;
   PointCounts points;
+  CropUsed crop;
   RejectCounts rejected;
   uint32_t viewpoints = 0;   //!< viewpoints analysed
   uint32_t candidates = 0;   //!< candidates ranked
@@ -197,6 +209,10 @@ class Planner {
   Status check_pose(const Pose& p);
   Status ingest_begin(SensorRole role, const Pose& world_T_sensor);
   Status end_ingest(uint32_t offered, uint32_t finite, uint32_t kept, uint64_t t0, Status st);
+  // Before a block of n points: room for n more voxels, the crop box shrunk if need be
+  // (at crop_shrink_min the block is added as far as the grid holds it).
+  void make_room(ingest::State& in, uint32_t n);
+  void shrink_crop(ingest::State& in);
   // The loop both point layouts share: coordinate k of point i at base[k] + i * stride.
   Status add_coordinates(SensorRole role, const uint8_t* const base[3], uint32_t count,
                          uint32_t stride_bytes, const Pose& world_T_sensor);
@@ -263,6 +279,11 @@ class Planner {
   uint16_t sight_mm_[kMaxSensors][kSightBins * kSightBins];
   PointCounts counts_;
   Vec3 crop_min_ = Vec3::Zero(), crop_max_ = Vec3::Zero();
+  // The crop box in the grid's cell units, as the ingest tests points against it: the
+  // configured box, or after shrink_crop() one of whole cells (lo <= f <= hi, hi just
+  // below a cell boundary).
+  float crop_lo_cells_[3] = {}, crop_hi_cells_[3] = {};
+  CropUsed crop_used_;
   uint32_t ingest_us_ = 0;
   bool overflow_ = false;
 

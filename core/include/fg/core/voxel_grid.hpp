@@ -81,6 +81,13 @@ class VoxelGrid {
     return true;
   }
 
+  //! Before finalize(): keeps only the voxels whose cell lies in x0 <= x < x1 and
+  //! y0 <= y < y1 (key cell indices), in their order, with their sums untouched, and
+  //! rebuilds the hash: the grid is then the one those cells' points alone would have
+  //! made. Returns the points of the voxels dropped. One pass over the voxels and one
+  //! over the slots.
+  uint32_t keep_xy_range(uint32_t x0, uint32_t x1, uint32_t y0, uint32_t y1);
+
   //! Turns every voxel's sum into its centroid (world frame), in place; insert() is
   //! refused from then on until reset(). Calling it again does nothing.
   void finalize();
