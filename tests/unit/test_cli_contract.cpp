@@ -784,6 +784,16 @@ TEST_F(CliContract, ExampleSceneGivesGrasp) {
   EXPECT_GT(p[0].get<double>(), 0.2);
   EXPECT_LT(p[0].get<double>(), 0.8);
   EXPECT_GT(p[2].get<double>(), 0.0);
+  // The example's 71,647 voxels fit the grid: the crop box is the configured one,
+  // x 0.5 +- 0.6 and y 0 +- 0.6 (docs/configuration.md).
+  ASSERT_TRUE(j.contains("crop"));
+  const json& c = j["crop"];
+  EXPECT_EQ(c.value("shrinks", 99u), 0u);
+  EXPECT_EQ(c.value("points_dropped", 99u), 0u);
+  EXPECT_NEAR(c["min"][0].get<double>(), -0.1, 1e-6);
+  EXPECT_NEAR(c["min"][1].get<double>(), -0.6, 1e-6);
+  EXPECT_NEAR(c["max"][0].get<double>(), 1.1, 1e-6);
+  EXPECT_NEAR(c["max"][1].get<double>(), 0.6, 1e-6);
 }
 
 TEST_F(CliContract, DeterministicOutput) {
