@@ -70,10 +70,14 @@ struct Grid {
   int cell_x(float x) const { return static_cast<int>(std::floor((x - origin.x()) / leaf)); }
   int cell_y(float y) const { return static_cast<int>(std::floor((y - origin.y()) / leaf)); }
   int cell_z(float z) const { return static_cast<int>(std::floor((z - origin.z()) / leaf)); }
-  int x_lo() const { return 3; }
-  int x_hi() const { return 2 + nx - 1; }  // exclusive
-  int y_lo() const { return 3; }
-  int y_hi() const { return 2 + ny - 1; }
+  // The cells the cases fill: those of the crop box that its shrink keeps (the box of
+  // crop_shrink_min about the workspace centre, Planner::shrink_crop), so a case of
+  // kMaxVoxels cells pays for the shrink's compactions and keeps every cell.
+  int xlo = 3, xhi = 0, ylo = 3, yhi = 0;
+  int x_lo() const { return xlo; }
+  int x_hi() const { return xhi; }  // exclusive
+  int y_lo() const { return ylo; }
+  int y_hi() const { return yhi; }
 };
 
 Grid grid_of(const PlannerConfig& c) {
@@ -85,6 +89,16 @@ Grid grid_of(const PlannerConfig& c) {
   g.nx = static_cast<int>(std::floor(2.f * c.crop_half_x_m / c.voxel_leaf_m + 1e-3f));
   g.ny = static_cast<int>(std::floor(2.f * c.crop_half_y_m / c.voxel_leaf_m + 1e-3f));
   g.nz = static_cast<int>(std::floor((c.crop_max_z_m - c.crop_min_z_m) / c.voxel_leaf_m + 1e-3f));
+  g.xhi = 2 + g.nx - 1;
+  g.yhi = 2 + g.ny - 1;
+  // Planner::shrink_crop's floor box in cells: [ceil(centre - half), floor(centre + half)).
+  const float half = c.crop_shrink_min_m / c.voxel_leaf_m;
+  const float cx = (c.workspace_centre_x_m - g.origin.x()) / c.voxel_leaf_m;
+  const float cy = (c.workspace_centre_y_m - g.origin.y()) / c.voxel_leaf_m;
+  g.xlo = std::max(g.xlo, static_cast<int>(std::ceil(cx - half)));
+  g.xhi = std::min(g.xhi, static_cast<int>(std::floor(cx + half)));
+  g.ylo = std::max(g.ylo, static_cast<int>(std::ceil(cy - half)));
+  g.yhi = std::min(g.yhi, static_cast<int>(std::floor(cy + half)));
   return g;
 }
 
@@ -397,25 +411,30 @@ bool no_plane(CaseInput& out, uint32_t points, std::string& err) {
   return true;
 }
 
-// All plane: kMaxVoxels voxels in a horizontal slab two cells thick.
+// All plane: kMaxVoxels voxels (or as many as three layers of the area the crop box's
+// shrink keeps hold) in a horizontal slab two or three cells thick: the outer layers'
+// points lie within 5.5 mm of the middle one, under object_min_height, so all are table.
 bool all_plane(CaseInput& out, uint32_t points, std::string& err) {
   Builder b(out.cfg, 0.8f);
   const Grid& g = b.grid();
-  const int per_layer = static_cast<int>((kMaxVoxels + 1) / 2);
+  const int avail = std::min(g.x_hi() - g.x_lo(), g.y_hi() - g.y_lo());
+  const int layers = static_cast<uint64_t>(2) * avail * avail >= kMaxVoxels ? 2 : 3;
+  const uint32_t cells = static_cast<uint32_t>(std::min<uint64_t>(kMaxVoxels, static_cast<uint64_t>(layers) * avail * avail));
+  const int per_layer = static_cast<int>((cells + layers - 1) / layers);
   const int side = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(per_layer))));
-  if (side > g.x_hi() - g.x_lo() || side > g.y_hi() - g.y_lo()) {
+  if (side > avail) {
     err = "slab does not fit the crop box";
     return false;
   }
   const int i0 = (g.x_lo() + g.x_hi() - side) / 2, j0 = (g.y_lo() + g.y_hi() - side) / 2;
   const int k0 = g.cell_z(0.05f);
   uint32_t n = 0;
-  for (int layer = 0; layer < 2; ++layer)
-    for (int a = 0; a < side && n < kMaxVoxels; ++a)
-      for (int c = 0; c < side && n < kMaxVoxels && n < static_cast<uint32_t>((layer + 1) * per_layer); ++c)
-        if (b.add(layer, i0 + a, j0 + c, k0 + layer, 0.2f)) ++n;
+  for (int layer = 0; layer < layers; ++layer)
+    for (int a = 0; a < side && n < cells; ++a)
+      for (int c = 0; c < side && n < cells && n < static_cast<uint32_t>((layer + 1) * per_layer); ++c)
+        if (b.add(layer & 1, i0 + a, j0 + c, k0 + layer, 0.1f)) ++n;
   b.finish(out, points);
-  out.note = fmt("%u voxels, slab %dx%dx2 cells", n, side, side);
+  out.note = fmt("%u voxels, slab %dx%dx%d cells", n, side, side, layers);
   return true;
 }
 
