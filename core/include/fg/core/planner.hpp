@@ -141,7 +141,9 @@ class Planner {
 
   //! Adds `count` points (x, y, z floats, `stride_bytes` apart) given in the sensor's
   //! optical frame. Non-finite points and points outside the range filter or the crop
-  //! box are dropped and counted. Each role may be added once per plan.
+  //! box are dropped and counted. Each role may be added once per plan. When the merged
+  //! cloud would need more than kMaxVoxels voxels the crop box shrinks (crop_shrink_min,
+  //! PlanResult::crop); capacity_exceeded only when it cannot shrink further.
   Status add_points(SensorRole role, const float* xyz, uint32_t count, uint32_t stride_bytes,
                     const Pose& world_T_sensor);
 
