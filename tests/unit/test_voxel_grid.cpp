@@ -544,7 +544,10 @@ TEST(VoxelGrid, IndexPrunedToKeptVoxels) {
 TEST(VoxelGrid, CellsCraftedToCollideAreCapped) {
   auto fmix = [](uint32_t k) { return VoxelGrid::mix(k); };
   const uint32_t slot_bits = static_cast<uint32_t>(std::log2(static_cast<double>(fg::kVoxelHashSlots)));
-  for (const uint32_t home : {fmix(VoxelGrid::pack(10, 10, 10)) >> (32 - slot_bits), fg::kVoxelHashSlots - 3}) {
+  // Home slots: one in the table, one whose walks wrap at once, and one whose walks
+  // fill the last window of eight slots first (the vector walk then goes on at slot 0).
+  for (const uint32_t home : {fmix(VoxelGrid::pack(10, 10, 10)) >> (32 - slot_bits), fg::kVoxelHashSlots - 3,
+                              fg::kVoxelHashSlots - 8}) {
     SCOPED_TRACE(testing::Message() << "home slot " << home);
     const uint32_t want = VoxelGrid::max_probe() + 100;
     std::vector<uint32_t> keys;

@@ -282,6 +282,8 @@ inline uint32_t VoxelGrid::find_or_add(uint32_t key) {
     const uint32_t empty = lane_mask(a == 0) | (lane_mask(b == 0) << 4);
     if (empty != 0) return add_at(s + static_cast<uint32_t>(__builtin_ctz(empty)), tag, key);
   }
+  // A walk through the table's last window goes on at its first slot.
+  s &= slot_mask_;
 #endif
   for (; probe < kMaxProbe; ++probe) {
     const uint32_t slot = slots_[s];
