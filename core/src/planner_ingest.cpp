@@ -28,20 +28,20 @@ void Planner::reset() {
   counts_ = PointCounts{};
   ingest_us_ = 0;
   overflow_ = false;
-  crop_min_ = Vec3(cfg_.workspace_centre_x_m - cfg_.crop_half_x_m,
-                   cfg_.workspace_centre_y_m - cfg_.crop_half_y_m, cfg_.crop_min_z_m);
-  crop_max_ = Vec3(cfg_.workspace_centre_x_m + cfg_.crop_half_x_m,
-                   cfg_.workspace_centre_y_m + cfg_.crop_half_y_m, cfg_.crop_max_z_m);
+  const Vec3 crop_min(cfg_.workspace_centre_x_m - cfg_.crop_half_x_m,
+                      cfg_.workspace_centre_y_m - cfg_.crop_half_y_m, cfg_.crop_min_z_m);
+  const Vec3 crop_max(cfg_.workspace_centre_x_m + cfg_.crop_half_x_m,
+                      cfg_.workspace_centre_y_m + cfg_.crop_half_y_m, cfg_.crop_max_z_m);
   // 2.5 cells of margin below the crop box: every accepted point has a key with room
   // for the +-2 cell neighbour offsets of the clustering (voxel_grid.hpp).
-  grid_.reset(crop_min_ - Vec3::Constant(2.5f * cfg_.voxel_leaf_m), cfg_.voxel_leaf_m);
+  grid_.reset(crop_min - Vec3::Constant(2.5f * cfg_.voxel_leaf_m), cfg_.voxel_leaf_m);
   const float inv = 1.f / grid_.leaf();
-  const Vec3 lo = (crop_min_ - grid_.origin()) * inv, hi = (crop_max_ - grid_.origin()) * inv;
+  const Vec3 lo = (crop_min - grid_.origin()) * inv, hi = (crop_max - grid_.origin()) * inv;
   for (int j = 0; j < 3; ++j) {
     crop_lo_cells_[j] = lo[j];
     crop_hi_cells_[j] = hi[j];
   }
-  crop_used_ = CropUsed{crop_min_.x(), crop_min_.y(), crop_max_.x(), crop_max_.y(), 0u, 0u};
+  crop_used_ = CropUsed{crop_min.x(), crop_min.y(), crop_max.x(), crop_max.y(), 0u, 0u};
   object_.clear();
   plane_found_ = false;
   n_views_ = 0;

@@ -163,16 +163,21 @@ Failures check_lying_cylinder(const Planned& p) {
   return f;
 }
 
-Failures check_judged(const Planned& p) {
-  Failures f;
-  check_ok(p, f);
-  if (!f.empty()) return f;
+//! The planned grasp judged on the scene's true geometry.
+JudgeResult judge(const Planned& p) {
   Grasp g;
   g.position = p.result.grasp.position;
   g.approach = p.result.grasp.approach;
   g.closing = p.result.grasp.closing;
   g.width = p.result.grasp.width;
-  const JudgeResult j = judge_grasp(p.scene.world, p.scene.target, g, p.scene.gripper);
+  return judge_grasp(p.scene.world, p.scene.target, g, p.scene.gripper);
+}
+
+Failures check_judged(const Planned& p) {
+  Failures f;
+  check_ok(p, f);
+  if (!f.empty()) return f;
+  const JudgeResult j = judge(p);
   if (!j.success) f.push_back("judge: " + j.reason);
   return f;
 }
@@ -309,12 +314,7 @@ TEST(E2eSimNoisySensors, TwiceTheNoiseShrinksTheCropBoxInsteadOfRefusing) {
       if (p.status == fg::Status::no_grasp) {
         ok = !p.scene.truth.target_fits;
       } else {
-        Grasp g;
-        g.position = p.result.grasp.position;
-        g.approach = p.result.grasp.approach;
-        g.closing = p.result.grasp.closing;
-        g.width = p.result.grasp.width;
-        ok = judge_grasp(p.scene.world, p.scene.target, g, p.scene.gripper).success;
+        ok = judge(p).success;
       }
       right += ok ? 1 : 0;
       if (!ok) wrong += "\n  " + describe(p);

@@ -280,9 +280,8 @@ class Planner {
   // seen to be free (a return behind it) from space hidden behind a surface.
   uint16_t sight_mm_[kMaxSensors][kSightBins * kSightBins];
   PointCounts counts_;
-  Vec3 crop_min_ = Vec3::Zero(), crop_max_ = Vec3::Zero();
-  // The crop box in the grid's cell units, as the ingest tests points against it: the
-  // configured box, or after shrink_crop() one of whole cells (lo <= f <= hi, hi just
+  // The crop box in the grid's cell units, as the ingest tests points against it (its
+  // world bounds are in crop_used_): the configured box, or after shrink_crop() one of whole cells (lo <= f <= hi, hi just
   // below a cell boundary).
   float crop_lo_cells_[3] = {}, crop_hi_cells_[3] = {};
   CropUsed crop_used_;
