@@ -2,6 +2,8 @@
 
 #include <cstring>
 
+#include "fg/core/byte_order.hpp"
+
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #define FG_CLUSTER_AVX2 1
 #include <immintrin.h>
@@ -206,13 +208,11 @@ uint32_t next_in_state(const uint8_t* state, uint32_t n, uint32_t i, uint8_t s) 
   for (; i + 8u <= n; i += 8u) {
     uint64_t w;
     std::memcpy(&w, state + i, sizeof w);
-    const uint64_t t = w ^ (kOnes * s);
+    // Byte b of the word is state[i + b] on every target: the false flags lie above
+    // (after) the first true one, so the lowest stays the answer.
+    const uint64_t t = le_order64(w) ^ (kOnes * s);
     const uint64_t z = (t - kOnes) & ~t & (kOnes << 7);
-#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__
-    if (z != 0u) return i + (static_cast<uint32_t>(__builtin_clzll(z)) >> 3);
-#else
     if (z != 0u) return i + (static_cast<uint32_t>(__builtin_ctzll(z)) >> 3);
-#endif
   }
   for (; i < n; ++i)
     if (state[i] == s) return i;

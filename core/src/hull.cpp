@@ -5,6 +5,7 @@
 #include "fg/core/hull.hpp"
 
 #include "fg/core/byte_flags.hpp"
+#include "fg/core/byte_order.hpp"
 #include "fg/core/vec4.hpp"
 
 #if defined(__SSE2__)
@@ -685,8 +686,8 @@ Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& 
       const uint64_t picked = (byte * kBytes01) & 0x8040201008040201u;
       const uint64_t spread = ((picked + 0x7F7F7F7F7F7F7F7Fu) >> 7) & kBytes01;
       uint64_t c8;
-      std::memcpy(&c8, count_line + c, sizeof c8);  // little-endian: byte b is cell c + b
-      const uint64_t cells8 = spread | nonzero_ones8(c8);
+      std::memcpy(&c8, count_line + c, sizeof c8);  // nonzero_ones8 keeps each byte in its place
+      const uint64_t cells8 = le_order64(spread) | nonzero_ones8(c8);  // spread's byte b is cell c + b
       std::memcpy(line + c, &cells8, sizeof cells8);
     }
     for (; c < w; ++c) line[c] = static_cast<uint8_t>(((closed[c / 64] >> (c % 64)) & kFg) | (count_line[c] != 0));

@@ -4,6 +4,8 @@
 
 #include <cstring>
 
+#include "fg/core/byte_order.hpp"
+
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #define FG_INGEST_AVX2 1
 #include <immintrin.h>

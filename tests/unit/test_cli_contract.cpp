@@ -26,6 +26,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "fg/core/byte_order.hpp"
 #include "fg/core/types.hpp"
 #include "fg/robot/ur5.hpp"
 #include "fg/robot/ur5_ik.hpp"
@@ -589,7 +590,9 @@ TEST_F(CliContract, PcdDataShorterThanDeclared) {
   expect_invalid(plan(cloud_scene("short_ascii.pcd", asc)), "short_ascii.pcd", {"truncated", "too short", "too few"});
   // binary_compressed: the sizes header promises more bytes than the file holds.
   std::string bc = xyz_header(100, 1, 100, "binary_compressed");
-  const uint32_t sizes[2] = {5000, 1200};
+  uint8_t sizes[8];  // little-endian, as the files are on every host
+  fg::store_le(uint32_t{5000}, sizes);
+  fg::store_le(uint32_t{1200}, sizes + 4);
   bc.append(reinterpret_cast<const char*>(sizes), sizeof sizes);
   bc.append(40, '\x01');
   expect_invalid(plan(cloud_scene("short_compressed.pcd", bc)), "short_compressed.pcd", {"truncated", "larger than"});
@@ -621,7 +624,7 @@ TEST_F(CliContract, AllPointsNaNIsNoGrasp) {
   std::string s = xyz_header(640, 480, 640 * 480, "binary");
   const float nan = std::nanf("");
   std::string body(640 * 480 * 12, '\0');
-  for (size_t i = 0; i < 640 * 480 * 3; ++i) std::memcpy(&body[i * 4], &nan, 4);
+  for (size_t i = 0; i < 640 * 480 * 3; ++i) fg::store_le(nan, reinterpret_cast<uint8_t*>(&body[i * 4]));
   s += body;
   const CliRun r = plan(cloud_scene("all_nan.pcd", s));
   const json j = expect_no_grasp(r, "no_points");
@@ -638,7 +641,9 @@ TEST_F(CliContract, HugeCoordinatesAreValidButNoGrasp) {
   std::string bin = xyz_header(300, 1, 300, "binary");
   for (int i = 0; i < 300; ++i) {
     const float v[3] = {1e30f, -3.4e38f, 1e30f * (i % 2 ? 1.f : -1.f)};
-    bin.append(reinterpret_cast<const char*>(v), sizeof v);
+    uint8_t le[12];
+    for (int k = 0; k < 3; ++k) fg::store_le(v[k], le + 4 * k);
+    bin.append(reinterpret_cast<const char*>(le), sizeof le);
   }
   expect_no_grasp(plan(cloud_scene("huge_coords_bin.pcd", bin)));
   // Beyond float range in ascii: parsed as inf by the reader, so filtered: still valid.

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "fg/core/byte_order.hpp"
 #include "io/lzf.hpp"
 #include "io/pcd.hpp"
 #include "io/ply.hpp"
@@ -73,9 +74,9 @@ ReadResult parse(const std::string& s, PointCloud& out, const std::string& name 
 }
 
 template <typename T>
-void put(std::vector<uint8_t>& b, T v) {
+void put(std::vector<uint8_t>& b, T v) {  // little-endian, as the files are on every host
   uint8_t raw[sizeof(T)];
-  std::memcpy(raw, &v, sizeof(T));
+  fg::store_le(v, raw);
   b.insert(b.end(), raw, raw + sizeof(T));
 }
 
@@ -653,13 +654,12 @@ TEST(PcdMalformed, CompressedData) {
 
   auto with_sizes = [&](uint32_t cs, uint32_t us) {
     std::vector<uint8_t> b = good;
-    std::memcpy(b.data() + hdr, &cs, 4);
-    std::memcpy(b.data() + hdr + 4, &us, 4);
+    fg::store_le(cs, b.data() + hdr);
+    fg::store_le(us, b.data() + hdr + 4);
     return b;
   };
-  uint32_t cs = 0, us = 0;
-  std::memcpy(&cs, good.data() + hdr, 4);
-  std::memcpy(&us, good.data() + hdr + 4, 4);
+  const uint32_t cs = fg::load_le<uint32_t>(good.data() + hdr);
+  const uint32_t us = fg::load_le<uint32_t>(good.data() + hdr + 4);
   ASSERT_EQ(us, 200u * 20u);
 
   auto bad = [&](const std::vector<uint8_t>& b, const std::string& word) {

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "fg/core/byte_order.hpp"
 #include "io/pcd.hpp"
 #include "io/ply.hpp"
 
@@ -50,9 +51,9 @@ struct RemoveTempDir : ::testing::Environment {
 std::vector<uint8_t> bytes_of(const std::string& s) { return std::vector<uint8_t>(s.begin(), s.end()); }
 
 template <typename T>
-void put(std::vector<uint8_t>& b, T v) {
+void put(std::vector<uint8_t>& b, T v) {  // little-endian, as the files are on every host
   uint8_t raw[sizeof(T)];
-  std::memcpy(raw, &v, sizeof(T));
+  fg::store_le(v, raw);
   b.insert(b.end(), raw, raw + sizeof(T));
 }
 

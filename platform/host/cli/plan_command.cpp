@@ -117,7 +117,8 @@ PlanOutcome run_plan(const PlanOptions& opts) {
       if (!add_error.empty()) continue;  // only the later sensors' file errors matter now
       const SensorRole role = s.name == "head" ? SensorRole::head : SensorRole::hand;
       const PointCloud& c = clouds[i];
-      if (c.size() > 0xFFFFFFFFull) {
+      const uint64_t points = c.size();  // (a size_t of 32 bits cannot exceed the bound)
+      if (points > 0xFFFFFFFFull) {
         add_error = s.cloud_path + ": too many points";
         continue;
       }

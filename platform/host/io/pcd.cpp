@@ -19,19 +19,21 @@
 #include <string_view>
 #include <system_error>
 
+#include "fg/core/byte_order.hpp"
 #include "lzf.hpp"
 #include "text_parse.hpp"
 
-static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__,
-              "the PCD/PLY binary readers assume a little-endian host");
 
 namespace fg::host {
 
 namespace {
+// Binary PCD data is little-endian (as PCL writes it on the machines it runs on), read
+// so on every host.
+
 // An integer label field of 1, 2 or 4 bytes (little endian), as unsigned.
 uint32_t read_label(const uint8_t* p, uint32_t size) {
   uint32_t v = 0;
-  std::memcpy(&v, p, size <= 4 ? size : 4);
+  for (uint32_t k = 0; k < size && k < 4; ++k) v |= uint32_t{p[k]} << (8 * k);
   return v;
 }
 
@@ -62,14 +64,8 @@ std::string dims(uint64_t width, uint64_t height, uint64_t points) {
 }
 
 float read_coord(const uint8_t* p, uint32_t size) {
-  if (size == 4) {
-    float f;
-    std::memcpy(&f, p, 4);
-    return f;
-  }
-  double d;
-  std::memcpy(&d, p, 8);
-  return to_float(d);
+  if (size == 4) return load_le<float>(p);
+  return to_float(load_le<double>(p));
 }
 
 ReadResult parse_pcd_impl(const uint8_t* data, size_t size, const std::string& name,
@@ -313,9 +309,8 @@ ReadResult parse_pcd_impl(const uint8_t* data, size_t size, const std::string& n
                             " bytes, too few for the 8-byte compressed/uncompressed size header "
                             "(file truncated)");
     }
-    uint32_t csize = 0, usize = 0;
-    std::memcpy(&csize, data + data_offset, 4);
-    std::memcpy(&usize, data + data_offset + 4, 4);
+    const uint32_t csize = load_le<uint32_t>(data + data_offset);
+    const uint32_t usize = load_le<uint32_t>(data + data_offset + 4);
     if (csize > remaining - 8) {
       return fail(name, "compressed size " + std::to_string(csize) + " is larger than the " +
                             std::to_string(remaining - 8) + " bytes left in the file (truncated)");
@@ -347,7 +342,17 @@ ReadResult parse_pcd_impl(const uint8_t* data, size_t size, const std::string& n
       for (uint64_t i = 0; i < points; ++i) cloud.labels[i] = read_label(bl + i * fl.size, fl.size);
     }
     if (limits.planar && points > 0 && fx.size == 4 && fy.size == 4 && fz.size == 4) {
-      // x, y and z are float arrays in the block already: hand the block over.
+      // x, y and z are float arrays in the block already: hand the block over (in the
+      // host's byte order).
+      if constexpr (!kLittleEndian) {
+        for (int k = 0; k < 3; ++k) {
+          uint8_t* b = buf.data() + block[k];
+          for (uint64_t i = 0; i < points; ++i, b += 4) {
+            const float f = load_le<float>(b);
+            std::memcpy(b, &f, 4);
+          }
+        }
+      }
       for (int k = 0; k < 3; ++k) cloud.planar_offset[k] = block[k];
       cloud.planar_points = points;
       cloud.planar_block = std::move(buf);
@@ -536,20 +541,22 @@ ReadResult write_pcd(const std::string& path, const PointCloud& cloud, PcdEncodi
     }
     f.write(body.data(), static_cast<std::streamsize>(body.size()));
   } else if (encoding == PcdEncoding::binary) {
-    f.write(reinterpret_cast<const char*>(cloud.xyz.data()),
-            static_cast<std::streamsize>(cloud.xyz.size() * sizeof(float)));
+    std::vector<uint8_t> le(cloud.xyz.size() * 4);  // little-endian floats, point by point
+    for (size_t i = 0; i < cloud.xyz.size(); ++i) store_le(cloud.xyz[i], &le[i * 4]);
+    f.write(reinterpret_cast<const char*>(le.data()), static_cast<std::streamsize>(le.size()));
   } else {
-    std::vector<float> soa(cloud.xyz.size());
+    // Structure of arrays (all x, all y, all z), little-endian floats.
+    std::vector<uint8_t> soa(cloud.xyz.size() * 4);
     for (uint64_t i = 0; i < n; ++i) {
-      for (uint64_t k = 0; k < 3; ++k) soa[k * n + i] = cloud.xyz[i * 3 + k];
+      for (uint64_t k = 0; k < 3; ++k) store_le(cloud.xyz[i * 3 + k], &soa[(k * n + i) * 4]);
     }
-    const auto* raw = reinterpret_cast<const uint8_t*>(soa.data());
-    const std::vector<uint8_t> packed = lzf::compress(raw, soa.size() * sizeof(float));
+    const std::vector<uint8_t> packed = lzf::compress(soa.data(), soa.size());
     if (packed.size() > std::numeric_limits<uint32_t>::max()) {
       return fail(path, "cannot write: compressed data exceeds 4 GiB");
     }
-    const uint32_t sizes[2] = {static_cast<uint32_t>(packed.size()),
-                               static_cast<uint32_t>(soa.size() * sizeof(float))};
+    uint8_t sizes[8];
+    store_le(static_cast<uint32_t>(packed.size()), sizes);
+    store_le(static_cast<uint32_t>(soa.size()), sizes + 4);
     f.write(reinterpret_cast<const char*>(sizes), sizeof sizes);
     f.write(reinterpret_cast<const char*>(packed.data()), static_cast<std::streamsize>(packed.size()));
   }

@@ -19,11 +19,10 @@
 #include <optional>
 #include <string_view>
 
+#include "fg/core/byte_order.hpp"
 #include "pcd.hpp"
 #include "text_parse.hpp"
 
-static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__,
-              "the PCD/PLY binary readers assume a little-endian host");
 
 namespace fg::host {
 
@@ -68,11 +67,10 @@ uint32_t scalar_size(Scalar s) {
   return 1;
 }
 
+// binary_little_endian on every host.
 template <typename T>
 T load(const uint8_t* p) {
-  T v;
-  std::memcpy(&v, p, sizeof(T));
-  return v;
+  return load_le<T>(p);
 }
 
 double read_scalar(const uint8_t* p, Scalar s) {
@@ -417,8 +415,11 @@ ReadResult write_ply(const std::string& path, const PointCloud& cloud, bool bina
                   " 1.0\ncomment written by forcegrasp\nelement vertex " + std::to_string(n) +
                   "\nproperty float x\nproperty float y\nproperty float z\nend_header\n";
   if (binary) {
-    const auto* raw = reinterpret_cast<const char*>(cloud.xyz.data());
-    s.append(raw, cloud.xyz.size() * sizeof(float));
+    uint8_t le[4];
+    for (const float v : cloud.xyz) {
+      store_le(v, le);
+      s.append(reinterpret_cast<const char*>(le), 4);
+    }
   } else {
     char buf[64];
     for (size_t i = 0; i < n; ++i) {

@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <cstring>
 
+#include "fg/core/byte_order.hpp"
+
 namespace fg {
 
 //! Byte b of the result is 1 when byte b of v is not 0, else 0.
@@ -19,10 +21,9 @@ inline uint32_t nonzero_bits8(uint64_t v) {
 
 //! Bit b set when byte b of p[0..7] is not 0.
 inline uint32_t nonzero_bytes8(const uint8_t* p) {
-  static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "byte b of the word is p[b]");
   uint64_t v;
   std::memcpy(&v, p, sizeof v);
-  return nonzero_bits8(v);
+  return nonzero_bits8(le_order64(v));  // byte b of the word is p[b]
 }
 
 //! Calls f(i) for every i < n with flags[i] != 0, in increasing order (flags null:
@@ -38,8 +39,7 @@ inline void for_each_flagged(const uint8_t* flags, uint32_t n, F&& f) {
     uint64_t v;
     std::memcpy(&v, flags + i, sizeof v);
     if (v == 0) continue;  // the common case: one load and test for eight
-    static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "byte b of the word is flags[i + b]");
-    for (uint32_t m = nonzero_bits8(v); m != 0; m &= m - 1) f(i + static_cast<uint32_t>(__builtin_ctz(m)));
+    for (uint32_t m = nonzero_bits8(le_order64(v)); m != 0; m &= m - 1) f(i + static_cast<uint32_t>(__builtin_ctz(m)));
   }
   for (; i < n; ++i)
     if (flags[i] != 0) f(i);
