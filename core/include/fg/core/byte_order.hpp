@@ -1,7 +1,7 @@
 // Byte order. The core reads byte arrays a word at a time (flags eight per load, the
 // ingest's lane places eight per store), and files are little-endian whatever the
 // host: these helpers keep both right on big-endian targets (scripts/cross.sh builds
-// and tests one, 32-bit PowerPC), at no cost on little-endian ones.
+// and tests one, 32-bit MIPS), at no cost on little-endian ones.
 #pragma once
 #include <cstdint>
 #include <cstring>
