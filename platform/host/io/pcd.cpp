@@ -23,13 +23,12 @@
 #include "lzf.hpp"
 #include "text_parse.hpp"
 
+// Binary PCD data is little-endian (as PCL writes it on the machines it runs on), read
+// and written so on every host.
 
 namespace fg::host {
 
 namespace {
-// Binary PCD data is little-endian (as PCL writes it on the machines it runs on), read
-// so on every host.
-
 // An integer label field of 1, 2 or 4 bytes (little endian), as unsigned.
 uint32_t read_label(const uint8_t* p, uint32_t size) {
   uint32_t v = 0;
@@ -348,8 +347,10 @@ ReadResult parse_pcd_impl(const uint8_t* data, size_t size, const std::string& n
         for (int k = 0; k < 3; ++k) {
           uint8_t* b = buf.data() + block[k];
           for (uint64_t i = 0; i < points; ++i, b += 4) {
-            const float f = load_le<float>(b);
-            std::memcpy(b, &f, 4);
+            uint32_t u;
+            std::memcpy(&u, b, 4);
+            u = le_order(u);
+            std::memcpy(b, &u, 4);
           }
         }
       }

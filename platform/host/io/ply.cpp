@@ -23,7 +23,6 @@
 #include "pcd.hpp"
 #include "text_parse.hpp"
 
-
 namespace fg::host {
 
 namespace {
@@ -68,21 +67,16 @@ uint32_t scalar_size(Scalar s) {
 }
 
 // binary_little_endian on every host.
-template <typename T>
-T load(const uint8_t* p) {
-  return load_le<T>(p);
-}
-
 double read_scalar(const uint8_t* p, Scalar s) {
   switch (s) {
-    case Scalar::i8: return load<int8_t>(p);
-    case Scalar::u8: return load<uint8_t>(p);
-    case Scalar::i16: return load<int16_t>(p);
-    case Scalar::u16: return load<uint16_t>(p);
-    case Scalar::i32: return load<int32_t>(p);
-    case Scalar::u32: return load<uint32_t>(p);
-    case Scalar::f32: return static_cast<double>(load<float>(p));
-    case Scalar::f64: return load<double>(p);
+    case Scalar::i8: return load_le<int8_t>(p);
+    case Scalar::u8: return load_le<uint8_t>(p);
+    case Scalar::i16: return load_le<int16_t>(p);
+    case Scalar::u16: return load_le<uint16_t>(p);
+    case Scalar::i32: return load_le<int32_t>(p);
+    case Scalar::u32: return load_le<uint32_t>(p);
+    case Scalar::f32: return static_cast<double>(load_le<float>(p));
+    case Scalar::f64: return load_le<double>(p);
   }
   return 0;
 }
@@ -91,12 +85,12 @@ double read_scalar(const uint8_t* p, Scalar s) {
 bool read_count(const uint8_t* p, Scalar s, uint64_t& n) {
   int64_t v = 0;
   switch (s) {
-    case Scalar::i8: v = load<int8_t>(p); break;
-    case Scalar::u8: v = load<uint8_t>(p); break;
-    case Scalar::i16: v = load<int16_t>(p); break;
-    case Scalar::u16: v = load<uint16_t>(p); break;
-    case Scalar::i32: v = load<int32_t>(p); break;
-    case Scalar::u32: v = load<uint32_t>(p); break;
+    case Scalar::i8: v = load_le<int8_t>(p); break;
+    case Scalar::u8: v = load_le<uint8_t>(p); break;
+    case Scalar::i16: v = load_le<int16_t>(p); break;
+    case Scalar::u16: v = load_le<uint16_t>(p); break;
+    case Scalar::i32: v = load_le<int32_t>(p); break;
+    case Scalar::u32: v = load_le<uint32_t>(p); break;
     default: return false;  // float counts are rejected in the header
   }
   if (v < 0) return false;

@@ -16,45 +16,37 @@ static_assert(kLittleEndian || __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__, "a mixed 
 //! the native word v: v itself on little-endian targets, v byte-reversed elsewhere. Its
 //! own inverse.
 inline uint64_t le_order64(uint64_t v) { return kLittleEndian ? v : __builtin_bswap64(v); }
-inline uint32_t le_order32(uint32_t v) { return kLittleEndian ? v : __builtin_bswap32(v); }
-inline uint16_t le_order16(uint16_t v) { return kLittleEndian ? v : __builtin_bswap16(v); }
+inline uint32_t le_order(uint32_t v) { return kLittleEndian ? v : __builtin_bswap32(v); }
+inline uint16_t le_order(uint16_t v) { return kLittleEndian ? v : __builtin_bswap16(v); }
+inline uint64_t le_order(uint64_t v) { return le_order64(v); }
+inline uint8_t le_order(uint8_t v) { return v; }
+
+//! The unsigned integer as wide as T (1, 2, 4 or 8 bytes).
+template <class T>
+using SameSizeUint =
+    std::conditional_t<sizeof(T) == 1, uint8_t,
+                       std::conditional_t<sizeof(T) == 2, uint16_t, std::conditional_t<sizeof(T) == 4, uint32_t, uint64_t>>>;
 
 //! A value of T (an integer or floating type of 1, 2, 4 or 8 bytes) stored little-endian at p.
 template <class T>
 inline T load_le(const uint8_t* p) {
   static_assert(sizeof(T) == 1 || sizeof(T) == 2 || sizeof(T) == 4 || sizeof(T) == 8, "1, 2, 4 or 8 bytes");
-  if constexpr (sizeof(T) == 1 || kLittleEndian) {
-    T v;
-    std::memcpy(&v, p, sizeof v);
-    return v;
-  } else {
-    using U = std::conditional_t<sizeof(T) == 2, uint16_t, std::conditional_t<sizeof(T) == 4, uint32_t, uint64_t>>;
-    U u;
-    std::memcpy(&u, p, sizeof u);
-    if constexpr (sizeof(T) == 2) u = __builtin_bswap16(u);
-    if constexpr (sizeof(T) == 4) u = __builtin_bswap32(u);
-    if constexpr (sizeof(T) == 8) u = __builtin_bswap64(u);
-    T v;
-    std::memcpy(&v, &u, sizeof v);
-    return v;
-  }
+  SameSizeUint<T> u;
+  std::memcpy(&u, p, sizeof u);
+  u = le_order(u);
+  T v;
+  std::memcpy(&v, &u, sizeof v);
+  return v;
 }
 
 //! Stores v little-endian at p (the inverse of load_le).
 template <class T>
 inline void store_le(T v, uint8_t* p) {
   static_assert(sizeof(T) == 1 || sizeof(T) == 2 || sizeof(T) == 4 || sizeof(T) == 8, "1, 2, 4 or 8 bytes");
-  if constexpr (sizeof(T) == 1 || kLittleEndian) {
-    std::memcpy(p, &v, sizeof v);
-  } else {
-    using U = std::conditional_t<sizeof(T) == 2, uint16_t, std::conditional_t<sizeof(T) == 4, uint32_t, uint64_t>>;
-    U u;
-    std::memcpy(&u, &v, sizeof u);
-    if constexpr (sizeof(T) == 2) u = __builtin_bswap16(u);
-    if constexpr (sizeof(T) == 4) u = __builtin_bswap32(u);
-    if constexpr (sizeof(T) == 8) u = __builtin_bswap64(u);
-    std::memcpy(p, &u, sizeof u);
-  }
+  SameSizeUint<T> u;
+  std::memcpy(&u, &v, sizeof u);
+  u = le_order(u);
+  std::memcpy(p, &u, sizeof u);
 }
 
 }  // namespace fg
