@@ -51,7 +51,9 @@ Object make_small_object(Rng& rng, std::string& kind) {
     }
     default: {
       kind = "box";
-      const V3 h(rng.uniform(0.015, 0.025), rng.uniform(0.015, 0.03), rng.uniform(0.02, 0.045));
+      // Drawn z, y, x (sim_rng.hpp: one draw per full expression).
+      const double hz = rng.uniform(0.02, 0.045), hy = rng.uniform(0.015, 0.03), hx = rng.uniform(0.015, 0.025);
+      const V3 h(hx, hy, hz);
       o.parts.push_back(Part::box("body", h, at(0, 0, h.z())));
       break;
     }
@@ -234,7 +236,9 @@ Object make_object(ObjectKind kind, uint64_t rng_seed, const std::string& mesh_d
       o.parts.push_back(Part::box("body", V3(0.5 * n, 0.5 * w, 0.5 * h), at(0, 0, 0.5 * h)));
       const double rn = rng.uniform(0.013, 0.016), hn = rng.uniform(0.015, 0.02);
       o.parts.push_back(Part::cylinder("neck", rn, 0.5 * hn + 0.001, at(0, 0, h + 0.5 * hn - 0.001)));
-      const V3 head(rng.uniform(0.013, 0.016), rng.uniform(0.03, 0.04), rng.uniform(0.02, 0.025));
+      const double head_hz = rng.uniform(0.02, 0.025), head_hy = rng.uniform(0.03, 0.04),
+                   head_hx = rng.uniform(0.013, 0.016);  // drawn z, y, x (sim_rng.hpp)
+      const V3 head(head_hx, head_hy, head_hz);
       const double head_y = rng.uniform(0.01, 0.02);
       const double head_z = h + hn + head.z() - 0.001;
       o.parts.push_back(Part::box("head", head, at(0, head_y, head_z)));
@@ -257,7 +261,9 @@ Object make_object(ObjectKind kind, uint64_t rng_seed, const std::string& mesh_d
       break;
     }
     case ObjectKind::ellipsoid: {
-      const V3 s(rng.uniform(0.025, 0.038), rng.uniform(0.04, 0.07), rng.uniform(0.035, 0.08));
+      // Drawn z, y, x (sim_rng.hpp: one draw per full expression).
+      const double sz = rng.uniform(0.035, 0.08), sy = rng.uniform(0.04, 0.07), sx = rng.uniform(0.025, 0.038);
+      const V3 s(sx, sy, sz);
       o.parts.push_back(Part::ellipsoid("body", s, at(0, 0, s.z())));
       break;
     }
@@ -378,11 +384,15 @@ GeneratedScene make_scene(ObjectKind kind, uint64_t seed, const SceneOptions& op
   // Cameras.
   s.head.K = opt.intrinsics;
   s.hand.K = opt.intrinsics;
-  const V3 head_eye(rng.uniform(-0.05, 0.05), rng.uniform(-0.1, 0.1), z0 + rng.uniform(0.75, 0.9));
+  // Drawn z, y, x (sim_rng.hpp: one draw per full expression).
+  const double head_z = z0 + rng.uniform(0.75, 0.9), head_y = rng.uniform(-0.1, 0.1),
+               head_x = rng.uniform(-0.05, 0.05);
+  const V3 head_eye(head_x, head_y, head_z);
   s.head.world_T_sensor =
       look_at(head_eye, opt.head_at_workspace ? V3(opt.workspace_centre.x(), opt.workspace_centre.y(), z0) : tc);
   const double az_head = std::atan2(head_eye.y() - tc.y(), head_eye.x() - tc.x());
-  const double delta = rng.uniform(40.0, 120.0) * kDeg * (rng.chance(0.5) ? 1.0 : -1.0);
+  const double delta_size = rng.uniform(40.0, 120.0) * kDeg;
+  const double delta = delta_size * (rng.chance(0.5) ? 1.0 : -1.0);
   const double az = az_head + delta;
   const double el = rng.uniform(25.0, 60.0) * kDeg;
   const double dist = rng.uniform(0.35, 0.55);

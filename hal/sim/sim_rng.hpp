@@ -1,5 +1,11 @@
 // Host-only simulation: portable seeded random numbers (the standard distributions differ
 // between library implementations, so the conversions to doubles are our own).
+//
+// One draw per full expression: the order in which a call's arguments (or an operator's
+// operands) are evaluated is unspecified in C++, and GCC draws V3(rng.uniform(),
+// rng.uniform(), rng.uniform()) right to left on x86-64 but left to right on mips, so
+// the same seed made another scene there. The simulator's draws are named locals, in
+// the order x86-64 drew them before (the same scenes as before on the host).
 #pragma once
 #include <cmath>
 #include <cstdint>
