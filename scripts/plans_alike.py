@@ -44,7 +44,8 @@ def report(command, scene):
     except ValueError:
         return None, "exit %d, no JSON report: %s" % (out.returncode, out.stderr.strip()[:200])
     r.pop("timing_us", None)
-    return (r, out.returncode), None
+    r["exit code"] = out.returncode  # compared with the rest
+    return r, None
 
 
 def main(argv):
@@ -60,7 +61,7 @@ def main(argv):
             print("%s: %s: host %s, %s %s" % (name, scene, err_h or "ok", name, err_t or "ok"))
             different += 1
             continue
-        d = ("exit code", h[1], t[1]) if h[1] != t[1] else first_difference(h[0], t[0])
+        d = first_difference(h, t)
         if d:
             print("%s: %s plans differently: at %s host %r, %s %r" % (name, scene, d[0] or "the top", d[1], name, d[2]))
             different += 1
