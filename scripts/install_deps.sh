@@ -9,6 +9,7 @@ packages=(
   libeigen3-dev libccd-dev liburdfdom-dev
   nlohmann-json3-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  liblzf-dev  # tests only: the LZF decoder's oracle
   "$@"
 )
 missing=()
