@@ -5,10 +5,12 @@
 // the open pose) or the no_grasp answer (right iff the target fits in no direction).
 //   fg_quality [--count N] [--seed S] [--kinds a,b] [--min-rate R] [--verbose] [--sensors both|head|hand]
 //              [--spread] [--head-at-workspace] [--noise-scale F] [--table-height H]
+//              [--gripper OPENING,FINGER_WIDTH,FINGER_DEPTH]
 // --spread puts the target anywhere in the scene contract's area (x 0.3..0.7, y
 // -0.35..0.35) instead of near the workspace centre; --head-at-workspace keeps the head
 // camera looking at the workspace centre instead of at the target; --noise-scale
-// multiplies the depth noise's sigma (0: none); --table-height raises the table (m).
+// multiplies the depth noise's sigma (0: none); --table-height raises the table (m);
+// --gripper gives planner and judge another gripper (metres; the default 0.085,0.022,0.04).
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -75,6 +77,18 @@ int main(int argc, char** argv) {
       scene_opt.noise.sigma_b *= k;
       scene_opt.noise.gaussian = k > 0;
     } else if (a == "--table-height") scene_opt.table.height = std::atof(next().c_str());
+    else if (a == "--gripper") {
+      // Another gripper for both the planner and the judge (the scene contract's
+      // gripper block): max opening, finger width, finger depth in metres.
+      double m = 0, w = 0, d = 0;
+      if (std::sscanf(next().c_str(), "%lf,%lf,%lf", &m, &w, &d) != 3) {
+        std::fprintf(stderr, "--gripper: expected OPENING,FINGER_WIDTH,FINGER_DEPTH (m)\n");
+        return 2;
+      }
+      scene_opt.gripper.max_opening_m = static_cast<float>(m);
+      scene_opt.gripper.finger_width_m = static_cast<float>(w);
+      scene_opt.gripper.finger_depth_m = static_cast<float>(d);
+    }
     else if (a == "--sensors") {
       const std::string v = next();
       use_head = v == "both" || v == "head";
@@ -97,12 +111,13 @@ int main(int argc, char** argv) {
         kinds.push_back(kind);
       }
     } else {
-      std::fprintf(stderr, "usage: fg_quality [--count N] [--seed S] [--kinds a,b] [--min-rate R] [--verbose] [--set name=value] [--sensors both|head|hand] [--spread] [--head-at-workspace] [--noise-scale F] [--table-height H]\n");
+      std::fprintf(stderr, "usage: fg_quality [--count N] [--seed S] [--kinds a,b] [--min-rate R] [--verbose] [--set name=value] [--sensors both|head|hand] [--spread] [--head-at-workspace] [--noise-scale F] [--table-height H] [--gripper OPENING,FINGER_WIDTH,FINGER_DEPTH]\n");
       return 2;
     }
   }
   auto planner = std::make_unique<fg::Planner>();
   fg::PlannerConfig cfg;
+  cfg.gripper = scene_opt.gripper;
   for (const std::string& kv : sets) {
     std::string err;
     const size_t eq = kv.find('=');
