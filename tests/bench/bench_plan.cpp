@@ -203,10 +203,11 @@ void BM_IngestDepth(benchmark::State& st) {
   st.counters["voxels"] = g_planner->voxels().size();
 }
 
-void BM_WholePlan(benchmark::State& st) {
+// Ingest both clouds with `ingest_clouds`, then plan; each stage's time as a counter.
+void whole_plan(benchmark::State& st, void (*ingest_clouds)(fg::Planner&)) {
   fg::PlanResult r;
   for (auto _ : st) {
-    ingest(*g_planner);
+    ingest_clouds(*g_planner);
     benchmark::DoNotOptimize(g_planner->plan(r));
   }
   st.counters["object_points"] = r.points.object;
@@ -215,20 +216,14 @@ void BM_WholePlan(benchmark::State& st) {
     st.counters[std::string("us_") + fg::to_string(static_cast<fg::Stage>(s))] = r.stage_us[s];
 }
 
+void BM_WholePlan(benchmark::State& st) { whole_plan(st, ingest); }
+
 // The whole plan as `forcegrasp plan` runs it: each binary_compressed cloud decodes to
 // x, y and z arrays (the format stores the fields one after the other), handed over as
 // they are (add_points_planar); BM_WholePlan takes interleaved xyz triples.
 void BM_WholePlanPlanar(benchmark::State& st) {
   (void)planar_clouds();  // the conversion stays out of the timed loop
-  fg::PlanResult r;
-  for (auto _ : st) {
-    ingest_planar(*g_planner);
-    benchmark::DoNotOptimize(g_planner->plan(r));
-  }
-  st.counters["object_points"] = r.points.object;
-  st.counters["viewpoints"] = r.viewpoints;
-  for (int s = 0; s < static_cast<int>(fg::Stage::count); ++s)
-    st.counters[std::string("us_") + fg::to_string(static_cast<fg::Stage>(s))] = r.stage_us[s];
+  whole_plan(st, ingest_planar);
 }
 
 void BM_RansacPlane(benchmark::State& st) {
@@ -376,8 +371,9 @@ std::vector<LzfStream> lzf_streams() {
   return streams;
 }
 
-// The LZF decoder alone on the data of every binary_compressed cloud of the scene.
-void BM_LzfDecode(benchmark::State& st) {
+// Every binary_compressed stream of the scene decoded by `decode` in each iteration.
+using LzfDecoder = bool (*)(const LzfStream& s, uint8_t* out, std::string& err);
+void lzf_decode(benchmark::State& st, LzfDecoder decode) {
   const std::vector<LzfStream> streams = lzf_streams();
   if (streams.empty()) {
     st.SkipWithError("no binary_compressed cloud in the scene");
@@ -390,35 +386,29 @@ void BM_LzfDecode(benchmark::State& st) {
   for (auto _ : st) {
     for (const LzfStream& s : streams) {
       out.resize(s.out_size);
-      if (!fg::host::lzf::decompress(s.in.data(), s.in.size(), out.data(), out.size(), err))
-        st.SkipWithError(err.c_str());
+      if (!decode(s, out.data(), err)) st.SkipWithError(err.c_str());
       benchmark::DoNotOptimize(out.data());
     }
   }
   st.SetBytesProcessed(static_cast<int64_t>(st.iterations() * bytes_out));
 }
 
+// The project's LZF decoder alone (platform/host/io/lzf.cpp).
+void BM_LzfDecode(benchmark::State& st) {
+  lzf_decode(st, [](const LzfStream& s, uint8_t* out, std::string& err) {
+    return fg::host::lzf::decompress(s.in.data(), s.in.size(), out, s.out_size, err);
+  });
+}
+
 #if FG_HAVE_LIBLZF
 // The same streams through liblzf (Debian's liblzf-dev, the code PCL's LZF decoder was
 // copied from): the reference speed of the format's decoder.
 void BM_LzfDecodeLiblzf(benchmark::State& st) {
-  const std::vector<LzfStream> streams = lzf_streams();
-  if (streams.empty()) {
-    st.SkipWithError("no binary_compressed cloud in the scene");
-    return;
-  }
-  std::vector<uint8_t> out;
-  uint64_t bytes_out = 0;
-  for (const LzfStream& s : streams) bytes_out += s.out_size;
-  for (auto _ : st) {
-    for (const LzfStream& s : streams) {
-      out.resize(s.out_size);
-      if (lzf_decompress(s.in.data(), static_cast<unsigned>(s.in.size()), out.data(), s.out_size) != s.out_size)
-        st.SkipWithError("liblzf refused the stream");
-      benchmark::DoNotOptimize(out.data());
-    }
-  }
-  st.SetBytesProcessed(static_cast<int64_t>(st.iterations() * bytes_out));
+  lzf_decode(st, [](const LzfStream& s, uint8_t* out, std::string& err) {
+    if (lzf_decompress(s.in.data(), static_cast<unsigned>(s.in.size()), out, s.out_size) == s.out_size) return true;
+    err = "liblzf refused the stream";
+    return false;
+  });
 }
 BENCHMARK(BM_LzfDecodeLiblzf)->Unit(benchmark::kMicrosecond);
 #endif
