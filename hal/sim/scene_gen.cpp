@@ -385,7 +385,7 @@ GeneratedScene make_scene(ObjectKind kind, uint64_t seed, const SceneOptions& op
   s.head.K = opt.intrinsics;
   s.hand.K = opt.intrinsics;
   // Drawn z, y, x (sim_rng.hpp: one draw per full expression).
-  const double head_z = z0 + rng.uniform(0.75, 0.9), head_y = rng.uniform(-0.1, 0.1),
+  const double head_z = z0 + rng.uniform(opt.head_height_min, opt.head_height_max), head_y = rng.uniform(-0.1, 0.1),
                head_x = rng.uniform(-0.05, 0.05);
   const V3 head_eye(head_x, head_y, head_z);
   s.head.world_T_sensor =
@@ -394,8 +394,8 @@ GeneratedScene make_scene(ObjectKind kind, uint64_t seed, const SceneOptions& op
   const double delta_size = rng.uniform(40.0, 120.0) * kDeg;
   const double delta = delta_size * (rng.chance(0.5) ? 1.0 : -1.0);
   const double az = az_head + delta;
-  const double el = rng.uniform(25.0, 60.0) * kDeg;
-  const double dist = rng.uniform(0.35, 0.55);
+  const double el = rng.uniform(opt.hand_elevation_min_deg, opt.hand_elevation_max_deg) * kDeg;
+  const double dist = rng.uniform(opt.hand_distance_min, opt.hand_distance_max);
   const V3 hand_eye = tc + dist * V3(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
   s.hand.world_T_sensor = look_at(hand_eye, tc);
   s.head_noise_seed = splitmix64(base + 1);

@@ -65,6 +65,11 @@ struct SceneOptions {
   //! The head camera looks at the workspace centre (a head that does not turn towards the
   //! target) instead of the target's centre.
   bool head_at_workspace = false;
+  //! The head camera's height above the table (m), and the wrist camera's distance from
+  //! the target's centre (m) and elevation above the table (degrees): drawn uniformly.
+  double head_height_min = 0.75, head_height_max = 0.9;
+  double hand_distance_min = 0.35, hand_distance_max = 0.55;
+  double hand_elevation_min_deg = 25.0, hand_elevation_max_deg = 60.0;
   std::string mesh_dir = default_mesh_dir();  //!< folder of the ycb_* OBJ files
 };
 

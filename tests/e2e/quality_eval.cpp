@@ -5,12 +5,17 @@
 // the open pose) or the no_grasp answer (right iff the target fits in no direction).
 //   fg_quality [--count N] [--seed S] [--kinds a,b] [--min-rate R] [--verbose] [--sensors both|head|hand]
 //              [--spread] [--head-at-workspace] [--noise-scale F] [--table-height H]
-//              [--gripper OPENING,FINGER_WIDTH,FINGER_DEPTH]
+//              [--gripper OPENING,FINGER_WIDTH,FINGER_DEPTH] [--head-height LO,HI]
+//              [--hand-distance LO,HI] [--hand-elevation LO_DEG,HI_DEG] [--export DIR]
 // --spread puts the target anywhere in the scene contract's area (x 0.3..0.7, y
 // -0.35..0.35) instead of near the workspace centre; --head-at-workspace keeps the head
 // camera looking at the workspace centre instead of at the target; --noise-scale
 // multiplies the depth noise's sigma (0: none); --table-height raises the table (m);
-// --gripper gives planner and judge another gripper (metres; the default 0.085,0.022,0.04).
+// --gripper gives planner and judge another gripper (metres; the default 0.085,0.022,0.04);
+// --head-height, --hand-distance and --hand-elevation draw the cameras' placement from
+// other ranges (defaults 0.75,0.9 m above the table; 0.35,0.55 m from the target, 25,60
+// deg up); --export writes each scene judged wrong as DIR/<kind>-<seed>/ (scene.json,
+// head.pcd, hand.pcd, truth.json), for `forcegrasp plan --pictures`.
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -24,6 +29,7 @@
 #include "fg/core/planner.hpp"
 #include "io/config_options.hpp"
 #include "sim/pinhole.hpp"
+#include "sim/scene_export.hpp"
 #include "sim/grasp_judge.hpp"
 #include "sim/scene_gen.hpp"
 
@@ -48,6 +54,7 @@ int main(int argc, char** argv) {
   uint64_t seed = 1000;
   double min_rate = -1;
   bool verbose = false;
+  std::string export_dir;
   bool use_head = true, use_hand = true;  // --sensors: both (the default), head or hand
   std::vector<std::string> sets;
   fg::sim::SceneOptions scene_opt;
@@ -77,6 +84,19 @@ int main(int argc, char** argv) {
       scene_opt.noise.sigma_b *= k;
       scene_opt.noise.gaussian = k > 0;
     } else if (a == "--table-height") scene_opt.table.height = std::atof(next().c_str());
+    else if (a == "--export") export_dir = next();
+    else if (a == "--head-height" || a == "--hand-distance" || a == "--hand-elevation") {
+      // A range LO,HI for the cameras' placement (scene_gen.hpp SceneOptions).
+      const std::string what = a;
+      double lo = 0, hi = 0;
+      if (std::sscanf(next().c_str(), "%lf,%lf", &lo, &hi) != 2 || !(lo <= hi)) {
+        std::fprintf(stderr, "%s: expected LO,HI with LO <= HI\n", what.c_str());
+        return 2;
+      }
+      if (what == "--head-height") scene_opt.head_height_min = lo, scene_opt.head_height_max = hi;
+      else if (what == "--hand-distance") scene_opt.hand_distance_min = lo, scene_opt.hand_distance_max = hi;
+      else scene_opt.hand_elevation_min_deg = lo, scene_opt.hand_elevation_max_deg = hi;
+    }
     else if (a == "--gripper") {
       // Another gripper for both the planner and the judge (the scene contract's
       // gripper block): max opening, finger width, finger depth in metres.
@@ -111,7 +131,7 @@ int main(int argc, char** argv) {
         kinds.push_back(kind);
       }
     } else {
-      std::fprintf(stderr, "usage: fg_quality [--count N] [--seed S] [--kinds a,b] [--min-rate R] [--verbose] [--set name=value] [--sensors both|head|hand] [--spread] [--head-at-workspace] [--noise-scale F] [--table-height H] [--gripper OPENING,FINGER_WIDTH,FINGER_DEPTH]\n");
+      std::fprintf(stderr, "usage: fg_quality [--count N] [--seed S] [--kinds a,b] [--min-rate R] [--verbose] [--set name=value] [--sensors both|head|hand] [--spread] [--head-at-workspace] [--noise-scale F] [--table-height H] [--gripper OPENING,FINGER_WIDTH,FINGER_DEPTH] [--head-height LO,HI] [--hand-distance LO,HI] [--hand-elevation LO_DEG,HI_DEG] [--export DIR]\n");
       return 2;
     }
   }
@@ -170,6 +190,11 @@ int main(int argc, char** argv) {
       why = std::string("status:") + fg::to_string(st);
     }
     const std::string name = fg::sim::kind_name(kind);
+    if (!right && !export_dir.empty()) {
+      const std::string dir = export_dir + "/" + name + "-" + std::to_string(s);
+      const auto w = fg::sim::export_scene(scene, img, dir);
+      if (!w.ok) std::fprintf(stderr, "--export %s: %s\n", dir.c_str(), w.error.c_str());
+    }
     for (Tally* tl : {&by_kind[name], &all}) {
       tl->trials++;
       tl->right += right ? 1 : 0;
