@@ -70,7 +70,7 @@ void apply_override(fg::PlannerConfig& c, uint8_t index, Reader& r) {
                      &c.crop_max_z_m, &c.voxel_leaf_m, &c.plane_distance_m,
                      &c.plane_max_tilt_rad, &c.object_min_height_m, &c.workspace_centre_x_m,
                      &c.workspace_centre_y_m, &c.dtheta_rad, &c.single_sensor_arc_rad,
-                     &c.vertical_snap_rad, &c.axis_ratio_min, &c.extension_dtheta_rad,
+                     &c.vertical_snap_rad, &c.vertical_snap_round_rad, &c.axis_ratio_min, &c.extension_dtheta_rad,
                      &c.approach_view_max_rad, &c.scan_delta_m, &c.dx_threshold_m,
                      &c.width_margin_m, &c.hull_cell_m, &c.centre_weight, &c.beta_max_rad,
                      &c.contact_band_m, &c.reach_width_ratio, &c.friction_mu,

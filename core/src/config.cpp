@@ -46,6 +46,7 @@ Status validate(const PlannerConfig& c, const char** field) {
   else if (!in(c.extension_dtheta_rad, 0.0087f, 1.5708f)) bad = "extension_dtheta";
   else if (!in(c.single_sensor_arc_rad, 0.0f, 3.1416f)) bad = "single_sensor_arc";
   else if (!in(c.vertical_snap_rad, 0.0f, 1.5708f)) bad = "vertical_snap";
+  else if (!in(c.vertical_snap_round_rad, 0.0f, 1.5708f)) bad = "vertical_snap_round";
   else if (!in(c.axis_ratio_min, 1.0f, 100.f)) bad = "axis_ratio_min";
   else if (!in(c.approach_view_max_rad, 0.0f, 3.1416f)) bad = "approach_view_max";
   else if (!in(c.scan_delta_m, 0.0005f, 0.05f)) bad = "scan_delta";

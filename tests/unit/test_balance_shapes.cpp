@@ -61,6 +61,7 @@ PlannerConfig paper_config() {
   c.approach_view_max_rad = 3.14159f;
   c.axis_ratio_min = 1.f;
   c.vertical_snap_rad = 0.f;
+  c.vertical_snap_round_rad = 0.f;
   c.range_min_m = 0.f;  // identity pose: the sensor-frame depth is world z
   return c;
 }

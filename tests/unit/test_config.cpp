@@ -91,6 +91,7 @@ std::vector<FloatField> float_fields() {
       {"dtheta", FF(dtheta_rad), {kNaN, kInf, -0.087f, 0.f, 0.001f, 2.f, kHuge}, {0.01f, 0.5f}},
       {"single_sensor_arc", FF(single_sensor_arc_rad), {kNaN, kInf, -1.f, 3.2f, kHuge}, {0.f, 3.f}},
       {"vertical_snap", FF(vertical_snap_rad), {kNaN, kInf, -0.26f, 1.6f, kHuge}, {0.f, 1.f}},
+      {"vertical_snap_round", FF(vertical_snap_round_rad), {kNaN, kInf, -0.52f, 1.6f, kHuge}, {0.f, 1.f}},
       {"axis_ratio_min", FF(axis_ratio_min), {kNaN, kInf, -1.3f, 0.f, 0.5f, 200.f, kHuge}, {1.f, 10.f}},
       {"approach_view_max", FF(approach_view_max_rad), {kNaN, kInf, -0.1f, 3.2f, kHuge}, {0.f, 1.f, 3.14f}},
       {"scan_delta", FF(scan_delta_m), {kNaN, kInf, -0.002f, 0.f, 0.0001f, 0.1f, kHuge}, {0.001f, 0.01f}},

@@ -44,6 +44,8 @@ std::vector<ConfigOption> config_options(PlannerConfig& c) {
       {"extension_dtheta", "viewpoint step of the extended search (rad)", K::real, &c.extension_dtheta_rad},
       {"single_sensor_arc", "viewpoint half arc with one sensor (rad)", K::real, &c.single_sensor_arc_rad},
       {"vertical_snap", "principal axis this close to z becomes z (rad)", K::real, &c.vertical_snap_rad},
+      {"vertical_snap_round", "the same for a round body: middle eigenvalue < 6 x smallest (rad)", K::real,
+       &c.vertical_snap_round_rad},
       {"axis_ratio_min", "largest/middle eigenvalue below this: axis = z", K::real, &c.axis_ratio_min},
       {"extend_search", "search other viewpoint families when the arc fails", K::flag, &c.extend_search},
       {"approach_view_max", "approaches stay within this angle of a sensor's sight line (rad)", K::real, &c.approach_view_max_rad},

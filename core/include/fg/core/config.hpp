@@ -38,6 +38,7 @@ struct PlannerConfig {
   float dtheta_rad = 0.0872665f;     //!< 5 deg viewpoint step
   float single_sensor_arc_rad = 1.5707963f;  //!< +-90 deg with one sensor
   float vertical_snap_rad = 0.2617994f;      //!< principal axis within 15 deg of z -> z
+  float vertical_snap_round_rad = 0.5235988f;  //!< the same for a round body, within 30 deg
   float axis_ratio_min = 1.3f;       //!< largest/middle eigenvalue below this -> axis = z
   bool extend_search = true;         //!< rest of the circle + other PCA axes when the arc fails;
                                      //!< the target-fragment fall-back (docs/method.md A.6)
