@@ -34,7 +34,7 @@ constexpr float kPi = 3.14159265358979f;
 constexpr float kCornerStandOut = 0.002f;
 // The object frame: a body whose middle PCA eigenvalue is below this many times the
 // smallest is round (cans, bottles: 1.4-2.6 as seen from above) rather than a plate
-// (standing bats: 17 and more), and its axis snaps to vertical within
+// (standing bats: 16.5 and more), and its axis snaps to vertical within
 // vertical_snap_round.
 constexpr float kRoundBodyFlatness = 6.f;
 // Approaches pointing up more steeply than this come from below the object: skipped.
@@ -412,9 +412,8 @@ bool Planner::build_object_frame(Vec3 axes[3], Vec3& X0) {
   Vec3 Y = evecs.col(2);
   const float up = std::fabs(Y.z());
   const bool ill_defined = evals[2] < cfg_.axis_ratio_min * evals[1];
-  // A round body standing on the plane (a can, a bottle) seen from above shows its top
-  // and the wall one sensor faced: an L in section, whose axis leans 20-25 deg. A plate
-  // (a bat's blade: middle eigenvalue 17 or more times the smallest) leans for real.
+  // Seen from above, a round body's top and the wall one sensor faced form an L whose
+  // axis leans 20-25 deg; a plate's lean (kRoundBodyFlatness) is real.
   const bool round_body = evals[1] < kRoundBodyFlatness * evals[0];
   const float snap = round_body ? cfg_.vertical_snap_round_rad : cfg_.vertical_snap_rad;
   if (ill_defined || up > std::cos(snap)) {

@@ -87,14 +87,13 @@ int main(int argc, char** argv) {
     else if (a == "--export") export_dir = next();
     else if (a == "--head-height" || a == "--hand-distance" || a == "--hand-elevation") {
       // A range LO,HI for the cameras' placement (scene_gen.hpp SceneOptions).
-      const std::string what = a;
       double lo = 0, hi = 0;
       if (std::sscanf(next().c_str(), "%lf,%lf", &lo, &hi) != 2 || !(lo <= hi)) {
-        std::fprintf(stderr, "%s: expected LO,HI with LO <= HI\n", what.c_str());
+        std::fprintf(stderr, "%s: expected LO,HI with LO <= HI\n", a.c_str());
         return 2;
       }
-      if (what == "--head-height") scene_opt.head_height_min = lo, scene_opt.head_height_max = hi;
-      else if (what == "--hand-distance") scene_opt.hand_distance_min = lo, scene_opt.hand_distance_max = hi;
+      if (a == "--head-height") scene_opt.head_height_min = lo, scene_opt.head_height_max = hi;
+      else if (a == "--hand-distance") scene_opt.hand_distance_min = lo, scene_opt.hand_distance_max = hi;
       else scene_opt.hand_elevation_min_deg = lo, scene_opt.hand_elevation_max_deg = hi;
     }
     else if (a == "--gripper") {
