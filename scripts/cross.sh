@@ -12,17 +12,19 @@
 # Run as root (or with sudo available) on Debian 12.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+# Minutes since this script started, on each stage line.
+stage() { echo "== [cross.sh $(( SECONDS / 60 )) min $(( SECONDS % 60 )) s] $*"; }
 bash scripts/install_deps.sh \
   g++-aarch64-linux-gnu g++-mips-linux-gnu qemu-user googletest \
   gcc-arm-none-eabi binutils-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib \
   qemu-system-arm
 
-echo "== aarch64 preset (cross-built, tests under qemu-aarch64)"
+stage "aarch64 preset (cross-built, tests under qemu-aarch64)"
 cmake --preset aarch64 >/dev/null
 cmake --build --preset aarch64 -j "$(nproc)"
 ctest --preset aarch64 -j "$(nproc)"
 
-echo "== aarch64 and host plan alike"
+stage "aarch64 and host plan alike"
 # The host program from build/host-release (in CI already built by scripts/test.sh), or
 # from the build folder FG_HOST_BUILD names.
 host_build=${FG_HOST_BUILD:-build/host-release}
@@ -43,7 +45,7 @@ scenes=(examples/two-sensor-box/scene.json "$scenes_dir"/*/scene.json)
 python3 scripts/plans_alike.py aarch64 "$host_fg" \
   "qemu-aarch64 -L /usr/aarch64-linux-gnu build/aarch64/platform/host/cli/forcegrasp" "${scenes[@]}"
 
-echo "== mips preset (32-bit big-endian, cross-built, tests under qemu-mips)"
+stage "mips preset (32-bit big-endian, cross-built, tests under qemu-mips)"
 cmake --preset mips >/dev/null
 cmake --build --preset mips -j "$(nproc)"
 # Byte order reaches the readers, the voxel grid, the flags read eight at a time and
@@ -60,11 +62,11 @@ ctest --preset mips -j "$(nproc)" -E "$(tr -d ' \n' <<'RE'
 ^SegmentBox\.AgreesWithDenseSampling$|^SimMesh\.YcbKindsRestOnTheTableAndRender$
 RE
 )"
-echo "== mips and host plan alike"
+stage "mips and host plan alike"
 python3 scripts/plans_alike.py mips "$host_fg" \
   "qemu-mips -L /usr/mips-linux-gnu build/mips/platform/host/cli/forcegrasp" "${scenes[@]}"
 
-echo "== cortex-m7 preset (bare-metal image, run under qemu-system-arm -M mps2-an500)"
+stage "cortex-m7 preset (bare-metal image, run under qemu-system-arm -M mps2-an500)"
 cmake --preset cortex-m7 >/dev/null
 cmake --build --preset cortex-m7 -j "$(nproc)"
 ctest --preset cortex-m7
