@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "circle_fit.hpp"
 #include "fg/core/eigen_sym3.hpp"
 #include "fg/core/gjk.hpp"
 #include "fg/core/near_list.hpp"
@@ -613,21 +614,13 @@ bool Planner::round_front_clears_blind_side(const Vec3& pos, const ViewFrame& f,
   if (m < kRoundMinBins || xhi - xlo < kRoundMinSpan) return true;
   mx /= m;
   mz /= m;
-  // x^2 + z^2 + D x + E z + F = 0 in the least-squares sense: normal equations a s = r
-  // (Eigen's closed-form 3x3 determinant and inverse: fixed size, no heap).
-  Eigen::Matrix3d a = Eigen::Matrix3d::Zero();
-  Eigen::Vector3d r = Eigen::Vector3d::Zero();
-  for (int b = 0; b < nb; ++b) {
-    if (front_z[b] > 1e8f) continue;
-    const Eigen::Vector3d v(front_x[b] - mx, front_z[b] - mz, 1.0);
-    a += v * v.transpose();
-    r -= (v[0] * v[0] + v[1] * v[1]) * v;
-  }
-  if (!(std::fabs(a.determinant()) > 1e-18)) return true;  // collinear bins: a flat front
-  const Eigen::Vector3d sol = a.inverse() * r;
-  const double xc = -0.5 * sol[0], zc = -0.5 * sol[1], rr = xc * xc + zc * zc - sol[2];
+  CircleFit fit;
+  for (int b = 0; b < nb; ++b)
+    if (front_z[b] <= 1e8f) fit.add(front_x[b] - mx, front_z[b] - mz);
+  double xc, zc, rr;
+  if (!fit.solve(xc, zc, rr)) return true;  // collinear bins: a flat front
   // The centre must lie behind the front (convex towards the gripper).
-  if (!(rr > 0.0) || !(zc > 0.0)) return true;
+  if (!(zc > 0.0)) return true;
   const double radius = std::sqrt(rr);
   double ss = 0.0;
   for (int b = 0; b < nb; ++b) {
