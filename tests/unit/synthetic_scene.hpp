@@ -1,6 +1,7 @@
 // Synthetic world-frame scenes shared by the planner tests: a table top at z = 0 and
 // boxes standing on it, sampled with a seeded jitter (the draw order is part of each
-// test's scene).
+// test's scene); and an upright can's wall as a camera in front of it sees it,
+// noise-free.
 #pragma once
 #include <cmath>
 #include <random>
@@ -41,6 +42,22 @@ inline void add_box(std::vector<fg::Vec3>& pts, std::mt19937& rng, float cx, flo
   face(lo + Y, X, Z);      // y = max
   face(lo, Y, Z);          // x = min
   face(lo + X, Y, Z);      // x = max
+}
+
+// The wall of an upright can (radius r, height h, centre (cx, cy)) within `half` (rad)
+// of -x, the part a camera in front of it sees before its rays graze the rest: arcs one
+// `step` apart, rows one `step` apart from z = 0 to h, noise-free (double precision).
+inline void add_can_wall_facing_minus_x(std::vector<fg::Vec3>& pts, double cx, double cy, double r, double h,
+                                        double half, double step) {
+  constexpr double kPi = 3.14159265358979;
+  const int nz = static_cast<int>(std::lround(h / step));
+  const int na = static_cast<int>(std::lround(2.0 * half * r / step));
+  for (int k = 0; k <= na; ++k) {
+    const double a = kPi - half + 2.0 * half * k / na;
+    for (int j = 0; j <= nz; ++j)
+      pts.push_back(fg::Vec3(static_cast<float>(cx + r * std::cos(a)), static_cast<float>(cy + r * std::sin(a)),
+                             static_cast<float>(h * j / nz)));
+  }
 }
 
 }  // namespace fg::test

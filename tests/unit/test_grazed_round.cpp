@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "fg/core/planner.hpp"
+#include "synthetic_scene.hpp"
 
 namespace {
 
@@ -36,12 +37,7 @@ std::vector<Vec3> can_seen_from_the_front(double cx, double r, double h, double 
   for (double x = 0.3; x <= 0.7; x += kStep)
     for (double y = -0.2; y <= 0.2; y += kStep)
       if (std::hypot(x - cx, y) > r && !(x > cx && std::fabs(y) < r)) pts.push_back(v3(x, y, 0.0));
-  const int nz = static_cast<int>(std::lround(h / kStep));
-  const int na = static_cast<int>(std::lround(2.0 * half * r / kStep));
-  for (int k = 0; k <= na; ++k) {
-    const double a = kPi - half + 2.0 * half * k / na;
-    for (int j = 0; j <= nz; ++j) pts.push_back(v3(cx + r * std::cos(a), r * std::sin(a), h * j / nz));
-  }
+  fg::test::add_can_wall_facing_minus_x(pts, cx, 0.0, r, h, half, kStep);
   return pts;
 }
 

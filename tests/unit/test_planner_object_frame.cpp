@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "fg/core/planner.hpp"
+#include "synthetic_scene.hpp"
 
 namespace {
 
@@ -42,12 +43,7 @@ void add_table(std::vector<Vec3>& pts, double cx, double cy, double hole) {
 std::vector<Vec3> can_seen_from_above(double cx, double cy, double r, double h, double half) {
   std::vector<Vec3> pts;
   add_table(pts, cx, cy, r);
-  const int nz = static_cast<int>(std::lround(h / kStep));
-  const int na = static_cast<int>(std::lround(2.0 * half * r / kStep));
-  for (int k = 0; k <= na; ++k) {
-    const double a = kPi - half + 2.0 * half * k / na;
-    for (int j = 0; j <= nz; ++j) pts.push_back(v3(cx + r * std::cos(a), cy + r * std::sin(a), h * j / nz));
-  }
+  fg::test::add_can_wall_facing_minus_x(pts, cx, cy, r, h, half, kStep);
   for (double x = -r; x <= r; x += kStep)
     for (double y = -r; y <= r; y += kStep)
       if (x * x + y * y < r * r) pts.push_back(v3(cx + x, cy + y, h));
