@@ -47,6 +47,14 @@ constexpr uint32_t kThinSeenFree = 10;
 // line (a cylinder across its axis). A curved seen side tilted more is a chord across a
 // round body, whose unseen end bulges into the open finger.
 constexpr float kBlindMirrorTiltCos = 0.978f;  // 12 deg
+// A blind side's top goes on past its band (top_goes_on_past) when at least
+// kTopBeyondMin level points at its height (within a voxel) lie from kTopGap voxels to
+// kTopBeyond beyond the band's edge, along a closing direction at least kTopAlongMin
+// off the plane's normal.
+constexpr float kTopAlongMin = 0.3f;
+constexpr float kTopGap = 2.f;
+constexpr float kTopBeyond = 0.02f;
+constexpr uint32_t kTopBeyondMin = 3;
 // The round front beside a blind side (round_front_clears_blind_side): at most this many
 // profile bins across the open gripper; a circle fitted to them is trusted within this
 // rms distance, for radii in this range, and when it bends by at least kRoundSagitta
@@ -563,13 +571,59 @@ bool Planner::blind_side_mirrors_seen(const Vec3& pos, const ViewFrame& f, float
   }
   if (!blind[0] && !blind[1]) return true;
   if (blind[0] && blind[1]) return false;
-  if (!round_front_clears_blind_side(pos, f, blind[0] ? 0 : 1)) return false;
+  const int blind_side = blind[0] ? 0 : 1;
+  if (st.level[blind_side] > 0u && top_goes_on_past(pos, f, width, blind_side)) return false;
+  if (!round_front_clears_blind_side(pos, f, blind_side)) return false;
   float omc[2];
   bool valid[2], flat[2];
   float near_face[2], edge_face[2];
   contact_tilt(pos, f, omc, valid, flat, near_face, edge_face);
   const int seen = blind[0] ? 1 : 0;
   return valid[seen] && (flat[seen] || omc[seen] <= 1.f - kBlindMirrorTiltCos);
+}
+
+// A blind side whose band holds a top (normals along the support plane's) mirrors the
+// seen side only where that top ends at the band: a top the sensors saw going on past
+// it, along the closing direction laid on the plane, says the body goes on too, and the
+// blind side is its unseen inside, not a wall the pad meets. A closing tilted off level
+// across a wide box's corner (trial 1700333 of `further`, 18 deg) left the top through
+// the box's unseen upper side: the band there held the top's last points and a 29 mm
+// "slab", and the open finger went 9 mm into the box.
+bool Planner::top_goes_on_past(const Vec3& pos, const ViewFrame& f, float width, int side) {
+  if (!plane_found_) return false;
+  const GripperGeometry& g = cfg_.gripper;
+  const Vec3 up = plane_.n.normalized();
+  Vec3 u = f.X - up * f.X.dot(up);
+  if (!(u.norm() > kTopAlongMin)) return false;  // closing along the plane's normal
+  u = u.normalized() * (side == 0 ? -1.f : 1.f);
+  const Vec3 v = up.cross(u);
+  const uint32_t n = object_.size();
+  // The band's top: its highest level point, and how far out along u its level points go.
+  float top = -1e9f, edge = -1e9f;
+  for (uint32_t i = 0; i < n; ++i) {
+    const Vec3 d = object_[i] - pos;
+    const float x = f.X.dot(d), y = f.Y.dot(d), z = f.Z.dot(d);
+    if (std::fabs(y) > 0.5f * g.finger_width_m || std::fabs(z) > 0.5f * g.finger_depth_m) continue;
+    if (side == 0 ? x > -0.5f * width + cfg_.contact_band_m : x < 0.5f * width - cfg_.contact_band_m) continue;
+    Vec3 nrm;
+    if (!normal_at(i, nrm) || std::fabs(nrm.dot(up)) <= kFrontFacingCos) continue;
+    top = std::max(top, plane_.height(object_[i]));
+    edge = std::max(edge, u.dot(d));
+  }
+  if (!(top > -1e8f)) return false;
+  // The same top beyond that edge, in a corridor of the pads' width.
+  const float leaf = cfg_.voxel_leaf_m;
+  const float from = edge + kTopGap * leaf, to = from + kTopBeyond;
+  uint32_t beyond = 0;
+  for (uint32_t i = 0; i < n && beyond < kTopBeyondMin; ++i) {
+    const Vec3 d = object_[i] - pos;
+    const float a = u.dot(d);
+    if (a < from || a > to || std::fabs(v.dot(d)) > 0.5f * g.finger_width_m) continue;
+    if (std::fabs(plane_.height(object_[i]) - top) > leaf) continue;
+    Vec3 nrm;
+    if (normal_at(i, nrm) && std::fabs(nrm.dot(up)) > kFrontFacingCos) ++beyond;
+  }
+  return beyond >= kTopBeyondMin;
 }
 
 // The mirror above reads a round body's chord as a whole body: the seen side is where

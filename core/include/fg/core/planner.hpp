@@ -260,6 +260,7 @@ class Planner {
   bool unseen_side_clear(const Vec3& pos, const ViewFrame& f, int side);
   bool blind_side_mirrors_seen(const Vec3& pos, const ViewFrame& f, float width, uint32_t hidden_sides);
   bool round_front_clears_blind_side(const Vec3& pos, const ViewFrame& f, int blind_side);
+  bool top_goes_on_past(const Vec3& pos, const ViewFrame& f, float width, int side);
   int visibility(const Vec3& q) const;
   bool normal_at(uint32_t object_index, Vec3& n);
   bool normal_planar(uint32_t object_index) const;  //!< after normal_at returned true
