@@ -69,6 +69,9 @@ constexpr double kRoundSagitta = 0.003;
 // Both pads reach the target by their tips alone and show at most this many contact
 // normals between them: nothing says they hold (friction_ok).
 constexpr uint32_t kTipOnlyNormals = 2;
+// Off straight down, a pad whose contact normals are all off the cone fails unless the
+// other pad shows at least this many (friction_ok).
+constexpr uint32_t kVouchNormals = 3;
 // Straight down: an approach within 5 deg (half the extension families' 10 deg step) of
 // the support plane's downward normal.
 constexpr float kTopDownCos = 0.9962f;
@@ -1014,10 +1017,13 @@ bool Planner::friction_ok(const Vec3& pos, const ViewFrame& f, float width) {
     // few contact normals to overrule the fit leave its verdict standing.
     if (valid[s] && st.total[s] < 3 && st.z_first[s] > tip) return false;
     if (st.total[s] >= 3 && !third_inside(s)) return false;
-    // The grasp's only contact normals, at least two on this pad (the other pad shows
-    // none), all off the cone: the one evidence there is says the pads slip, and
-    // nothing says otherwise (a tilted closing across a wide box's top edge).
-    if (st.total[s] >= 2 && st.inside_cone[s] == 0 && st.total[1 - s] == 0) return false;
+    // At least two contact normals on this pad, all off the cone, and nothing that
+    // says otherwise: the other pad shows none (a tilted closing across a wide box's
+    // top edge) or, off straight down, fewer than kVouchNormals, too few to vouch for
+    // this one (the scissors 4001979, 55 deg outside the cone on the true mesh).
+    // Straight down the other pad must show none: there a small top's rim bends both
+    // pads' normals (a mustard bottle's cap, 2100201, held with 2 and 1 off the cone).
+    if (st.total[s] >= 2 && st.inside_cone[s] == 0 && st.total[1 - s] < (down ? 1u : kVouchNormals)) return false;
   }
   return true;
 }
