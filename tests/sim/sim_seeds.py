@@ -11,6 +11,8 @@
       per seed successes; targets that fit; targets too wide and the trials that failed them.
   sim_seeds.py compare BASE_DIR NEW_DIR
       every trial whose verdict changed, and the totals of both.
+  sim_seeds.py kinds DIR [DIR ...]
+      per kind over all the runs given: right of trials (not for a blind run).
 
 Trial i of a seed S runs seed S + i on kind i modulo the number of kinds; `forcegrasp sim
 --objects KIND --trials 1 --seed S+i` reproduces it alone (with --pictures / --export to look at it).
@@ -107,6 +109,20 @@ def compare(base_dir, new_dir):
         summary(d)
 
 
+def kinds(dirs):
+    """Per kind over the runs in every dir: trials, right, rate (the README's table)."""
+    rows = {}
+    for d in dirs:
+        if is_blind(d):
+            sys.exit(f"sim_seeds.py: {d} is a blind run: its totals only")
+        for trials in load(d).values():
+            for t in trials:
+                n, ok = rows.get(t["kind"], (0, 0))
+                rows[t["kind"]] = (n + 1, ok + t["success"])
+    for kind, (n, ok) in sorted(rows.items()):
+        print(f"{kind:22} {ok:5}/{n:<5} {100.0 * ok / n:5.1f}%")
+
+
 def run(binary, out_dir, seeds, jobs, trials, blind, objects):
     os.makedirs(out_dir, exist_ok=True)
     if blind:
@@ -141,6 +157,8 @@ def main():
     c = sub.add_parser("compare")
     c.add_argument("base_dir")
     c.add_argument("new_dir")
+    k = sub.add_parser("kinds")
+    k.add_argument("dirs", nargs="+")
     a = p.parse_args()
     if a.cmd == "run":
         seeds = SEED_SETS.get(a.seeds) or [int(x) for x in a.seeds.split(",")]
@@ -149,6 +167,8 @@ def main():
         run(a.forcegrasp, a.out_dir, seeds, a.jobs, trials, a.seeds == "blind", objects)
     elif a.cmd == "summary":
         summary(a.dir)
+    elif a.cmd == "kinds":
+        kinds(a.dirs)
     else:
         compare(a.base_dir, a.new_dir)
 
