@@ -69,6 +69,9 @@ constexpr double kRoundSagitta = 0.003;
 // Both pads reach the target by their tips alone and show at most this many contact
 // normals between them: nothing says they hold (friction_ok).
 constexpr uint32_t kTipOnlyNormals = 2;
+// Both pads overlap the target by less than this many voxels along the approach: with
+// at most kTipOnlyNormals contact normals, all off the cone, they fail (friction_ok).
+constexpr float kShallowLeaves = 2.f;
 // Off straight down, a pad whose contact normals are all off the cone fails unless the
 // other pad shows at least this many (friction_ok).
 constexpr uint32_t kVouchNormals = 3;
@@ -1025,6 +1028,17 @@ bool Planner::friction_ok(const Vec3& pos, const ViewFrame& f, float width) {
     // pads' normals (a mustard bottle's cap, 2100201, held with 2 and 1 off the cone).
     if (st.total[s] >= 2 && st.inside_cone[s] == 0 && st.total[1 - s] < (down ? 1u : kVouchNormals)) return false;
   }
+  // Both pads on the target by less than kShallowLeaves voxels (deeper than their tips
+  // alone, above) and the grasp's only contact normals, 1 or 2, off the cone with no
+  // tilt fit inside it: what little evidence there is says the pads slip (the scissors
+  // 3001295, closed 15 mm across a part 18 mm high, one normal, 27 deg outside the cone
+  // on the true mesh).
+  const float shallow = 0.5f * cfg_.gripper.finger_depth_m - kShallowLeaves * cfg_.voxel_leaf_m;
+  const uint32_t normals = st.total[0] + st.total[1];
+  const bool fit_inside = (valid[0] && omc[0] <= 1.f - cos_cone) || (valid[1] && omc[1] <= 1.f - cos_cone);
+  if (st.z_first[0] > shallow && st.z_first[1] > shallow && normals > 0 && normals <= kTipOnlyNormals &&
+      st.inside_cone[0] + st.inside_cone[1] == 0 && !fit_inside)
+    return false;
   return true;
 }
 
