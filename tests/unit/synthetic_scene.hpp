@@ -11,6 +11,13 @@
 
 namespace fg::test {
 
+constexpr double kPi = 3.14159265358979;
+
+// A point from double coordinates (the constructed scenes are laid out in double).
+inline fg::Vec3 v3(double x, double y, double z) {
+  return fg::Vec3(static_cast<float>(x), static_cast<float>(y), static_cast<float>(z));
+}
+
 // A 0.8 x 0.8 table top centred at (0.5, 0) at z = 0, sampled every `step` with a
 // small jitter, leaving out the footprint [x0, x1] x [y0, y1] (hidden under an object).
 inline void add_table(std::vector<fg::Vec3>& pts, std::mt19937& rng, float step, float x0 = 1, float x1 = 0, float y0 = 1,
@@ -49,7 +56,6 @@ inline void add_box(std::vector<fg::Vec3>& pts, std::mt19937& rng, float cx, flo
 // `step` apart, rows one `step` apart from z = 0 to h, noise-free (double precision).
 inline void add_can_wall_facing_minus_x(std::vector<fg::Vec3>& pts, double cx, double cy, double r, double h,
                                         double half, double step) {
-  constexpr double kPi = 3.14159265358979;
   const int nz = static_cast<int>(std::lround(h / step));
   const int na = static_cast<int>(std::lround(2.0 * half * r / step));
   for (int k = 0; k <= na; ++k) {

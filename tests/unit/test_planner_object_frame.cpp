@@ -20,13 +20,10 @@ using fg::Pose;
 using fg::SensorRole;
 using fg::Status;
 using fg::Vec3;
+using fg::test::kPi;
+using fg::test::v3;
 
 constexpr double kStep = 0.002;
-constexpr double kPi = 3.14159265358979;
-
-Vec3 v3(double x, double y, double z) {
-  return Vec3(static_cast<float>(x), static_cast<float>(y), static_cast<float>(z));
-}
 
 // The table around (0.5, 0), without the points within `hole` of (cx, cy).
 void add_table(std::vector<Vec3>& pts, double cx, double cy, double hole) {
