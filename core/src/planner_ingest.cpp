@@ -21,10 +21,7 @@ Status Planner::configure(const PlannerConfig& cfg, const char** field) {
 }
 
 void Planner::reset() {
-  for (uint32_t i = 0; i < kMaxSensors; ++i) {
-    role_added_[i] = false;
-    sensor_origin_[i] = Vec3::Zero();
-  }
+  sensors_.clear();
   counts_ = PointCounts{};
   ingest_us_ = 0;
   overflow_ = false;
@@ -43,9 +40,9 @@ void Planner::reset() {
   }
   crop_used_ = CropUsed{crop_min.x(), crop_min.y(), crop_max.x(), crop_max.y(), 0u, 0u};
   object_.clear();
-  plane_found_ = false;
-  n_views_ = 0;
-  n_candidates_ = 0;
+  support_ = SupportPlane{};
+  views_.n = 0;
+  candidates_.n = 0;
   chosen_view_ = -1;
   message_ = "";
 }
@@ -77,7 +74,7 @@ Status Planner::ingest_begin(SensorRole role, const Pose& world_T_sensor) {
     message_ = "unknown sensor role";
     return Status::invalid_sensor;
   }
-  if (role_added_[r]) {
+  if (sensors_.added[r]) {
     message_ = "this sensor role was already added since reset()";
     return Status::invalid_sensor;
   }
@@ -87,10 +84,7 @@ Status Planner::ingest_begin(SensorRole role, const Pose& world_T_sensor) {
   }
   const Status s = check_pose(world_T_sensor);
   if (s != Status::ok) return s;
-  role_added_[r] = true;
-  sensor_origin_[r] = world_T_sensor.t;
-  sensor_pose_[r] = world_T_sensor;
-  for (uint32_t i = 0; i < kSightBins * kSightBins; ++i) sight_mm_[r][i] = 0xFFFFu;
+  sensors_.begin(r, world_T_sensor);
   return Status::ok;
 }
 
@@ -262,7 +256,7 @@ Status Planner::add_coordinates(SensorRole role, const uint8_t* const base[3], u
   if (s != Status::ok) return s;
   const uint64_t t0 = platform::monotonic_us();
   ingest::State in;
-  make_ingest(in, world_T_sensor, cfg_, grid_, crop_lo_cells_, crop_hi_cells_, sight_mm_[static_cast<uint32_t>(role)]);
+  make_ingest(in, world_T_sensor, cfg_, grid_, crop_lo_cells_, crop_hi_cells_, sensors_.sight_mm[static_cast<uint32_t>(role)]);
   Status st = Status::ok;
   const uint8_t *bx = base[0], *by = base[1], *bz = base[2];
   // x, y and z arrays are read in place; other strides are gathered into a block.
@@ -309,7 +303,7 @@ Status Planner::add_depth_image(SensorRole role, const uint16_t* depth_mm, uint1
   if (s != Status::ok) return s;
   const uint64_t t0 = platform::monotonic_us();
   ingest::State in;
-  make_ingest(in, world_T_sensor, cfg_, grid_, crop_lo_cells_, crop_hi_cells_, sight_mm_[static_cast<uint32_t>(role)]);
+  make_ingest(in, world_T_sensor, cfg_, grid_, crop_lo_cells_, crop_hi_cells_, sensors_.sight_mm[static_cast<uint32_t>(role)]);
   Status st = Status::ok;
   const float ifx = 1.f / k.fx, ify = 1.f / k.fy;
   Block blk;

@@ -1,4 +1,4 @@
-// Planner: a round body whose flanks the sensor saw only up to a grazing angle
+// Stage F, a candidate repaired: a round body whose flanks the sensor saw only up to a grazing angle
 // (docs/method.md, check 5's round flanks). A depth sensor drops the pixels where its
 // rays graze a surface, so across its own line of sight a can or a bottle shows its
 // flanks only up to about 45-55 deg from the view: the last points seen on each side
@@ -21,8 +21,8 @@
 // beyond each seen edge, out to its tangent, was not seen empty by any sensor.
 #include <cmath>
 
-#include "circle_fit.hpp"
-#include "fg/core/planner.hpp"
+#include "../circle_fit.hpp"
+#include "fg/core/pipeline/grasp_checks.hpp"
 
 namespace fg {
 namespace {
@@ -51,7 +51,7 @@ constexpr float kReachMargin = 0.003f;
 constexpr float kTipTiltMargin = 0.17f;  // 10 deg
 }  // namespace
 
-bool Planner::grazed_round_body(const Candidate& c, Candidate& round) {
+bool GraspChecks::grazed_round_body(const Candidate& c, Candidate& round) {
   if (!cfg_.round_flanks) return false;
   const GripperGeometry& g = cfg_.gripper;
   const Vec3 X = c.X.normalized(), Y = c.Y.normalized(), Z = c.Z.normalized();

@@ -1,18 +1,35 @@
-// Planner: the executability checks of a ranked candidate (algorithm.md F and G,
-// docs/method.md): support plane, collision, the target's local hull, visibility and
-// the friction cone of the contact normals.
+// Stage F: the checks of one candidate grasp (grasp_checks.hpp; algorithm.md F and G,
+// docs/method.md): support plane, swept collision, the target's local hull and the
+// space under it, visibility and the friction cone of the contact normals.
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
-#include "circle_fit.hpp"
+#include "../circle_fit.hpp"
 #include "fg/core/eigen_sym3.hpp"
 #include "fg/core/gjk.hpp"
 #include "fg/core/near_list.hpp"
-#include "fg/core/planner.hpp"
+#include "fg/core/pipeline/grasp_checks.hpp"
 #include "fg/core/segment_box.hpp"
 
 namespace fg {
+
+const char* to_string(CheckId id) {
+  switch (id) {
+    case CheckId::support_plane: return "support_plane";
+    case CheckId::swept_collision: return "swept_collision";
+    case CheckId::local_hull: return "local_hull";
+    case CheckId::under_target: return "under_target";
+    case CheckId::unknown_space: return "unknown_space";
+    case CheckId::unseen_side: return "unseen_side";
+    case CheckId::friction_cone: return "friction_cone";
+    case CheckId::robot_collision: return "robot_collision";
+    case CheckId::robot_reach: return "robot_reach";
+    case CheckId::count: break;
+  }
+  return "unknown";
+}
+
 namespace {
 // Normals within 30 deg of the approach belong to surfaces facing the gripper.
 constexpr float kFrontFacingCos = 0.866f;
@@ -125,8 +142,6 @@ constexpr int kBestFace = 3;
 constexpr float kTipReach = 0.006f;
 // The largest turn of the closing direction towards the contact normals (rad).
 constexpr float kMaxClosingTurn = 0.6f;
-// Smaller turns are not worth a second check of a grasp that passes (rad).
-constexpr float kMarginTurn = 0.05f;
 }  // namespace
 
 namespace {
@@ -151,7 +166,8 @@ void gripper_boxes(const PlannerConfig& cfg, Box out[3]) {
 // a coarse grid over the cube around that sphere (in the idle per-view memory): the
 // collision check then reads only the cells under each box, instead of every voxel of
 // the scene.
-void Planner::build_near_list(uint32_t* storage) {
+void GraspChecks::begin_target(uint32_t* storage, uint32_t* tables) {
+  for (uint32_t i = 0; i < object_.size(); ++i) normal_state_[i] = 0;
   near_ = storage;
   n_near_ = 0;
   Vec3 lo = object_[0], hi = object_[0];
@@ -178,17 +194,15 @@ void Planner::build_near_list(uint32_t* storage) {
   while (cell_bits < kNearCellBits && (1u << cell_bits) < n_near_) ++cell_bits;
   const NearGrid g = NearGrid::around(near_centre_, r, cell_bits);
   for (uint32_t k = 0; k < n_near_; ++k) near_[k] |= g.cell_of(centroids[near_[k]]) << kNearIndexBits;
-  sort_by_cell(near_, n_near_, kNearIndexBits, cell_bits, near_tables_, near_tables_ + (1u << kNearCellBits));
+  sort_by_cell(near_, n_near_, kNearIndexBits, cell_bits, tables, tables + (1u << kNearCellBits));
   near_grid_ = g;
 }
 
-// The checks in order; returns 0 when all pass, else the number of the first failing
-// one: 1 support plane, 2 collision, 3 local hull or under the target, 4 visibility,
-// 5 friction, 7 a finger partly in hidden space or a cap's lower fingertip in it (only
-// while first_pass_ is set). A pad
-// whose edge meets a surface beside it (Candidate::corners_clear) is deferred by
-// rank_and_check unchecked.
-int Planner::first_failed_check(const Candidate& c) {
+// The checks in order, up to the first that fails or, in the first pass, defers the
+// candidate: a finger partly in hidden space, or a cap's lower fingertip in it. A pad
+// whose edge meets a surface beside it (Candidate::corners_clear) is deferred by the
+// selection unchecked.
+CheckVerdict GraspChecks::evaluate(const Candidate& c, bool first_pass) {
   const ViewFrame f{c.X, c.Y, c.Z};
   Box boxes[3];
   gripper_boxes(cfg_, boxes);
@@ -197,7 +211,7 @@ int Planner::first_failed_check(const Candidate& c) {
     for (int k = 0; k < 8; ++k) {
       const Vec3 p = c.position + f.X * ((k & 1) ? b.x1 : b.x0) + f.Y * ((k & 2) ? b.y1 : b.y0) +
                      f.Z * ((k & 4) ? b.z1 : b.z0);
-      if (plane_.height(p) < cfg_.table_clearance_m - 1e-4f) return 1;
+      if (support_.plane.height(p) < cfg_.table_clearance_m - 1e-4f) return CheckVerdict::fail(CheckId::support_plane);
     }
   // Every voxel that is not table (the target and its neighbours) stays out of the
   // boxes: those of the near list when the candidate lies where that list assumes.
@@ -209,103 +223,45 @@ int Planner::first_failed_check(const Candidate& c) {
     // Entries of voxels since removed are skipped (state 0, kVoxelRemoved).
     for (const Box& b : boxes)
       if (near_list_hits(near_, n_near_, kNearIndexBits, near_grid_, centroids, state_, c.position, axes, b, tol))
-        return 2;
+        return CheckVerdict::fail(CheckId::swept_collision);
   } else {
     for (uint32_t i = 0; i < grid_.size(); ++i) {
       if (state_[i] == kVoxelRemoved) continue;
       const Vec3 d = centroids[i] - c.position;
       const float x = f.X.dot(d), y = f.Y.dot(d), z = f.Z.dot(d);
       for (const Box& b : boxes)
-        if (b.holds(x, y, z, tol)) return 2;
+        if (b.holds(x, y, z, tol)) return CheckVerdict::fail(CheckId::swept_collision);
     }
   }
   // The fingers at the open pose stay out of the target's local convex hull: surface
   // points alone miss a finger that would sit inside the solid (a cap grasp on a big
   // sphere), and the hull of the points around the hand fills in the unseen interior.
-  if (!fingers_clear_of_hull(c.position, f)) return 3;
-  if (!fingers_clear_of_footprint(c.position, f, c.width)) return 3;
+  if (!fingers_clear_of_hull(c.position, f)) return CheckVerdict::fail(CheckId::local_hull);
+  if (!fingers_clear_of_footprint(c.position, f, c.width)) return CheckVerdict::fail(CheckId::under_target);
   // The open fingers must not sit in space the sensors saw only from behind a surface;
-  // while first_pass_ is set, a finger with a few hidden samples waits too (7).
+  // in the first pass, a finger with a few hidden samples waits.
   uint32_t hidden_sides = 0;
   const int sight = fingers_in_seen_space(c.position, f, c.width, hidden_sides);
-  if (sight == 2) return 4;
-  if (sight == 1 && first_pass_) return 7;
+  if (sight == 2) return CheckVerdict::fail(CheckId::unknown_space);
+  if (sight == 1 && first_pass) return CheckVerdict::wait(CheckId::unknown_space);
   // Such a finger may meet the object's unseen side, which bulges past what was seen
   // (rounded objects, tilted approaches): only a balanced grasp whose seen side,
   // extended along its last slope, stays clear of the open finger.
-  if (sight == 1 && !c.balanced) return 4;
+  if (sight == 1 && !c.balanced) return CheckVerdict::fail(CheckId::unknown_space);
   for (int side = 0; side < 2; ++side)
-    if ((hidden_sides >> side & 1u) != 0u && !unseen_side_clear(c.position, f, side)) return 4;
-  if (hidden_sides != 0u && !blind_side_mirrors_seen(c.position, f, c.width, hidden_sides)) return 4;
+    if ((hidden_sides >> side & 1u) != 0u && !unseen_side_clear(c.position, f, side))
+      return CheckVerdict::fail(CheckId::unseen_side);
+  if (hidden_sides != 0u && !blind_side_mirrors_seen(c.position, f, c.width, hidden_sides))
+    return CheckVerdict::fail(CheckId::unseen_side);
   // Each fitted side's normal within the cone in XOY (beta alone only compares the two
   // sides), and the contact normals in 3D.
   // A round body closed on its unseen tangents: the model is the friction argument.
   if (cfg_.friction_mu > 0.f && !c.tangent_contacts && (!c.sides_in_cone || !friction_ok(c.position, f, c.width)))
-    return 5;
+    return CheckVerdict::fail(CheckId::friction_cone);
   // A cap grasped off straight down whose lower fingertip closes through space no
   // sensor saw waits too: the body under the cap may flare out there.
-  if (first_pass_ && lower_tip_unseen(c.position, f, c.width)) return 7;
-  return 0;
-}
-
-bool Planner::executable(Candidate& c, PlanResult& out) {
-  deferred_ = false;
-  int failed = first_failed_check(c);
-  // A contact a little outside the cone (closing across a prism's diagonal, a tilted
-  // handle): turn the closing direction about the approach towards the contact
-  // normals, and check the turned grasp from the start.
-  // An alternative to a candidate outside the cone, checked from the start, replaces it
-  // when it passes or waits for the second pass.
-  const auto take_if_it_passes = [this, &c, &failed](const Candidate& alt) {
-    const int t = first_failed_check(alt);
-    if (t == 0 || t == 7) {
-      c = alt;
-      failed = t;
-    }
-  };
-  if (failed == 5) {
-    Candidate turned = c;
-    if (refine_closing(turned)) take_if_it_passes(turned);
-  }
-  // Still outside the cone: a round body whose flanks were seen only to a grazing edge
-  // (grazed_round.cpp) closes on its tangents beyond them, with the width between them.
-  if (failed == 5) {
-    Candidate round;
-    if (grazed_round_body(c, round)) take_if_it_passes(round);
-  }
-  // A grasp that passes with its contact normals off the closing line: closing along
-  // them gives friction margin, when the turned grasp passes too.
-  if (failed == 0 && cfg_.friction_mu > 0.f) {
-    Candidate turned = c;
-    if (refine_closing(turned) && turned.X.dot(c.X) < std::cos(kMarginTurn) && first_failed_check(turned) == 0)
-      c = turned;
-  }
-  // Partly hidden fingers: not a rejection, the candidate waits for the second pass.
-  if (failed == 7) {
-    deferred_ = true;
-    return false;
-  }
-  // Then the check of the layers above (robot: inverse kinematics, the whole tool).
-  if (failed == 0 && grasp_check_ != nullptr) {
-    const Vec3 z = c.Z.normalized();
-    const GraspQuery q{c.position, z, c.X.normalized(),
-                       c.position - z * (cfg_.gripper.finger_depth_m + cfg_.pregrasp_clearance_m),
-                       c.width, plane_found_ ? &plane_ : nullptr, &object_[0], object_.size(),
-                       grid_.centroids(), state_, grid_.size()};
-    const GraspVerdict v = grasp_check_->check(q);
-    if (v == GraspVerdict::collision) failed = 2;
-    else if (v != GraspVerdict::pass) failed = 6;  // unreachable (an unknown verdict never passes)
-  }
-  if (failed == 0) return true;
-  switch (failed) {
-    case 1: ++out.rejected.table; break;
-    case 2:
-    case 3: ++out.rejected.collision; break;
-    case 4: ++out.rejected.occluded; break;
-    case 6: ++out.rejected.unreachable; break;
-    default: ++out.rejected.friction; break;
-  }
-  return false;
+  if (first_pass && lower_tip_unseen(c.position, f, c.width)) return CheckVerdict::wait(CheckId::unseen_side);
+  return CheckVerdict::pass();
 }
 
 // One pass over each pad's contact points (the band inside each side, within the
@@ -313,7 +269,7 @@ bool Planner::executable(Candidate& c, PlanResult& out) {
 // facing the approach are what the pads slide along, not what they squeeze (a side
 // the sensors did not see leaves only its front edge in the band). Per side: how many,
 // how many inside the friction cone, and the sum of the outward normals.
-void Planner::contact_normal_stats(const Vec3& pos, const ViewFrame& f, float width,
+void GraspChecks::contact_normal_stats(const Vec3& pos, const ViewFrame& f, float width,
                                    ContactNormalStats& st) {
   const GripperGeometry& g = cfg_.gripper;
   const float cos_cone = std::cos(std::atan(cfg_.friction_mu));
@@ -328,10 +284,10 @@ void Planner::contact_normal_stats(const Vec3& pos, const ViewFrame& f, float wi
     else if (x >= 0.5f * width - cfg_.contact_band_m) side = 1;
     if (side < 0) continue;
     st.z_first[side] = std::min(st.z_first[side], z);
-    if (plane_found_) st.top[side] = std::max(st.top[side], plane_.height(object_[i]));
+    if (support_.found) st.top[side] = std::max(st.top[side], support_.plane.height(object_[i]));
     Vec3 nrm;
     if (!normal_at(i, nrm)) continue;
-    if (plane_found_ && std::fabs(nrm.dot(plane_.n)) > kFrontFacingCos * plane_.n.norm()) ++st.level[side];
+    if (support_.found && std::fabs(nrm.dot(support_.plane.n)) > kFrontFacingCos * support_.plane.n.norm()) ++st.level[side];
     if (std::fabs(nrm.dot(f.Z)) > kFrontFacingCos) continue;
     const float along = nrm.dot(f.X);
     ++st.total[side];
@@ -343,7 +299,7 @@ void Planner::contact_normal_stats(const Vec3& pos, const ViewFrame& f, float wi
 // Closing along the contact normals' mean direction, kept orthogonal to the approach,
 // when that turn is small (at most kMaxClosingTurn); the width and centre are measured
 // again along the turned closing direction from the points within the pads' reach.
-bool Planner::refine_closing(Candidate& c) {
+bool GraspChecks::refine_closing(Candidate& c) {
   ContactNormalStats st;
   contact_normal_stats(c.position, ViewFrame{c.X, c.Y, c.Z}, c.width, st);
   if (st.total[0] < 3 || st.total[1] < 3) return false;
@@ -377,7 +333,7 @@ bool Planner::refine_closing(Candidate& c) {
   return true;
 }
 
-bool Planner::fingers_clear_of_hull(const Vec3& pos, const ViewFrame& f) {
+bool GraspChecks::fingers_clear_of_hull(const Vec3& pos, const ViewFrame& f) {
   const GripperGeometry& g = cfg_.gripper;
   const float half_open = 0.5f * g.max_opening_m, t = g.finger_thickness_m;
   const float hy = 0.5f * g.finger_width_m, hz = 0.5f * g.finger_depth_m;
@@ -415,15 +371,15 @@ bool Planner::fingers_clear_of_hull(const Vec3& pos, const ViewFrame& f) {
 // ellipsoid's top, the two differ by less), and most samples around the lower pad's tip
 // (4 across its path from the open pose to the contact, 3 along the approach from 5 mm
 // short of the tip to 5 mm past it) lie in hidden space.
-bool Planner::lower_tip_unseen(const Vec3& pos, const ViewFrame& f, float width) {
-  if (!plane_found_) return false;
-  const float down = -f.Z.dot(plane_.n);  // cosine of the approach's tilt off straight down
+bool GraspChecks::lower_tip_unseen(const Vec3& pos, const ViewFrame& f, float width) {
+  if (!support_.found) return false;
+  const float down = -f.Z.dot(support_.plane.n);  // cosine of the approach's tilt off straight down
   if (down >= kTopDownCos || down < kCapTiltCos) return false;
   const GripperGeometry& g = cfg_.gripper;
   const float half_open = 0.5f * g.max_opening_m, tip = 0.5f * g.finger_depth_m;
   const float from = 0.5f * width + cfg_.voxel_leaf_m;  // a voxel off the contact
   // The lower pad: on the side the closing direction points down to.
-  const float x_sign = f.X.dot(plane_.n) > 0.f ? -1.f : 1.f;
+  const float x_sign = f.X.dot(support_.plane.n) > 0.f ? -1.f : 1.f;
   uint32_t hidden = 0;
   for (int ix = 0; ix < 4; ++ix)
     for (int iz = 0; iz < 3; ++iz) {
@@ -432,7 +388,7 @@ bool Planner::lower_tip_unseen(const Vec3& pos, const ViewFrame& f, float width)
       hidden += visibility(pos + f.X * x + f.Z * z) < 0 ? 1u : 0u;
     }
   if (hidden <= kCapTipHidden) return false;
-  Vec3 along = f.X - plane_.n * f.X.dot(plane_.n);
+  Vec3 along = f.X - support_.plane.n * f.X.dot(support_.plane.n);
   const float len = along.norm();
   if (!(len > 1e-3f)) return false;
   along /= len;
@@ -445,8 +401,8 @@ bool Planner::lower_tip_unseen(const Vec3& pos, const ViewFrame& f, float width)
   return hi - lo >= width + kCapNarrower;
 }
 
-bool Planner::straight_down(const Vec3& approach) const {
-  return plane_found_ && -approach.dot(plane_.n) >= kTopDownCos;
+bool GraspChecks::straight_down(const Vec3& approach) const {
+  return support_.found && -approach.dot(support_.plane.n) >= kTopDownCos;
 }
 
 // A steep closing puts a finger under the target. The target rests on the support
@@ -463,9 +419,9 @@ bool Planner::straight_down(const Vec3& approach) const {
 // grazing angle, with the solid's top over the open finger on the far side (a wide
 // box's vertical edge). There the open fingers alone are tested: a blade's own
 // points lie between the pads, and a plate has nothing over the open fingers.
-bool Planner::fingers_clear_of_footprint(const Vec3& pos, const ViewFrame& f, float width) {
-  if (!plane_found_) return true;
-  const bool steep = std::fabs(f.X.dot(plane_.n)) >= kSteepClosingCos;
+bool GraspChecks::fingers_clear_of_footprint(const Vec3& pos, const ViewFrame& f, float width) {
+  if (!support_.found) return true;
+  const bool steep = std::fabs(f.X.dot(support_.plane.n)) >= kSteepClosingCos;
   if (!steep && width > kThinSheetLeaves * cfg_.voxel_leaf_m) return true;
   const GripperGeometry& g = cfg_.gripper;
   const float half_open = 0.5f * g.max_opening_m, t = g.finger_thickness_m;
@@ -479,10 +435,10 @@ bool Planner::fingers_clear_of_footprint(const Vec3& pos, const ViewFrame& f, fl
   const float lo[2][3] = {{-half_open - t + shrink, -hy + shrink, -hz + shrink}, {inner1, -hy + shrink, -hz + shrink}};
   const float hi[2][3] = {{inner0, hy - shrink, hz - shrink}, {half_open + t - shrink, hy - shrink, hz - shrink}};
   // Up (the plane's normal) in the grasp frame; the line below q is q - u * up.
-  const float up[3] = {f.X.dot(plane_.n), f.Y.dot(plane_.n), f.Z.dot(plane_.n)};
+  const float up[3] = {f.X.dot(support_.plane.n), f.Y.dot(support_.plane.n), f.Z.dot(support_.plane.n)};
   const uint32_t n = object_.size();
   for (uint32_t i = 0; i < n; ++i) {
-    const float h = plane_.height(object_[i]);
+    const float h = support_.plane.height(object_[i]);
     if (!(h > gap)) continue;
     const Vec3 d = object_[i] - pos;
     const float q[3] = {f.X.dot(d), f.Y.dot(d), f.Z.dot(d)};
@@ -492,32 +448,12 @@ bool Planner::fingers_clear_of_footprint(const Vec3& pos, const ViewFrame& f, fl
   return true;
 }
 
-// +1: some sensor saw a return behind q (q is free space); -1: some sensor saw a
-// surface in front of q and none saw through it (q is hidden); 0: no sensor knows.
-int Planner::visibility(const Vec3& q) const {
-  int result = 0;
-  const float half = 0.5f * static_cast<float>(kSightBins);
-  for (uint32_t r = 0; r < kMaxSensors; ++r) {
-    if (!role_added_[r]) continue;
-    const Vec3 p = sensor_pose_[r].R.transpose() * (q - sensor_pose_[r].t);
-    if (!(p.z() > 0.05f)) continue;
-    const float bu = (p.x() / p.z() + 1.f) * half, bv = (p.y() / p.z() + 1.f) * half;
-    if (!(bu >= 0.f && bv >= 0.f && bu < 2.f * half && bv < 2.f * half)) continue;
-    const uint16_t d = sight_mm_[r][static_cast<uint32_t>(bv) * kSightBins + static_cast<uint32_t>(bu)];
-    if (d == 0xFFFFu) continue;
-    const float seen_m = static_cast<float>(d) * 0.001f;
-    if (seen_m > p.z() + kSightMargin) return 1;
-    if (seen_m < p.z() - kSightMargin) result = -1;
-  }
-  return result;
-}
-
 // Samples of each open finger box: too many hidden ones (behind the object as every
 // sensor saw it, and free to none) mean the finger would sit inside unseen matter (2);
 // so do too few seen free beside a thin grasp (2).
 // A few (1) are allowed, but the unseen side of a rounded object bulges past what was
 // seen there, so such grasps come after those whose fingers lie in seen space (0).
-int Planner::fingers_in_seen_space(const Vec3& pos, const ViewFrame& f, float width, uint32_t& partly_hidden) {
+int GraspChecks::fingers_in_seen_space(const Vec3& pos, const ViewFrame& f, float width, uint32_t& partly_hidden) {
   const GripperGeometry& g = cfg_.gripper;
   const float half_open = 0.5f * g.max_opening_m, t = g.finger_thickness_m;
   // A thin grasp (kThinSheetLeaves) closes on a single layer of voxels. Seen by one
@@ -563,7 +499,7 @@ int Planner::fingers_in_seen_space(const Vec3& pos, const ViewFrame& f, float wi
 // its band holds only surfaces facing the approach, or none) must have a seen opposite
 // side it can mirror (kBlindMirrorTiltCos). Straight down, the blind side is the wall
 // under the top's rim (fingers_in_seen_space) and needs no mirror.
-bool Planner::blind_side_mirrors_seen(const Vec3& pos, const ViewFrame& f, float width, uint32_t hidden_sides) {
+bool GraspChecks::blind_side_mirrors_seen(const Vec3& pos, const ViewFrame& f, float width, uint32_t hidden_sides) {
   if (straight_down(f.Z)) return true;
   ContactNormalStats st;
   contact_normal_stats(pos, f, width, st);
@@ -595,10 +531,10 @@ bool Planner::blind_side_mirrors_seen(const Vec3& pos, const ViewFrame& f, float
 // across a wide box's corner (trial 1700333 of `further`, 18 deg) left the top through
 // the box's unseen upper side: the band there held the top's last points and a 29 mm
 // "slab", and the open finger went 9 mm into the box.
-bool Planner::top_goes_on_past(const Vec3& pos, const ViewFrame& f, float width, int side) {
-  if (!plane_found_) return false;
+bool GraspChecks::top_goes_on_past(const Vec3& pos, const ViewFrame& f, float width, int side) {
+  if (!support_.found) return false;
   const GripperGeometry& g = cfg_.gripper;
-  const Vec3 up = plane_.n.normalized();
+  const Vec3 up = support_.plane.n.normalized();
   Vec3 u = f.X - up * f.X.dot(up);
   if (!(u.norm() > kTopAlongMin)) return false;  // closing along the plane's normal
   u = u.normalized() * (side == 0 ? -1.f : 1.f);
@@ -613,7 +549,7 @@ bool Planner::top_goes_on_past(const Vec3& pos, const ViewFrame& f, float width,
     if (side == 0 ? x > -0.5f * width + cfg_.contact_band_m : x < 0.5f * width - cfg_.contact_band_m) continue;
     Vec3 nrm;
     if (!normal_at(i, nrm) || std::fabs(nrm.dot(up)) <= kFrontFacingCos) continue;
-    top = std::max(top, plane_.height(object_[i]));
+    top = std::max(top, support_.plane.height(object_[i]));
     edge = std::max(edge, u.dot(d));
   }
   if (!(top > -1e8f)) return false;
@@ -625,7 +561,7 @@ bool Planner::top_goes_on_past(const Vec3& pos, const ViewFrame& f, float width,
     const Vec3 d = object_[i] - pos;
     const float a = u.dot(d);
     if (a < from || a > to || std::fabs(v.dot(d)) > 0.5f * g.finger_width_m) continue;
-    if (std::fabs(plane_.height(object_[i]) - top) > leaf) continue;
+    if (std::fabs(support_.plane.height(object_[i]) - top) > leaf) continue;
     Vec3 nrm;
     if (normal_at(i, nrm) && std::fabs(nrm.dot(up)) > kFrontFacingCos) ++beyond;
   }
@@ -641,7 +577,7 @@ bool Planner::top_goes_on_past(const Vec3& pos, const ViewFrame& f, float width,
 // algebraic fit, then its rms distance), the circle's extent on the blind side over
 // the fingers' depth must stay inside the open finger. A flat or irregular front says
 // nothing here (the mirror stands).
-bool Planner::round_front_clears_blind_side(const Vec3& pos, const ViewFrame& f, int blind_side) {
+bool GraspChecks::round_front_clears_blind_side(const Vec3& pos, const ViewFrame& f, int blind_side) {
   const GripperGeometry& g = cfg_.gripper;
   const float half_open = 0.5f * g.max_opening_m;
   const float bin = std::max(cfg_.voxel_leaf_m, 2.f * half_open / static_cast<float>(kRoundBins));
@@ -709,7 +645,7 @@ bool Planner::round_front_clears_blind_side(const Vec3& pos, const ViewFrame& f,
 // A bin shows the side only when no space between its outermost point and the finger is
 // hidden: otherwise its points are another part of the object (the far wall of a can
 // seen across a chord), and the side there is unseen. Points with none such: not clear.
-bool Planner::unseen_side_clear(const Vec3& pos, const ViewFrame& f, int side) {
+bool GraspChecks::unseen_side_clear(const Vec3& pos, const ViewFrame& f, int side) {
   const GripperGeometry& g = cfg_.gripper;
   const float half_fd = 0.5f * g.finger_depth_m, bin = g.finger_depth_m / kProfileBins;
   const float sign = side == 0 ? -1.f : 1.f;
@@ -766,9 +702,9 @@ bool Planner::unseen_side_clear(const Vec3& pos, const ViewFrame& f, int side) {
   return reach + kHiddenBulge <= 0.5f * g.max_opening_m - cfg_.collision_tolerance_m;
 }
 
-bool Planner::normal_planar(uint32_t oi) const { return normal_state_[oi] == 1; }
+bool GraspChecks::normal_planar(uint32_t oi) const { return normal_state_[oi] == 1; }
 
-bool Planner::normal_at(uint32_t oi, Vec3& nrm) {
+bool GraspChecks::normal_at(uint32_t oi, Vec3& nrm) {
   if (normal_state_[oi] != 0) {
     nrm = normals_[oi];
     return normal_state_[oi] == 1 || normal_state_[oi] == 3;
@@ -804,7 +740,7 @@ bool Planner::normal_at(uint32_t oi, Vec3& nrm) {
 
 // The object points' least and greatest x (closing) within the pads' footprint: |y|
 // within half the finger width, |z| within half the finger depth. Empty: ext[1] < ext[0].
-void Planner::footprint_extremes(const Vec3& pos, const ViewFrame& f, float ext[2]) const {
+void GraspChecks::footprint_extremes(const Vec3& pos, const ViewFrame& f, float ext[2]) const {
   const GripperGeometry& g = cfg_.gripper;
   ext[0] = 1e9f;
   ext[1] = -1e9f;
@@ -829,7 +765,7 @@ void Planner::footprint_extremes(const Vec3& pos, const ViewFrame& f, float ext[
 // read as a steep contact. valid[s] is false with fewer than kTiltFitMin points or
 // less than kTiltFitSpread of depth between them. near_face[s] and edge_face[s] are the
 // 1 - cos(tilt) of the face beside an edge found near the extreme (-1: none found).
-void Planner::contact_tilt(const Vec3& pos, const ViewFrame& f, float one_minus_cos[2], bool valid[2], bool flat[2],
+void GraspChecks::contact_tilt(const Vec3& pos, const ViewFrame& f, float one_minus_cos[2], bool valid[2], bool flat[2],
                            float near_face[2], float edge_face[2]) {
   const GripperGeometry& g = cfg_.gripper;
   const uint32_t n = object_.size();
@@ -960,7 +896,7 @@ void Planner::contact_tilt(const Vec3& pos, const ViewFrame& f, float one_minus_
 // silhouette's edge are bent by mixed pixels) at least a third of the pad's contact
 // normals must have |n . closing| >= cos(atan(mu)). Corner and edge contacts fail;
 // faces and rounded sides pass, noisy normals on small faces too.
-bool Planner::friction_ok(const Vec3& pos, const ViewFrame& f, float width) {
+bool GraspChecks::friction_ok(const Vec3& pos, const ViewFrame& f, float width) {
   ContactNormalStats st;
   contact_normal_stats(pos, f, width, st);
   // A pad on a part that stands less than two voxel rows above the band taken for the
@@ -969,7 +905,7 @@ bool Planner::friction_ok(const Vec3& pos, const ViewFrame& f, float width) {
   // pivot, 10-20 mm high, held 27-31 deg outside the cone by their bevels). One such
   // pad is enough: the grasp holds only if both pads do. Tested before the tilt fit.
   const float verifiable = cfg_.object_min_height_m + 2.f * cfg_.voxel_leaf_m;
-  if (plane_found_ && (st.top[0] < verifiable || st.top[1] < verifiable)) return false;
+  if (support_.found && (st.top[0] < verifiable || st.top[1] < verifiable)) return false;
   const float tip = 0.5f * cfg_.gripper.finger_depth_m - kTipReach;
   // Both pads reach the target by their tips alone and show at most kTipOnlyNormals
   // contact normals between them: the pads overlap it by less than kTipReach and nothing

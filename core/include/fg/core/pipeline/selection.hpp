@@ -1,0 +1,56 @@
+// Stage G, ranking and selection: candidates ranked by force balance (paper E.3) and
+// checked in that order until one passes; the candidates the checks deferred wait for
+// a second pass. The checks' budget (kMaxCheckedCandidates per plan) bounds both.
+#pragma once
+#include <cstdint>
+
+#include "fg/core/grasp_check.hpp"
+#include "fg/core/limits.hpp"
+#include "fg/core/pipeline/candidates.hpp"
+#include "fg/core/pipeline/grasp_checks.hpp"
+
+namespace fg {
+
+//! Per check, the candidates it rejected.
+struct CheckRejections {
+  uint32_t by_check[kCheckCount] = {};
+  uint32_t operator[](CheckId id) const { return by_check[static_cast<uint32_t>(id)]; }
+};
+
+class Selection {
+ public:
+  //! A new plan: the whole check budget, nothing deferred.
+  void begin_plan() {
+    checks_left_ = kMaxCheckedCandidates;
+    n_deferred_ = 0;
+  }
+  //! A new target within the plan (the fall-back): nothing deferred; the budget goes on.
+  void begin_target() { n_deferred_ = 0; }
+
+  //! The first pass over candidates [first, list.n) (one family's): ranked, balanced
+  //! ones (beta <= beta_max) by dZ, then the rest by beta, and checked in that order.
+  //! A grasp with a finger partly in hidden space, or a pad whose corner meets a
+  //! surface beside it, waits for the second pass. The passing candidate's index, or
+  //! kMaxCandidates. With executability_checks off: the best ranked, unchecked.
+  uint32_t first_pass(CandidateList& list, uint32_t first, GraspChecks& checks, GraspCheck* robot,
+                      CheckRejections& rejected);
+
+  //! The second pass, once every family is searched: the deferred candidates with the
+  //! hidden samples the visibility check allows and the pads' corners let be, those
+  //! straight down first, then the others, each in the order they were met. Straight
+  //! down the pads close level and meet the sides they were fitted to; tilted, the lower
+  //! pad reaches past them, where the sensors may not have seen.
+  uint32_t second_pass(CandidateList& list, GraspChecks& checks, GraspCheck* robot, CheckRejections& rejected);
+
+ private:
+  //! A candidate's checks with its repairs (a closing turned towards the contact
+  //! normals, a round body's tangents), then the robot layer's check. It may replace c.
+  CheckVerdict judge(Candidate& c, bool first, GraspChecks& checks, GraspCheck* robot);
+
+  uint16_t order_[kMaxCandidates];
+  uint16_t deferred_[kMaxCandidates];  // deferred by the first pass, in the order met
+  uint32_t n_deferred_ = 0;
+  uint32_t checks_left_ = 0;  // candidates the checks may still examine in this plan
+};
+
+}  // namespace fg
