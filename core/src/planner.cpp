@@ -6,6 +6,7 @@
 // (A.1-A.4) is in planner_ingest.cpp.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "fg/core/planner.hpp"
 #include "fg/platform/platform.hpp"
@@ -31,6 +32,7 @@ RejectCounts RejectCounts::of(const CheckRejections& r) {
 
 Status Planner::plan(PlanResult& out) {
   out = PlanResult{};
+  for (float& m : out.margins.value) m = std::numeric_limits<float>::quiet_NaN();
   const uint64_t t_start = platform::monotonic_us();
   out.stage_us[static_cast<uint32_t>(Stage::ingest)] = ingest_us_;
   // The viewpoints and candidates of a first search whose target gave way to the
@@ -128,6 +130,10 @@ Status Planner::plan(PlanResult& out) {
   }
   if (found == kMaxCandidates) return finish(Status::no_grasp, reason, why);
   fill_grasp(candidates_.items[found], out);
+  {
+    StageTimer t(out.stage_us, Stage::select);
+    checks_.margins(candidates_.items[found], out.margins);
+  }
   return finish(Status::ok, NoGraspReason::none, "ok");
 }
 

@@ -30,6 +30,18 @@ const char* to_string(CheckId id) {
   return "unknown";
 }
 
+const char* margin_unit(CheckId id) {
+  switch (id) {
+    case CheckId::support_plane:
+    case CheckId::swept_collision:
+    case CheckId::local_hull:
+    case CheckId::under_target: return "m";
+    case CheckId::unknown_space: return "share";
+    case CheckId::friction_cone: return "deg";
+    default: return "";
+  }
+}
+
 namespace {
 // Normals within 30 deg of the approach belong to surfaces facing the gripper.
 constexpr float kFrontFacingCos = 0.866f;
@@ -333,7 +345,7 @@ bool GraspChecks::refine_closing(Candidate& c) {
   return true;
 }
 
-bool GraspChecks::fingers_clear_of_hull(const Vec3& pos, const ViewFrame& f) {
+bool GraspChecks::fingers_clear_of_hull(const Vec3& pos, const ViewFrame& f, float grow) {
   const GripperGeometry& g = cfg_.gripper;
   const float half_open = 0.5f * g.max_opening_m, t = g.finger_thickness_m;
   const float hy = 0.5f * g.finger_width_m, hz = 0.5f * g.finger_depth_m;
@@ -353,7 +365,8 @@ bool GraspChecks::fingers_clear_of_hull(const Vec3& pos, const ViewFrame& f) {
   const ConvexSupport hs{point_set_support, &hull, Vec3::Zero()};
   for (int side = 0; side < 2; ++side) {
     const float x0 = side == 0 ? -half_open - t : half_open;
-    const AabbShape box{Vec3(x0 + tol, -hy + tol, -hz + tol), Vec3(x0 + t - tol, hy - tol, hz - tol)};
+    const float in = tol - grow;
+    const AabbShape box{Vec3(x0 + in, -hy + in, -hz + in), Vec3(x0 + t - in, hy - in, hz - in)};
     const ConvexSupport bs{aabb_support, &box, 0.5f * (box.lo + box.hi)};
     if (gjk_intersect(bs, hs)) return false;
   }
@@ -419,14 +432,19 @@ bool GraspChecks::straight_down(const Vec3& approach) const {
 // grazing angle, with the solid's top over the open finger on the far side (a wide
 // box's vertical edge). There the open fingers alone are tested: a blade's own
 // points lie between the pads, and a plate has nothing over the open fingers.
-bool GraspChecks::fingers_clear_of_footprint(const Vec3& pos, const ViewFrame& f, float width) {
-  if (!support_.found) return true;
+bool GraspChecks::footprint_applies(const ViewFrame& f, float width) const {
+  if (!support_.found) return false;
   const bool steep = std::fabs(f.X.dot(support_.plane.n)) >= kSteepClosingCos;
-  if (!steep && width > kThinSheetLeaves * cfg_.voxel_leaf_m) return true;
+  return steep || width <= kThinSheetLeaves * cfg_.voxel_leaf_m;
+}
+
+bool GraspChecks::fingers_clear_of_footprint(const Vec3& pos, const ViewFrame& f, float width, float grow) {
+  if (!footprint_applies(f, width)) return true;
+  const bool steep = std::fabs(f.X.dot(support_.plane.n)) >= kSteepClosingCos;
   const GripperGeometry& g = cfg_.gripper;
   const float half_open = 0.5f * g.max_opening_m, t = g.finger_thickness_m;
   const float hy = 0.5f * g.finger_width_m, hz = 0.5f * g.finger_depth_m;
-  const float shrink = 0.5f * cfg_.voxel_leaf_m, gap = cfg_.voxel_leaf_m;
+  const float shrink = 0.5f * cfg_.voxel_leaf_m - grow, gap = cfg_.voxel_leaf_m;
   // Each finger's sweep from open to closed, in the grasp frame; its pad's face keeps a
   // voxel clear of the contact (the side's points scatter about the fitted line).
   // A thin grasp sideways: the open fingers only.
@@ -453,7 +471,8 @@ bool GraspChecks::fingers_clear_of_footprint(const Vec3& pos, const ViewFrame& f
 // so do too few seen free beside a thin grasp (2).
 // A few (1) are allowed, but the unseen side of a rounded object bulges past what was
 // seen there, so such grasps come after those whose fingers lie in seen space (0).
-int GraspChecks::fingers_in_seen_space(const Vec3& pos, const ViewFrame& f, float width, uint32_t& partly_hidden) {
+int GraspChecks::fingers_in_seen_space(const Vec3& pos, const ViewFrame& f, float width, uint32_t& partly_hidden,
+                                       float* hidden_share) {
   const GripperGeometry& g = cfg_.gripper;
   const float half_open = 0.5f * g.max_opening_m, t = g.finger_thickness_m;
   // A thin grasp (kThinSheetLeaves) closes on a single layer of voxels. Seen by one
@@ -488,6 +507,7 @@ int GraspChecks::fingers_in_seen_space(const Vec3& pos, const ViewFrame& f, floa
   // (unseen_side_clear). Along the plane's normal the flat side that check assumes
   // where it saw no slope is a wall standing on the plane; on a tilted approach it
   // would be a wall leaning towards the finger.
+  if (hidden_share != nullptr) *hidden_share = static_cast<float>(hidden) / static_cast<float>(total);
   const bool one_finger = partly_hidden == 1u || partly_hidden == 2u;
   const bool top_down = straight_down(f.Z);
   if (static_cast<float>(hidden) > kMaxHiddenShare * static_cast<float>(total) && !(one_finger && top_down))
@@ -976,6 +996,153 @@ bool GraspChecks::friction_ok(const Vec3& pos, const ViewFrame& f, float width) 
       st.inside_cone[0] + st.inside_cone[1] == 0 && !fit_inside)
     return false;
   return true;
+}
+
+// ---- Margins of the returned grasp -------------------------------------------------
+
+namespace {
+// The largest growth g in [-deepest, cap] of a test's boxes for which clear(g) holds
+// (the test is monotone in g), to within (cap + deepest) / 2^14: the clearance when
+// positive, the penetration when negative; the bound when it lies beyond. `deepest`
+// keeps the shrunk boxes from turning inside out.
+template <class Clear>
+float largest_clear_growth(const Clear& clear, float deepest, float cap) {
+  if (clear(cap)) return cap;
+  if (!clear(-deepest)) return -deepest;
+  float lo = -deepest, hi = cap;
+  for (int i = 0; i < 14; ++i) {
+    const float mid = 0.5f * (lo + hi);
+    if (clear(mid)) lo = mid;
+    else hi = mid;
+  }
+  return lo;
+}
+
+// Signed distance from (x, y, z) to box b shrunk by tol on every side: positive
+// outside, minus the depth inside.
+float box_distance(const FrameBox& b, float tol, float x, float y, float z) {
+  const float dx = std::max(b.x0 + tol - x, x - (b.x1 - tol));
+  const float dy = std::max(b.y0 + tol - y, y - (b.y1 - tol));
+  const float dz = std::max(b.z0 + tol - z, z - (b.z1 - tol));
+  if (dx <= 0.f && dy <= 0.f && dz <= 0.f) return std::max(dx, std::max(dy, dz));
+  const float ox = std::max(dx, 0.f), oy = std::max(dy, 0.f), oz = std::max(dz, 0.f);
+  return std::sqrt(ox * ox + oy * oy + oz * oz);
+}
+
+constexpr float kRadToDeg = 57.29577951f;
+// Without a fit, a pad's contact tilt is this quantile of its contact normals' tilts
+// (friction_margin_deg).
+constexpr float kContactTiltQuantile = 0.25f;
+}  // namespace
+
+// The nearest voxel of the scene (the plane's aside) to the swept fingers and palm. The
+// near list holds every voxel within its radius r of its centre; one outside it lies
+// more than r - |position - centre| - reach from any box, which bounds the answer.
+float GraspChecks::swept_clearance(const Candidate& c) const {
+  Box boxes[3];
+  gripper_boxes(cfg_, boxes);
+  const float tol = cfg_.collision_tolerance_m;
+  const Vec3* centroids = grid_.centroids();
+  float best = std::numeric_limits<float>::infinity();
+  const auto visit = [&](uint32_t i) {
+    if (state_[i] == kVoxelRemoved) return;
+    const Vec3 d = centroids[i] - c.position;
+    const float x = c.X.dot(d), y = c.Y.dot(d), z = c.Z.dot(d);
+    for (const Box& b : boxes) best = std::min(best, box_distance(b, tol, x, y, z));
+  };
+  const float off_centre = (c.position - near_centre_).norm();
+  if (near_ != nullptr && off_centre <= near_slack_) {
+    const uint32_t index_mask = (1u << kNearIndexBits) - 1u;
+    for (uint32_t k = 0; k < n_near_; ++k) visit(near_[k] & index_mask);
+    float reach = 0.f;
+    for (const Box& b : boxes) {
+      const float x = std::max(std::fabs(b.x0), std::fabs(b.x1)), y = std::max(std::fabs(b.y0), std::fabs(b.y1));
+      const float z = std::max(std::fabs(b.z0), std::fabs(b.z1));
+      reach = std::max(reach, std::sqrt(x * x + y * y + z * z));
+    }
+    const float r = near_slack_ + reach + tol;
+    best = std::min(best, r - off_centre - reach);
+  } else {
+    for (uint32_t i = 0; i < grid_.size(); ++i) visit(i);
+  }
+  return best;
+}
+
+// Degrees between atan(mu) and the steeper pad's contact tilt. A pad's contact tilt is
+// the evidence friction_ok judges by (contact_tilt): the tilt fitted at the side's
+// extreme, raised to that of a flat face found next to the contact or beside an edge
+// there (a pad on an edge holds by the faces beside it). Without any of them, the
+// kContactTiltQuantile-th smallest tilt of the planar contact normals in the pad's
+// band (those of surfaces facing the approach aside, which the pad slides along). A
+// grasp on a round body's unseen tangents closes square to them by its model. NaN when
+// no pad shows a normal.
+float GraspChecks::friction_margin_deg(const Candidate& c) {
+  const float cone = std::atan(cfg_.friction_mu);
+  if (c.tangent_contacts) return cone * kRadToDeg;
+  const GripperGeometry& g = cfg_.gripper;
+  const ViewFrame f = c.frame();
+  float omc[2], near_face[2], edge_face[2];
+  bool valid[2], flat[2];
+  contact_tilt(c.position, f, omc, valid, flat, near_face, edge_face);
+  const float half = 0.5f * c.width;
+  float steepest = -1.f;
+  for (int side = 0; side < 2; ++side) {
+    const float evidence = std::max(valid[side] ? omc[side] : -1.f, std::max(near_face[side], edge_face[side]));
+    if (evidence >= 0.f) {
+      steepest = std::max(steepest, std::acos(1.f - std::min(1.f, evidence)));
+      continue;
+    }
+    // The tilts go to the x of the scratch points (idle between the checks' calls).
+    uint32_t m = 0;
+    for (uint32_t i = 0; i < object_.size(); ++i) {
+      const Vec3 d = object_[i] - c.position;
+      const float x = f.X.dot(d), y = f.Y.dot(d), z = f.Z.dot(d);
+      if (std::fabs(y) > 0.5f * g.finger_width_m || std::fabs(z) > 0.5f * g.finger_depth_m) continue;
+      if (side == 0 ? x > -half + cfg_.contact_band_m : x < half - cfg_.contact_band_m) continue;
+      Vec3 nrm;
+      if (!normal_at(i, nrm) || !normal_planar(i) || std::fabs(nrm.dot(f.Z)) > kFrontFacingCos) continue;
+      local_[m++].x() = std::acos(std::min(1.f, std::fabs(nrm.dot(f.X))));
+    }
+    if (m == 0) continue;
+    const uint32_t q = static_cast<uint32_t>(kContactTiltQuantile * static_cast<float>(m - 1));
+    std::nth_element(local_, local_ + q, local_ + m, [](const Vec3& a, const Vec3& b) { return a.x() < b.x(); });
+    steepest = std::max(steepest, local_[q].x());
+  }
+  if (!(steepest >= 0.f)) return std::numeric_limits<float>::quiet_NaN();
+  return (cone - steepest) * kRadToDeg;
+}
+
+void GraspChecks::margins(const Candidate& c, CheckMargins& out) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  for (float& v : out.value) v = nan;
+  const ViewFrame f = c.frame();
+  Box boxes[3];
+  gripper_boxes(cfg_, boxes);
+  float lowest = std::numeric_limits<float>::infinity();
+  for (const Box& b : boxes)
+    for (int k = 0; k < 8; ++k) {
+      const Vec3 p = c.position + f.X * ((k & 1) ? b.x1 : b.x0) + f.Y * ((k & 2) ? b.y1 : b.y0) +
+                     f.Z * ((k & 4) ? b.z1 : b.z0);
+      lowest = std::min(lowest, support_.plane.height(p));
+    }
+  out.value[static_cast<uint32_t>(CheckId::support_plane)] = lowest - cfg_.table_clearance_m;
+  out.value[static_cast<uint32_t>(CheckId::swept_collision)] = swept_clearance(c);
+  // The fingers' boxes shrink by at most 90% of their half thinnest side.
+  const GripperGeometry& g = cfg_.gripper;
+  const float half_thinnest = 0.5f * std::min(g.finger_thickness_m, std::min(g.finger_width_m, g.finger_depth_m));
+  const float tol = cfg_.collision_tolerance_m, half_leaf = 0.5f * cfg_.voxel_leaf_m;
+  out.value[static_cast<uint32_t>(CheckId::local_hull)] = largest_clear_growth(
+      [&](float grow) { return fingers_clear_of_hull(c.position, f, grow); },
+      std::max(0.f, 0.9f * half_thinnest - tol), kHullNeighbourhood);
+  if (footprint_applies(f, c.width))
+    out.value[static_cast<uint32_t>(CheckId::under_target)] = largest_clear_growth(
+        [&](float grow) { return fingers_clear_of_footprint(c.position, f, c.width, grow); },
+        std::max(0.f, 0.9f * half_thinnest - half_leaf), cfg_.voxel_leaf_m);
+  uint32_t hidden_sides = 0;
+  float hidden_share = 0.f;
+  (void)fingers_in_seen_space(c.position, f, c.width, hidden_sides, &hidden_share);
+  out.value[static_cast<uint32_t>(CheckId::unknown_space)] = kMaxHiddenShare - hidden_share;
+  if (cfg_.friction_mu > 0.f) out.value[static_cast<uint32_t>(CheckId::friction_cone)] = friction_margin_deg(c);
 }
 
 }  // namespace fg

@@ -165,6 +165,17 @@ PlanOutcome run_plan(const PlanOptions& opts) {
                         {"viewpoint", g.viewpoint},
                         {"family", to_string(g.family)},
                         {"pregrasp", vec(g.pregrasp)}};
+      // Every check the grasp passed, with its margin in the check's unit (null where
+      // the check measures none or does not apply; the robot's only with its checks on).
+      json checks = json::object();
+      for (uint32_t k = 0; k < kCheckCount; ++k) {
+        const CheckId id = static_cast<CheckId>(k);
+        if (!cfg.executability_checks || (id == CheckId::robot_reach && !check_cfg.check_reach)) continue;
+        const float m = res.margins[id];
+        checks[to_string(id)] = json{{"margin", std::isfinite(m) ? json(m) : json(nullptr)},
+                                     {"unit", margin_unit(id)}};
+      }
+      j["grasp"]["checks"] = checks;
       if (check_cfg.check_reach && check.has_motion()) {
         const robot::GraspMotion& m = check.motion();
         const auto q = [](const double* v) { return json(std::vector<double>(v, v + 6)); };
@@ -207,6 +218,10 @@ PlanOutcome run_plan(const PlanOptions& opts) {
                                      {"unreachable", res.rejected.unreachable},
                                      {"friction", res.rejected.friction},
                                      {"occluded", res.rejected.occluded}}}};
+    json by_check = json::object();
+    for (uint32_t k = 0; k < kCheckCount; ++k)
+      by_check[to_string(static_cast<CheckId>(k))] = res.rejected_by_check.by_check[k];
+    j["search"]["rejected_by_check"] = by_check;
     if (planner.plane_found())
       j["support_plane"] = json{{"normal", vec(planner.plane().n)}, {"d", planner.plane().d}};
     if (!opts.pictures_dir.empty()) {

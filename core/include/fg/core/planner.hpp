@@ -77,6 +77,7 @@ struct PlanResult {
   CropUsed crop;
   RejectCounts rejected;
   CheckRejections rejected_by_check;
+  CheckMargins margins;      //!< of the grasp (status ok), per check; NaN: none measured
   uint32_t viewpoints = 0;   //!< viewpoints analysed
   uint32_t candidates = 0;   //!< candidates ranked
   uint32_t stage_us[static_cast<uint32_t>(Stage::count)] = {};

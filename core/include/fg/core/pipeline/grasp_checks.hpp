@@ -36,6 +36,17 @@ inline constexpr uint32_t kCheckCount = static_cast<uint32_t>(CheckId::count);
 //! "support_plane", "swept_collision", ... (the JSON report's keys).
 const char* to_string(CheckId id);
 
+//! The unit of a check's margin: "m", "share" (of a finger's samples), "deg", or ""
+//! where the check gives a verdict but no margin.
+const char* margin_unit(CheckId id);
+
+//! Per check, how far inside its bound a grasp lies, in the check's unit (positive:
+//! inside; NaN: the check measures no margin, or does not apply to the grasp).
+struct CheckMargins {
+  float value[kCheckCount];
+  float operator[](CheckId id) const { return value[static_cast<uint32_t>(id)]; }
+};
+
 //! A candidate's verdict: it passes, fails a check, or waits for the second pass
 //! because of a check (a partly hidden finger, an unseen lower fingertip).
 struct CheckVerdict {
@@ -87,6 +98,10 @@ class GraspChecks {
   //! fingertip in it, defers; in the second it is judged.
   CheckVerdict evaluate(const Candidate& c, bool first_pass);
 
+  //! Every check's margin for a candidate (the returned grasp): measured once, after
+  //! the selection, so the search pays nothing for it.
+  void margins(const Candidate& c, CheckMargins& out);
+
   //! Closing along the contact normals' mean direction, kept orthogonal to the
   //! approach, when that turn is at most kMaxClosingTurn; width and centre measured
   //! again along it. False when there are too few normals or the turn is too large.
@@ -113,10 +128,15 @@ class GraspChecks {
   void footprint_extremes(const Vec3& pos, const ViewFrame& f, float ext[2]) const;
   void contact_tilt(const Vec3& pos, const ViewFrame& f, float one_minus_cos[2], bool valid[2], bool flat[2],
                     float near_face[2], float edge_face[2]);
-  bool fingers_clear_of_hull(const Vec3& pos, const ViewFrame& f);
-  bool fingers_clear_of_footprint(const Vec3& pos, const ViewFrame& f, float width);
+  // grow: the fingers' boxes grown by this much (m) on every side (margins()).
+  bool fingers_clear_of_hull(const Vec3& pos, const ViewFrame& f, float grow = 0.f);
+  bool footprint_applies(const ViewFrame& f, float width) const;
+  bool fingers_clear_of_footprint(const Vec3& pos, const ViewFrame& f, float width, float grow = 0.f);
   bool lower_tip_unseen(const Vec3& pos, const ViewFrame& f, float width);
-  int fingers_in_seen_space(const Vec3& pos, const ViewFrame& f, float width, uint32_t& partly_hidden);
+  int fingers_in_seen_space(const Vec3& pos, const ViewFrame& f, float width, uint32_t& partly_hidden,
+                            float* hidden_share = nullptr);
+  float swept_clearance(const Candidate& c) const;
+  float friction_margin_deg(const Candidate& c);
   bool unseen_side_clear(const Vec3& pos, const ViewFrame& f, int side);
   bool blind_side_mirrors_seen(const Vec3& pos, const ViewFrame& f, float width, uint32_t hidden_sides);
   bool round_front_clears_blind_side(const Vec3& pos, const ViewFrame& f, int blind_side);

