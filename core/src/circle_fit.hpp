@@ -2,8 +2,8 @@
 // x^2 + z^2 + D x + E z + F = 0 (Kasa's algebraic fit): the normal equations a s = r,
 // solved by Eigen's closed-form 3x3 determinant and inverse (fixed size, no heap).
 // Callers pass coordinates about a point near the arc's centre or mean, which keeps
-// the equations well conditioned. Used by check 4's round front (planner_checks.cpp)
-// and check 5's round flanks (grazed_round.cpp).
+// the equations well conditioned. Used by the unseen side's round front
+// (pipeline/grasp_checks.cpp) and the round flanks' repair (pipeline/grazed_round.cpp).
 #pragma once
 #include <Eigen/Core>
 #include <Eigen/LU>

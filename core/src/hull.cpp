@@ -831,6 +831,35 @@ Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& 
 }
 
 // ------------------------------------------------------------------------------------
+float min_area_rectangle(const Vec2* hull, uint32_t h, float& major_x, float& major_y) {
+  const float inf = std::numeric_limits<float>::infinity();
+  float best = inf;
+  for (uint32_t i = 0; i < h; ++i) {
+    const Vec2& q = hull[i + 1 < h ? i + 1 : 0];
+    float ex = q.x - hull[i].x, ey = q.y - hull[i].y;
+    const float len = std::sqrt(ex * ex + ey * ey);
+    if (!(len > 1e-6f)) continue;
+    ex /= len;
+    ey /= len;
+    float a0 = inf, a1 = -inf, b0 = inf, b1 = -inf;  // along the edge, across it
+    for (uint32_t j = 0; j < h; ++j) {
+      const float a = ex * hull[j].x + ey * hull[j].y, b = ex * hull[j].y - ey * hull[j].x;
+      a0 = std::min(a0, a);
+      a1 = std::max(a1, a);
+      b0 = std::min(b0, b);
+      b1 = std::max(b1, b);
+    }
+    const float area = (a1 - a0) * (b1 - b0);
+    if (area < best) {
+      best = area;
+      const bool along = a1 - a0 >= b1 - b0;  // the major side: the longer one
+      major_x = along ? ex : -ey;
+      major_y = along ? ey : ex;
+    }
+  }
+  return best;
+}
+
 float polygon_area(const Vec2* poly, uint32_t n) {
   if (poly == nullptr || n < 3) return 0.0f;
   double twice = 0.0;

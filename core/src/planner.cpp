@@ -141,7 +141,7 @@ void Planner::load_target(uint32_t size, uint32_t* storage) {
   object_.clear();
   for (uint32_t i = 0; i < size; ++i) (void)object_.push(grid_.centroid(object_voxel_[i]));
   counts_.object = size;
-  checks_.begin_target(storage, near_tables_);
+  checks_.begin_target(storage, near_tables_, body_scratch_);
 }
 
 uint32_t Planner::search_family(const FamilySpec* specs, uint32_t n_specs, PlanResult& out) {

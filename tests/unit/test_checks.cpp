@@ -31,6 +31,7 @@ struct CheckWorld {
   fg::SupportPlane support;
   std::unique_ptr<fg::SensorViews> sensors = std::make_unique<fg::SensorViews>();
   std::vector<uint32_t> tables = std::vector<uint32_t>(2u << fg::kNearCellBits);
+  std::vector<fg::Vec2> body_scratch = std::vector<fg::Vec2>(2 * fg::kMaxObjectPoints);
   std::unique_ptr<fg::GraspChecks> checks;
 
   void build(const std::vector<Vec3>& target, const std::vector<Vec3>& others = {}) {
@@ -55,7 +56,7 @@ struct CheckWorld {
     sensors->clear();
     checks = std::make_unique<fg::GraspChecks>(
         fg::CheckScene{cfg, *object, object_voxel.data(), *grid, state.data(), support, *sensors});
-    checks->begin_target(grid->lend_count_storage(), tables.data());
+    checks->begin_target(grid->lend_count_storage(), tables.data(), body_scratch.data());
   }
 };
 
@@ -246,6 +247,128 @@ TEST(Checks, UnderTargetAppliesToSteepClosingsOnly) {
   steep.tangent_contacts = false;
   const fg::CheckMargins m = margins_of(w, steep);
   EXPECT_LT(m[CheckId::under_target], 0.f);
+}
+
+// ---- Unknown space: the plausible body ------------------------------------------
+
+// A camera at `eye` looking at `at` (optical frame: z forward, x right, y down).
+fg::Pose look_at(const Vec3& eye, const Vec3& at) {
+  const Vec3 z = (at - eye).normalized();
+  const Vec3 x = z.cross(Vec3::UnitZ()).normalized();
+  fg::Pose p;
+  p.R.col(0) = x;
+  p.R.col(1) = z.cross(x);
+  p.R.col(2) = z;
+  p.t = eye;
+  return p;
+}
+
+// A sensor's sight map as its depth image would fill it: per direction bin the nearest
+// of the world's surface points (sampled densely), as SensorViews documents its bins.
+void see(fg::SensorViews& s, uint32_t r, const fg::Pose& pose, const std::vector<Vec3>& surface) {
+  s.begin(r, pose);
+  const float half = 0.5f * static_cast<float>(fg::kSightBins);
+  for (const Vec3& w : surface) {
+    const Vec3 p = pose.R.transpose() * (w - pose.t);
+    if (!(p.z() > 0.05f)) continue;
+    const float bu = (p.x() / p.z() + 1.f) * half, bv = (p.y() / p.z() + 1.f) * half;
+    if (!(bu >= 0.f && bv >= 0.f && bu < 2.f * half && bv < 2.f * half)) continue;
+    uint16_t& d = s.sight_mm[r][static_cast<uint32_t>(bv) * fg::kSightBins + static_cast<uint32_t>(bu)];
+    d = std::min<uint16_t>(d, static_cast<uint16_t>(std::lround(p.z() * 1000.f)));
+  }
+}
+
+// The faces of an axis-aligned box standing on z = 0 (all five but the bottom) and the
+// table around it, sampled every `step`.
+void add_box_faces(std::vector<Vec3>& pts, float cx, float cy, float sx, float sy, float sz, float step) {
+  const float x0 = cx - 0.5f * sx, y0 = cy - 0.5f * sy;
+  for (float a = 0.f; a <= sx; a += step)
+    for (float b = 0.f; b <= sy; b += step) pts.emplace_back(x0 + a, y0 + b, sz);
+  for (float a = 0.f; a <= sx; a += step)
+    for (float z = 0.f; z <= sz; z += step) {
+      pts.emplace_back(x0 + a, y0, z);
+      pts.emplace_back(x0 + a, y0 + sy, z);
+    }
+  for (float b = 0.f; b <= sy; b += step)
+    for (float z = 0.f; z <= sz; z += step) {
+      pts.emplace_back(x0, y0 + b, z);
+      pts.emplace_back(x0 + sx, y0 + b, z);
+    }
+}
+
+void add_table_around(std::vector<Vec3>& pts, float step) {
+  for (float x = 0.1f; x <= 0.9f; x += step)
+    for (float y = -0.4f; y <= 0.4f; y += step) pts.emplace_back(x, y, 0.f);
+}
+
+// A box 74 mm across x (11.5 mm less than the opening: 5.5 mm beside each pad), 120 mm
+// along y, 150 mm high, at (0.5, 0). The head sees it from the robot's side (-x) and
+// above, the wrist from beside (-y) and above: neither sees its face at x = +37 mm.
+struct TightBox : ::testing::Test {
+  static constexpr float kNarrow = 0.074f, kLong = 0.12f, kHigh = 0.15f;
+  CheckWorld w;
+  void SetUp() override {
+    // The target: its seen faces' voxel centres (the top, the -x and -y faces).
+    std::vector<Vec3> seen;
+    for (const Vec3& p : box_surface(kBoxX, 0.f, kNarrow + 0.001f, kLong, kHigh))
+      if (p.z() > kHigh - kLeaf || p.x() < kBoxX - 0.5f * kNarrow + kLeaf || p.y() < -0.5f * kLong + kLeaf)
+        seen.push_back(p);
+    w.build(seen);
+  }
+  void look(const std::vector<Vec3>& world) {
+    see(*w.sensors, 0, look_at(Vec3(0.05f, 0.1f, 0.65f), Vec3(kBoxX, 0.f, 0.1f)), world);
+    see(*w.sensors, 1, look_at(Vec3(kBoxX - 0.05f, -0.4f, 0.35f), Vec3(kBoxX, 0.f, 0.08f)), world);
+  }
+};
+
+TEST_F(TightBox, TheFarFacesFingerIsHiddenYetOutsideTheBody) {
+  std::vector<Vec3> world;
+  add_box_faces(world, kBoxX, 0.f, kNarrow, kLong, kHigh, 0.002f);
+  add_table_around(world, 0.003f);
+  look(world);
+  const float far = kBoxX + 0.5f * kNarrow;
+  // 8 mm beyond the far face, halfway up: behind the box for both sensors, and outside
+  // the box the seen top bounds.
+  const Vec3 beside(far + 0.008f, 0.f, 0.5f * kHigh);
+  EXPECT_EQ(w.sensors->visibility(beside), fg::Sight::hidden);
+  EXPECT_FALSE(w.checks->could_be_solid(beside));
+  // 8 mm inside the far face: the box's unseen inside.
+  const Vec3 inside(far - 0.008f, 0.f, 0.5f * kHigh);
+  EXPECT_EQ(w.sensors->visibility(inside), fg::Sight::hidden);
+  EXPECT_TRUE(w.checks->could_be_solid(inside));
+  // A top-down grasp across the 74 mm: not refused as occluded, and its fingers' hidden
+  // samples that count are none.
+  const fg::Candidate c = top_down(Vec3(kBoxX, 0.f, kHigh - 0.01f), Vec3::UnitX(), kNarrow - kLeaf);
+  const CheckVerdict v = w.checks->evaluate(c, true);
+  EXPECT_TRUE(v.passed()) << fg::to_string(v.check);
+  EXPECT_NEAR(margins_of(w, c)[CheckId::unknown_space], 0.2f, 1e-6);
+}
+
+TEST_F(TightBox, SpaceHiddenByAnotherObjectStillCounts) {
+  // A second box (40 x 40 x 150 mm) 20 mm beyond the target's far face: its unseen
+  // inside lies outside the target's body, behind the second box's own faces.
+  std::vector<Vec3> world;
+  add_box_faces(world, kBoxX, 0.f, kNarrow, kLong, kHigh, 0.002f);
+  const float other_x = kBoxX + 0.5f * kNarrow + 0.02f + 0.02f;
+  add_box_faces(world, other_x, 0.f, 0.04f, 0.04f, kHigh, 0.002f);
+  add_table_around(world, 0.003f);
+  look(world);
+  const Vec3 in_other(other_x + 0.01f, 0.f, 0.5f * kHigh);
+  ASSERT_EQ(w.sensors->visibility(in_other), fg::Sight::hidden);
+  EXPECT_FALSE(w.checks->plausibly_solid(in_other));
+  EXPECT_TRUE(w.checks->could_be_solid(in_other));
+}
+
+TEST(Checks, ARoundBodyKeepsEveryHiddenSampleAsPossiblySolid) {
+  // A can (74 mm across) seen from one side: its footprint is a disc, which may bulge
+  // beyond what was seen; no body bounds it.
+  CheckWorld w;
+  std::vector<Vec3> wall;
+  const float r = 0.037f;
+  for (float a = 0.f; a < 6.2831f; a += 0.04f)
+    for (float z = 0.0025f; z < 0.12f; z += kLeaf) wall.emplace_back(kBoxX + r * std::cos(a), r * std::sin(a), z);
+  w.build(wall);
+  EXPECT_TRUE(w.checks->plausibly_solid(Vec3(kBoxX + r + 0.008f, 0.f, 0.06f)));
 }
 
 }  // namespace

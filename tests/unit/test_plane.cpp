@@ -384,8 +384,8 @@ TEST(Plane, RefitAndCountMatchABruteForceForEveryCount) {
       // Only a well-separated smallest axis defines the plane (3 or 4 noisy points may not).
       if (es.eigenvalues()(0) > 0.1 * es.eigenvalues()(1)) continue;
       EXPECT_NEAR(nrm.norm(), 1.0, 1e-5);
-      // Float covariance and solver: 2.4e-4 rad at worst here (the double sums of the
-      // refit before session 25 gave the same); the hypothesis was 0.035 rad off.
+      // Float covariance and solver: 2.4e-4 rad at worst here (a refit with double sums
+      // gives the same); the hypothesis was 0.035 rad off.
       EXPECT_LT(std::acos(std::min(1.0, nrm.cast<double>().dot(want))), 5e-4);
       EXPECT_NEAR(d, -want.dot(mean), 2e-5);
     }

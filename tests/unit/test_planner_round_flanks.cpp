@@ -18,8 +18,8 @@ using fg::sim::ObjectKind;
 using fg::sim::Sensors;
 
 // round_snap false: a round body's axis snaps to vertical only within vertical_snap,
-// as before session 36's vertical_snap_round (docs/method.md B/C), the frame the rule
-// was made for (an axis leaning towards the seen wall).
+// not vertical_snap_round (docs/method.md B/C): the frame the rule was made for (an
+// axis leaning towards the seen wall).
 std::unique_ptr<fg::Planner> planner_with(bool round_flanks, bool round_snap = true) {
   auto p = std::make_unique<fg::Planner>();
   fg::PlannerConfig cfg;

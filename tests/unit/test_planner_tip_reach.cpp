@@ -33,8 +33,7 @@ TEST(PlannerTipReach, GraspsOnLowSlabsHoldOnTheTrueGeometry) {
   });
   EXPECT_EQ(r.held, r.grasps) << "grasps that do not hold:" << r.failures;
   // The slabs fit the gripper across their narrow side: about half get a grasp (13 of
-  // 24 since session 17, where one pad under 16 mm is enough for the rule of
-  // ContactsTooLowToVerifyGetNoGrasp; 16 when both had to be; 22 before the rule).
+  // 24: one pad under 16 mm is enough for the rule of ContactsTooLowToVerifyGetNoGrasp).
   EXPECT_GE(r.grasps, 10);
 }
 

@@ -8,6 +8,7 @@
 #include "../circle_fit.hpp"
 #include "fg/core/eigen_sym3.hpp"
 #include "fg/core/gjk.hpp"
+#include "fg/core/hull.hpp"
 #include "fg/core/near_list.hpp"
 #include "fg/core/pipeline/grasp_checks.hpp"
 #include "fg/core/segment_box.hpp"
@@ -47,9 +48,10 @@ namespace {
 constexpr float kFrontFacingCos = 0.866f;
 // Object points this far around the open fingers form the local hull they must avoid.
 constexpr float kHullNeighbourhood = 0.01f;
-// Visibility: returns within this distance of a point neither free nor hide it; a
-// finger may have this share of its samples hidden (edges of silhouettes blur).
-constexpr float kSightMargin = 0.01f;
+// A target's footprint (its completed hull on the plane) is flat-sided when it fills at
+// least this share of its smallest rectangle: a disc fills pi/4 (0.785), a rectangle 1.
+constexpr float kFlatSidedFill = 0.9f;
+// A finger may have this share of its samples hidden (edges of silhouettes blur).
 constexpr float kMaxHiddenShare = 0.2f;
 // A finger with at most this many hidden samples (of 30) counts as in seen space.
 constexpr uint32_t kSeenFingerHidden = 2;
@@ -178,7 +180,7 @@ void gripper_boxes(const PlannerConfig& cfg, Box out[3]) {
 // a coarse grid over the cube around that sphere (in the idle per-view memory): the
 // collision check then reads only the cells under each box, instead of every voxel of
 // the scene.
-void GraspChecks::begin_target(uint32_t* storage, uint32_t* tables) {
+void GraspChecks::begin_target(uint32_t* storage, uint32_t* tables, Vec2* scratch) {
   for (uint32_t i = 0; i < object_.size(); ++i) normal_state_[i] = 0;
   near_ = storage;
   n_near_ = 0;
@@ -208,6 +210,118 @@ void GraspChecks::begin_target(uint32_t* storage, uint32_t* tables) {
   for (uint32_t k = 0; k < n_near_; ++k) near_[k] |= g.cell_of(centroids[near_[k]]) << kNearIndexBits;
   sort_by_cell(near_, n_near_, kNearIndexBits, cell_bits, tables, tables + (1u << kNearCellBits));
   near_grid_ = g;
+  build_plausible_body(scratch);
+}
+
+void GraspChecks::build_plausible_body(Vec2* scratch) {
+  n_body_edges_ = 0;
+  const uint32_t m = object_.size();
+  if (!support_.found || m < 3) return;
+  const Vec3 n = support_.plane.n.normalized();
+  const Vec3 a = std::fabs(n.x()) < 0.9f ? Vec3::UnitX() : Vec3::UnitY();
+  body_u_ = (a - n * n.dot(a)).normalized();
+  body_v_ = n.cross(body_u_);
+  Vec2* const pts = scratch;
+  Vec2* const work = scratch + kMaxObjectPoints;
+  float top = -std::numeric_limits<float>::infinity();
+  for (uint32_t i = 0; i < m; ++i) {
+    pts[i] = Vec2{body_u_.dot(object_[i]), body_v_.dot(object_[i])};
+    top = std::max(top, support_.plane.height(object_[i]));
+  }
+  Vec2 hull[kMaxBodyEdges];
+  uint32_t h = 0;
+  if (convex_hull_2d(pts, m, work, hull, kMaxBodyEdges, h) != Status::ok || h < 3) return;
+  // The hull's area centroid (its points' centroid leans to the densest seen face).
+  double area = 0.0, cx = 0.0, cy = 0.0;
+  for (uint32_t i = 0; i < h; ++i) {
+    const Vec2& p = hull[i];
+    const Vec2& q = hull[i + 1 < h ? i + 1 : 0];
+    const double cross = static_cast<double>(p.x) * q.y - static_cast<double>(q.x) * p.y;
+    area += cross;
+    cx += (static_cast<double>(p.x) + q.x) * cross;
+    cy += (static_cast<double>(p.y) + q.y) * cross;
+  }
+  if (!(area > 1e-12)) return;
+  const float mx = static_cast<float>(2.0 * cx / (3.0 * area)), my = static_cast<float>(2.0 * cy / (3.0 * area));
+  for (uint32_t i = 0; i < h; ++i) {
+    pts[i] = hull[i];
+    pts[h + i] = Vec2{mx - hull[i].x, my - hull[i].y};
+  }
+  if (convex_hull_2d(pts, 2 * h, work, hull, kMaxBodyEdges, h) != Status::ok || h < 3) return;
+  // Only a flat-sided body (a prism on the plane: a box, a carton) ends where its seen
+  // outline ends; a round one (a sphere, an ellipsoid, a bottle's body) may bulge
+  // beyond it below what was seen, and keeps every hidden sample as possibly solid.
+  // A disc fills pi/4 of its smallest rectangle, a rectangle all of it.
+  float major_x = 0.f, major_y = 0.f;
+  const float rectangle = min_area_rectangle(hull, h, major_x, major_y);
+  if (!(polygon_area(hull, h) >= kFlatSidedFill * rectangle)) return;
+  body_lo_[0] = body_hi_[0] = hull[0].x;
+  body_lo_[1] = body_hi_[1] = hull[0].y;
+  for (uint32_t i = 0; i < h; ++i) {
+    const Vec2& p = hull[i];
+    const Vec2& q = hull[i + 1 < h ? i + 1 : 0];
+    const float ex = q.x - p.x, ey = q.y - p.y, len = std::sqrt(ex * ex + ey * ey);
+    if (!(len > 1e-9f)) continue;
+    // Counter-clockwise: the inside lies to the left of each edge.
+    body_normal_[n_body_edges_] = Vec2{-ey / len, ex / len};
+    body_offset_[n_body_edges_] = body_normal_[n_body_edges_].x * p.x + body_normal_[n_body_edges_].y * p.y;
+    ++n_body_edges_;
+    body_lo_[0] = std::min(body_lo_[0], p.x);
+    body_hi_[0] = std::max(body_hi_[0], p.x);
+    body_lo_[1] = std::min(body_lo_[1], p.y);
+    body_hi_[1] = std::max(body_hi_[1], p.y);
+  }
+  body_top_ = top;
+}
+
+bool GraspChecks::plausibly_solid(const Vec3& q) const {
+  // Voxel centroids lie up to half a voxel inside the surface.
+  return n_body_edges_ < 3 || in_body(q, 0.5f * cfg_.voxel_leaf_m);
+}
+
+bool GraspChecks::in_body(const Vec3& q, float grow) const {
+  const float h = support_.plane.height(q);
+  if (h < -grow || h > body_top_ + grow) return false;
+  const float x = body_u_.dot(q), y = body_v_.dot(q);
+  if (x < body_lo_[0] - grow || x > body_hi_[0] + grow || y < body_lo_[1] - grow || y > body_hi_[1] + grow)
+    return false;
+  for (uint32_t i = 0; i < n_body_edges_; ++i)
+    if (body_normal_[i].x * x + body_normal_[i].y * y < body_offset_[i] - grow) return false;
+  return true;
+}
+
+bool GraspChecks::plausible_wall(const Vec3& q, Vec3& outward) const {
+  if (n_body_edges_ < 3) return false;
+  const float x = body_u_.dot(q), y = body_v_.dot(q);
+  uint32_t nearest = 0;
+  float best = std::numeric_limits<float>::infinity();
+  for (uint32_t i = 0; i < n_body_edges_; ++i) {
+    const float d = std::fabs(body_normal_[i].x * x + body_normal_[i].y * y - body_offset_[i]);
+    if (d < best) {
+      best = d;
+      nearest = i;
+    }
+  }
+  // A contact farther inside than a voxel presses something within the outline (a
+  // neck, a handle), not the wall under it.
+  if (!(best <= cfg_.voxel_leaf_m)) return false;
+  outward = -(body_u_ * body_normal_[nearest].x + body_v_ * body_normal_[nearest].y);
+  return true;
+}
+
+bool GraspChecks::could_be_solid(const Vec3& q) const {
+  if (plausibly_solid(q)) return true;
+  // Outside the target's body: possibly solid only behind something else. The return
+  // that hides q lies on the target when it falls in the target's body grown by a voxel
+  // (a return is a surface point, its voxel's centroid up to half a voxel inside) and
+  // by its bin's width at its depth (the bin's nearest return, placed on q's ray).
+  for (uint32_t r = 0; r < kMaxSensors; ++r) {
+    Vec3 hit;
+    if (!sensors_.hidden_by(r, q, hit)) continue;
+    const float bin = (hit - sensors_.origin[r]).norm() * (2.f / static_cast<float>(kSightBins));
+    if (!in_body(hit, cfg_.voxel_leaf_m + bin)) return true;
+  }
+  return false;
 }
 
 // The checks in order, up to the first that fails or, in the first pass, defers the
@@ -398,7 +512,8 @@ bool GraspChecks::lower_tip_unseen(const Vec3& pos, const ViewFrame& f, float wi
     for (int iz = 0; iz < 3; ++iz) {
       const float x = x_sign * (from + (half_open - from) * (0.125f + 0.25f * static_cast<float>(ix)));
       const float z = tip + 0.005f * static_cast<float>(iz - 1);
-      hidden += visibility(pos + f.X * x + f.Z * z) < 0 ? 1u : 0u;
+      const Vec3 q = pos + f.X * x + f.Z * z;
+      hidden += visibility(q) < 0 && could_be_solid(q) ? 1u : 0u;
     }
   if (hidden <= kCapTipHidden) return false;
   Vec3 along = f.X - support_.plane.n * f.X.dot(support_.plane.n);
@@ -481,6 +596,8 @@ int GraspChecks::fingers_in_seen_space(const Vec3& pos, const ViewFrame& f, floa
   // (closer than the sensor's minimum range, a dropout) says nothing about it. Only a
   // layer with space seen on both sides is a plate (kThinSeenFree).
   const bool thin = width <= kThinSheetLeaves * cfg_.voxel_leaf_m;
+  // Hidden samples count where something could be (could_be_solid): behind the target
+  // yet outside its plausible body, a finger meets nothing of it.
   uint32_t hidden = 0, total = 0, seen_free = 0;
   partly_hidden = 0;
   for (int side = 0; side < 2; ++side) {
@@ -493,8 +610,9 @@ int GraspChecks::fingers_in_seen_space(const Vec3& pos, const ViewFrame& f, floa
           const float y = g.finger_width_m * (static_cast<float>(iy) - 1.f) * 0.5f;
           const float z = g.finger_depth_m * (static_cast<float>(iz) * 0.25f - 0.5f);
           ++total;
-          const int v = visibility(pos + f.X * x + f.Y * y + f.Z * z);
-          hidden += v < 0 ? 1u : 0u;
+          const Vec3 q = pos + f.X * x + f.Y * y + f.Z * z;
+          const int v = visibility(q);
+          hidden += v < 0 && could_be_solid(q) ? 1u : 0u;
           seen_free += v > 0 ? 1u : 0u;
         }
     if (hidden - before > kSeenFingerHidden) partly_hidden |= 1u << side;
@@ -547,10 +665,9 @@ bool GraspChecks::blind_side_mirrors_seen(const Vec3& pos, const ViewFrame& f, f
 // A blind side whose band holds a top (normals along the support plane's) mirrors the
 // seen side only where that top ends at the band: a top the sensors saw going on past
 // it, along the closing direction laid on the plane, says the body goes on too, and the
-// blind side is its unseen inside, not a wall the pad meets. A closing tilted off level
-// across a wide box's corner (trial 1700333 of `further`, 18 deg) left the top through
-// the box's unseen upper side: the band there held the top's last points and a 29 mm
-// "slab", and the open finger went 9 mm into the box.
+// blind side is its unseen inside, not a wall the pad meets: a closing tilted off level
+// across a wide box's corner leaves the top through the box's unseen upper side, where
+// the band holds the top's last points, read as a thin slab with the body beyond it.
 bool GraspChecks::top_goes_on_past(const Vec3& pos, const ViewFrame& f, float width, int side) {
   if (!support_.found) return false;
   const GripperGeometry& g = cfg_.gripper;
@@ -926,6 +1043,17 @@ bool GraspChecks::friction_ok(const Vec3& pos, const ViewFrame& f, float width) 
   // pad is enough: the grasp holds only if both pads do. Tested before the tilt fit.
   const float verifiable = cfg_.object_min_height_m + 2.f * cfg_.voxel_leaf_m;
   if (support_.found && (st.top[0] < verifiable || st.top[1] < verifiable)) return false;
+  // A pad whose band shows no contact normal, or at most two all off the cone, presses
+  // a side no sensor saw. On a flat-sided body that side is the wall under its seen
+  // outline's edge (plausible_wall), whose normal must lie within the cone: a closing
+  // square to the unseen face of a box holds, one across its corner does not.
+  const float cos_wall_cone = std::cos(std::atan(cfg_.friction_mu));
+  for (int s = 0; s < 2; ++s) {
+    if (!(st.total[s] == 0u || (st.total[s] <= 2u && st.inside_cone[s] == 0u))) continue;
+    Vec3 wall;
+    const Vec3 contact = pos + f.X * ((s == 0 ? -0.5f : 0.5f) * width);
+    if (plausible_wall(contact, wall) && std::fabs(wall.dot(f.X)) < cos_wall_cone) return false;
+  }
   const float tip = 0.5f * cfg_.gripper.finger_depth_m - kTipReach;
   // Both pads reach the target by their tips alone and show at most kTipOnlyNormals
   // contact normals between them: the pads overlap it by less than kTipReach and nothing
@@ -979,16 +1107,14 @@ bool GraspChecks::friction_ok(const Vec3& pos, const ViewFrame& f, float width) 
     // At least two contact normals on this pad, all off the cone, and nothing that
     // says otherwise: the other pad shows none (a tilted closing across a wide box's
     // top edge) or, off straight down, fewer than kVouchNormals, too few to vouch for
-    // this one (the scissors 4001979, 55 deg outside the cone on the true mesh).
-    // Straight down the other pad must show none: there a small top's rim bends both
-    // pads' normals (a mustard bottle's cap, 2100201, held with 2 and 1 off the cone).
+    // this one (a thin part's bevel). Straight down the other pad must show none: there
+    // a small top's rim bends both pads' normals (a cap's).
     if (st.total[s] >= 2 && st.inside_cone[s] == 0 && st.total[1 - s] < (down ? 1u : kVouchNormals)) return false;
   }
   // Both pads on the target by less than kShallowLeaves voxels (deeper than their tips
   // alone, above) and the grasp's only contact normals, 1 or 2, off the cone with no
-  // tilt fit inside it: what little evidence there is says the pads slip (the scissors
-  // 3001295, closed 15 mm across a part 18 mm high, one normal, 27 deg outside the cone
-  // on the true mesh).
+  // tilt fit inside it: what little evidence there is says the pads slip (a low part
+  // closed across its bevelled edges).
   const float shallow = 0.5f * cfg_.gripper.finger_depth_m - kShallowLeaves * cfg_.voxel_leaf_m;
   const uint32_t normals = st.total[0] + st.total[1];
   const bool fit_inside = (valid[0] && omc[0] <= 1.f - cos_cone) || (valid[1] && omc[1] <= 1.f - cos_cone);
@@ -1084,9 +1210,17 @@ float GraspChecks::friction_margin_deg(const Candidate& c) {
   float omc[2], near_face[2], edge_face[2];
   bool valid[2], flat[2];
   contact_tilt(c.position, f, omc, valid, flat, near_face, edge_face);
+  ContactNormalStats st;
+  contact_normal_stats(c.position, f, c.width, st);
   const float half = 0.5f * c.width;
   float steepest = -1.f;
   for (int side = 0; side < 2; ++side) {
+    // A pad on a side no sensor saw: the plausible body's wall there (friction_ok).
+    Vec3 wall;
+    if (st.total[side] == 0u && plausible_wall(c.position + f.X * ((side == 0 ? -1.f : 1.f) * half), wall)) {
+      steepest = std::max(steepest, std::acos(std::min(1.f, std::fabs(wall.dot(f.X)))));
+      continue;
+    }
     const float evidence = std::max(valid[side] ? omc[side] : -1.f, std::max(near_face[side], edge_face[side]));
     if (evidence >= 0.f) {
       steepest = std::max(steepest, std::acos(1.f - std::min(1.f, evidence)));

@@ -147,8 +147,7 @@ bool GraspChecks::grazed_round_body(const Candidate& c, Candidate& round) {
   const float left = cx - r, right = cx + r;
   if (left > ext[0] || right < ext[1]) return false;
   if (ext[0] - left > kMaxBeyond || right - ext[1] > kMaxBeyond) return false;
-  // The opening clears the circle by width_margin, as every other grasp's width
-  // (two voxels, before session 37, refused the 75-81 mm bottles under a steep wrist).
+  // The opening clears the circle by width_margin, as every other grasp's width.
   if (2.f * r > g.max_opening_m - cfg_.width_margin_m || 2.f * r < g.min_opening_m) return false;
   // Deeper along the approach when the tangents lie past the fingertips' reach, as far
   // as the depth rule lets the palm go; the support plane's bound is the checks'

@@ -110,32 +110,8 @@ bool footprint_axes(const PointSpan& pts, const Vec3& centroid, const Vec3 sup[3
   uint32_t h = 0;
   if (convex_hull_2d(proj, m, proj, hull, kMaxContourVertices, h) != Status::ok || h < 3 || h > kMaxFootprintHull)
     return false;
-  const float inf = std::numeric_limits<float>::infinity();
-  float best = inf, major_x = 0.f, major_y = 0.f;
-  for (uint32_t i = 0; i < h; ++i) {
-    const Vec2& q = hull[i + 1 < h ? i + 1 : 0];
-    float ex = q.x - hull[i].x, ey = q.y - hull[i].y;
-    const float len = std::sqrt(ex * ex + ey * ey);
-    if (!(len > 1e-6f)) continue;
-    ex /= len;
-    ey /= len;
-    float a0 = inf, a1 = -inf, b0 = inf, b1 = -inf;  // along the edge, across it
-    for (uint32_t j = 0; j < h; ++j) {
-      const float a = ex * hull[j].x + ey * hull[j].y, b = ex * hull[j].y - ey * hull[j].x;
-      a0 = std::min(a0, a);
-      a1 = std::max(a1, a);
-      b0 = std::min(b0, b);
-      b1 = std::max(b1, b);
-    }
-    const float area = (a1 - a0) * (b1 - b0);
-    if (area < best) {
-      best = area;
-      const bool along = a1 - a0 >= b1 - b0;  // the major side: the longer one
-      major_x = along ? ex : -ey;
-      major_y = along ? ey : ex;
-    }
-  }
-  if (!(best < inf)) return false;
+  float major_x = 0.f, major_y = 0.f;
+  if (!(min_area_rectangle(hull, h, major_x, major_y) < std::numeric_limits<float>::infinity())) return false;
   foot[0] = sup[0];
   foot[1] = (sup[1] * major_x + sup[2] * major_y).normalized();
   foot[2] = sup[0].cross(foot[1]).normalized();

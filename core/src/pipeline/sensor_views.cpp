@@ -23,6 +23,21 @@ bool SensorViews::any() const {
   return false;
 }
 
+bool SensorViews::hidden_by(uint32_t r, const Vec3& q, Vec3& hit) const {
+  if (r >= kMaxSensors || !added[r]) return false;
+  const float half = 0.5f * static_cast<float>(kSightBins);
+  const Vec3 p = pose[r].R.transpose() * (q - pose[r].t);
+  if (!(p.z() > 0.05f)) return false;
+  const float bu = (p.x() / p.z() + 1.f) * half, bv = (p.y() / p.z() + 1.f) * half;
+  if (!(bu >= 0.f && bv >= 0.f && bu < 2.f * half && bv < 2.f * half)) return false;
+  const uint16_t d = sight_mm[r][static_cast<uint32_t>(bv) * kSightBins + static_cast<uint32_t>(bu)];
+  if (d == 0xFFFFu) return false;
+  const float seen_m = static_cast<float>(d) * 0.001f;
+  if (!(seen_m < p.z() - kSightMargin)) return false;
+  hit = pose[r].apply(p * (seen_m / p.z()));
+  return true;
+}
+
 Sight SensorViews::visibility(const Vec3& q) const {
   Sight result = Sight::unknown;
   const float half = 0.5f * static_cast<float>(kSightBins);

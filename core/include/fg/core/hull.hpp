@@ -102,6 +102,12 @@ Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& 
                        ConcaveHullScratch& scratch, Vec2* out, uint32_t out_capacity,
                        uint32_t& out_n, float& out_cell_m, bool& all_inside);
 
+//! The smallest-area rectangle about a convex polygon (`hull`, h vertices): it has a
+//! side along a hull edge (Freeman and Shapira), so each edge's direction is tried
+//! (h^2 work). Its area, and the unit direction of its longer side in (major_x,
+//! major_y); infinity when no edge has a length.
+float min_area_rectangle(const Vec2* hull, uint32_t h, float& major_x, float& major_y);
+
 //! Signed area of a polygon (positive when counter-clockwise).
 float polygon_area(const Vec2* poly, uint32_t n);
 

@@ -225,7 +225,10 @@ class Planner {
     ViewWork view_;
     uint64_t view_words_[sizeof(ViewWork) / sizeof(uint64_t)];
     uint32_t near_tables_[2u << kNearCellBits];
+    Vec2 body_scratch_[2 * kMaxObjectPoints];  // the checks' plausible body (begin_target)
   };
+  static_assert(sizeof(Vec2) * 2 * kMaxObjectPoints <= sizeof(ViewWork),
+                "the plausible body's scratch borrows the per-view memory without growing it");
   Silhouette silhouette_;
   CandidateList candidates_;
 

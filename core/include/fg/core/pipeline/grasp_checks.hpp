@@ -78,6 +78,10 @@ inline constexpr uint32_t kNearCellBits =
     kViewWorkWordBits < 32u - kNearIndexBits ? kViewWorkWordBits : 32u - kNearIndexBits;
 static_assert(kNearCellBits >= 3, "the near list needs at least one bit of cell per axis");
 
+//! The most edges of the plausible body's hull (plausibly_solid); a target whose hull
+//! has more is plausibly solid everywhere, as without a hull.
+inline constexpr uint32_t kMaxBodyEdges = 128;
+
 class GraspChecks {
  public:
   explicit GraspChecks(const CheckScene& scene)
@@ -86,10 +90,12 @@ class GraspChecks {
   GraspChecks(const GraspChecks&) = delete;
   GraspChecks& operator=(const GraspChecks&) = delete;
 
-  //! A new target: its normals forgotten, and the voxels a gripper at any of its
+  //! A new target: its normals forgotten, the voxels a gripper at any of its
   //! candidates could touch listed in `storage` (grid.size() entries: the grid's lent
-  //! count storage), sorted by cell with `tables` (2 << kNearCellBits words, lent).
-  void begin_target(uint32_t* storage, uint32_t* tables);
+  //! count storage), sorted by cell with `tables` (2 << kNearCellBits words, lent), and
+  //! its plausible body built in `scratch` (2 * kMaxObjectPoints points, lent; it may be
+  //! the tables' memory, which the sort is done with by then).
+  void begin_target(uint32_t* storage, uint32_t* tables, Vec2* scratch);
   //! No near list (before a target is loaded): the swept check walks every voxel.
   void forget_target() { n_near_ = 0; near_ = nullptr; }
 
@@ -109,10 +115,25 @@ class GraspChecks {
   //! A round body whose flanks were seen only to a grazing edge: the grasp on its
   //! unseen tangents (grazed_round.cpp). False when the model does not apply.
   bool grazed_round_body(const Candidate& c, Candidate& round);
+  //! The target could be solid at q: q lies in its plausible body, the prism over the
+  //! convex hull, on the support plane, of its points and their mirror images through
+  //! the hull's centre (the seen part completed by the symmetry of a body about its
+  //! vertical axis), from the plane up to its highest point, grown by half a voxel.
+  //! Everywhere true without a support plane or without such a hull.
+  bool plausibly_solid(const Vec3& q) const;
+  //! A hidden q (visibility) could be solid: it lies inside the target's plausible
+  //! body, or something else than the target hides it (another object, whose unseen
+  //! part no body bounds).
+  bool could_be_solid(const Vec3& q) const;
+  //! The outward normal (horizontal) of the plausible body's wall nearest q, when q lies
+  //! within a voxel of it; false without a body. A flat-sided body's unseen side is
+  //! that wall.
+  bool plausible_wall(const Vec3& q, Vec3& outward) const;
+
   //! Within kTopDownCos of the support plane's downward normal.
   bool straight_down(const Vec3& approach) const;
 
-  const CheckScene scene() const { return CheckScene{cfg_, object_, object_voxel_, grid_, state_, support_, sensors_}; }
+  CheckScene scene() const { return CheckScene{cfg_, object_, object_voxel_, grid_, state_, support_, sensors_}; }
 
  private:
   struct ContactNormalStats {
@@ -162,6 +183,17 @@ class GraspChecks {
   Vec3 near_centre_ = Vec3::Zero();
   float near_slack_ = 0.f;
   NearGrid near_grid_{};
+
+  // The plausible body (plausibly_solid): its hull's edges as inward unit normals and
+  // offsets in the plane's (u, v) frame, n . p >= d inside, and its height.
+  void build_plausible_body(Vec2* scratch);
+  bool in_body(const Vec3& q, float grow) const;
+  Vec3 body_u_ = Vec3::UnitX(), body_v_ = Vec3::UnitY();
+  Vec2 body_normal_[kMaxBodyEdges];
+  float body_offset_[kMaxBodyEdges];
+  uint32_t n_body_edges_ = 0;
+  float body_top_ = 0.f;
+  float body_lo_[2] = {0.f, 0.f}, body_hi_[2] = {0.f, 0.f};  // the hull's bounding box
 
   // Normals of object points, computed on demand for the friction test.
   Vec3 normals_[kMaxObjectPoints];
