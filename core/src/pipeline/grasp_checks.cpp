@@ -1155,7 +1155,7 @@ float box_distance(const FrameBox& b, float tol, float x, float y, float z) {
   return std::sqrt(ox * ox + oy * oy + oz * oz);
 }
 
-constexpr float kRadToDeg = 57.29577951f;
+constexpr double kRadToDegD = 57.29577951308232;
 // Without a fit, a pad's contact tilt is this quantile of its contact normals' tilts
 // (friction_margin_deg).
 constexpr float kContactTiltQuantile = 0.25f;
@@ -1203,8 +1203,9 @@ float GraspChecks::swept_clearance(const Candidate& c) const {
 // grasp on a round body's unseen tangents closes square to them by its model. NaN when
 // no pad shows a normal.
 float GraspChecks::friction_margin_deg(const Candidate& c) {
-  const float cone = std::atan(cfg_.friction_mu);
-  if (c.tangent_contacts) return cone * kRadToDeg;
+  // In double, rounded once to float: the same report on every target's libm.
+  const double cone = std::atan(static_cast<double>(cfg_.friction_mu));
+  if (c.tangent_contacts) return static_cast<float>(cone * kRadToDegD);
   const GripperGeometry& g = cfg_.gripper;
   const ViewFrame f = c.frame();
   float omc[2], near_face[2], edge_face[2];
@@ -1213,17 +1214,17 @@ float GraspChecks::friction_margin_deg(const Candidate& c) {
   ContactNormalStats st;
   contact_normal_stats(c.position, f, c.width, st);
   const float half = 0.5f * c.width;
-  float steepest = -1.f;
+  double steepest = -1.0;
   for (int side = 0; side < 2; ++side) {
     // A pad on a side no sensor saw: the plausible body's wall there (friction_ok).
     Vec3 wall;
     if (st.total[side] == 0u && plausible_wall(c.position + f.X * ((side == 0 ? -1.f : 1.f) * half), wall)) {
-      steepest = std::max(steepest, std::acos(std::min(1.f, std::fabs(wall.dot(f.X)))));
+      steepest = std::max(steepest, std::acos(std::min(1.0, static_cast<double>(std::fabs(wall.dot(f.X))))));
       continue;
     }
     const float evidence = std::max(valid[side] ? omc[side] : -1.f, std::max(near_face[side], edge_face[side]));
     if (evidence >= 0.f) {
-      steepest = std::max(steepest, std::acos(1.f - std::min(1.f, evidence)));
+      steepest = std::max(steepest, std::acos(1.0 - std::min(1.0, static_cast<double>(evidence))));
       continue;
     }
     // The tilts go to the x of the scratch points (idle between the checks' calls).
@@ -1235,15 +1236,16 @@ float GraspChecks::friction_margin_deg(const Candidate& c) {
       if (side == 0 ? x > -half + cfg_.contact_band_m : x < half - cfg_.contact_band_m) continue;
       Vec3 nrm;
       if (!normal_at(i, nrm) || !normal_planar(i) || std::fabs(nrm.dot(f.Z)) > kFrontFacingCos) continue;
-      local_[m++].x() = std::acos(std::min(1.f, std::fabs(nrm.dot(f.X))));
+      local_[m++].x() = std::fabs(nrm.dot(f.X));  // the cosine: the steeper, the smaller
     }
     if (m == 0) continue;
+    // The quantile-th smallest tilt: the quantile-th largest cosine.
     const uint32_t q = static_cast<uint32_t>(kContactTiltQuantile * static_cast<float>(m - 1));
-    std::nth_element(local_, local_ + q, local_ + m, [](const Vec3& a, const Vec3& b) { return a.x() < b.x(); });
-    steepest = std::max(steepest, local_[q].x());
+    std::nth_element(local_, local_ + q, local_ + m, [](const Vec3& a, const Vec3& b) { return a.x() > b.x(); });
+    steepest = std::max(steepest, std::acos(std::min(1.0, static_cast<double>(local_[q].x()))));
   }
-  if (!(steepest >= 0.f)) return std::numeric_limits<float>::quiet_NaN();
-  return (cone - steepest) * kRadToDeg;
+  if (!(steepest >= 0.0)) return std::numeric_limits<float>::quiet_NaN();
+  return static_cast<float>((cone - steepest) * kRadToDegD);
 }
 
 void GraspChecks::margins(const Candidate& c, CheckMargins& out) {
