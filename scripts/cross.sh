@@ -45,7 +45,7 @@ host_fg="$host_build"/platform/host/cli/forcegrasp
 # different plan.
 scenes_dir=build/cross-scenes
 rm -rf "$scenes_dir"
-"$host_fg" sim --objects all --trials 38 --seed 5000 --export "$scenes_dir" --quiet >/dev/null
+"$host_fg" sim --distribution classic --objects all --trials 38 --seed 5000 --export "$scenes_dir" --quiet >/dev/null
 scenes=(examples/two-sensor-box/scene.json "$scenes_dir"/*/scene.json)
 python3 scripts/plans_alike.py aarch64 "$host_fg" \
   "qemu-aarch64 -L /usr/aarch64-linux-gnu build/aarch64/platform/host/cli/forcegrasp" "${scenes[@]}"

@@ -51,7 +51,9 @@ std::vector<double> render_true_depth(const World& world, const Camera& cam,
 DepthImage render_depth(const World& world, const Camera& cam, const NoiseModel& noise,
                         uint64_t seed) {
   std::vector<double> cosi;
-  const std::vector<double> z = render_true_depth(world, cam, &cosi, nullptr);
+  std::vector<int> hit_object;
+  const bool by_surface = noise.dark_dropout;
+  const std::vector<double> z = render_true_depth(world, cam, &cosi, by_surface ? &hit_object : nullptr);
   const int W = cam.K.width, H = cam.K.height;
   const double cos_limit = std::cos(noise.max_incidence_deg * kPi / 180.0);
 
@@ -60,6 +62,27 @@ DepthImage render_depth(const World& world, const Camera& cam, const NoiseModel&
   for (size_t i = 0; i < z.size(); ++i)
     valid[i] = std::isfinite(z[i]) && cosi[i] >= cos_limit && z[i] >= noise.z_min && z[i] <= noise.z_max;
 
+  if (noise.projector_shadow) {
+    // Geometry too: the segment from the projector to the surface point must be free.
+    const Raycaster caster(world);
+    const M3& R = cam.world_T_sensor.R;
+    const V3& eye = cam.world_T_sensor.t;
+    const V3 projector = eye + R * V3(noise.projector_baseline, 0.0, 0.0);
+    for (int v = 0; v < H; ++v) {
+      for (int u = 0; u < W; ++u) {
+        const size_t i = static_cast<size_t>(v) * W + u;
+        if (!valid[i]) continue;
+        const V3 p = eye + z[i] * (R * V3((u - cam.K.cx) / cam.K.fx, (v - cam.K.cy) / cam.K.fy, 1.0));
+        const V3 d = p - projector;
+        const double len = d.norm();
+        // Stop 2 mm short of the point so that its own surface does not count.
+        RayHit hit;
+        if (len > 2e-3 && caster.cast(projector, d, 1e-6, 1.0 - 2e-3 / len, hit)) valid[i] = 0;
+      }
+    }
+  }
+
+  const double steep_span = noise.max_incidence_deg - noise.steep_from_deg;
   DepthImage img;
   img.width = W;
   img.height = H;
@@ -73,13 +96,31 @@ DepthImage render_depth(const World& world, const Camera& cam, const NoiseModel&
       if (noise.edge_dropout > 0.0) {
         bool edge = false;
         const int du[4] = {-1, 1, 0, 0}, dv[4] = {0, 0, -1, 1};
-        for (int k = 0; k < 4 && !edge; ++k) {
-          const int uu = u + du[k], vv = v + dv[k];
-          if (uu < 0 || vv < 0 || uu >= W || vv >= H) continue;
-          const size_t j = static_cast<size_t>(vv) * W + uu;
-          edge = !std::isfinite(z[j]) || std::abs(z[j] - zz) > noise.edge_jump;
+        for (int r = 1; r <= std::max(1, noise.edge_band_px) && !edge; ++r) {
+          for (int k = 0; k < 4 && !edge; ++k) {
+            const int uu = u + r * du[k], vv = v + r * dv[k];
+            if (uu < 0 || vv < 0 || uu >= W || vv >= H) continue;
+            const size_t j = static_cast<size_t>(vv) * W + uu;
+            edge = !std::isfinite(z[j]) || std::abs(z[j] - zz) > noise.edge_jump;
+          }
         }
         if (edge && rng.uniform() < noise.edge_dropout) continue;
+      }
+      if (noise.dark_dropout || noise.steep_dropout) {
+        double keep = 1.0;
+        if (noise.dark_dropout) {
+          const int o = hit_object[i];
+          const double albedo = o >= 0 ? world.objects[static_cast<size_t>(o)].albedo
+                                       : o == kHitTable ? world.table.albedo : 1.0;
+          const double ret = albedo * cosi[i] / (zz * zz);
+          const double drop = (noise.return_full - ret) / (noise.return_full - noise.return_none);
+          keep *= 1.0 - std::clamp(drop, 0.0, 1.0);
+        }
+        if (noise.steep_dropout && steep_span > 0.0) {
+          const double incidence_deg = std::acos(std::clamp(cosi[i], 0.0, 1.0)) * 180.0 / kPi;
+          keep *= 1.0 - std::clamp((incidence_deg - noise.steep_from_deg) / steep_span, 0.0, 1.0);
+        }
+        if (rng.uniform() >= keep) continue;
       }
       if (noise.gaussian) zz += depth_sigma(noise, zz) * rng.normal();
       if (noise.quantize && noise.quant_k > 0.0 && zz > 0.0) {

@@ -39,6 +39,23 @@ struct NoiseModel {
   double z_max = 3.5;
   double edge_dropout = 0.25;        //!< probability of dropping a pixel next to a depth edge
   double edge_jump = 0.02;           //!< a neighbour this much nearer/farther (m) makes an edge
+  int edge_band_px = 1;              //!< "next to": a neighbour up to this many pixels away along a row or column
+
+  // Structured-light effects, off unless set (structured_light() sets them all); off, they
+  // draw no random numbers, so the images of a model without them stay what they were.
+  //! The projector sits projector_baseline (m) along the optical x axis: a surface point
+  //! the projector cannot see (behind a nearer surface) gets no pattern, so no depth.
+  bool projector_shadow = false;
+  double projector_baseline = 0.075;
+  //! Weak returns go missing: a pixel's return is albedo cos(incidence) / (z / 1 m)^2; it is
+  //! dropped with probability 1 at return_none or below, falling linearly to 0 at return_full.
+  bool dark_dropout = false;
+  double return_none = 0.01;
+  double return_full = 0.08;
+  //! Steep surfaces thin out before max_incidence_deg: the dropout probability rises linearly
+  //! from 0 at steep_from_deg to 1 at max_incidence_deg.
+  bool steep_dropout = false;
+  double steep_from_deg = 60.0;
 
   //! Only the validity limits: no random noise, no quantization, no dropouts.
   static NoiseModel none() {
@@ -46,6 +63,17 @@ struct NoiseModel {
     n.gaussian = false;
     n.quantize = false;
     n.edge_dropout = 0.0;
+    return n;
+  }
+
+  //! The default model plus the structured-light effects: projector shadows, dark and steep
+  //! surfaces thinning out, and dropouts up to 2 pixels from a depth edge.
+  static NoiseModel structured_light() {
+    NoiseModel n;
+    n.edge_band_px = 2;
+    n.projector_shadow = true;
+    n.dark_dropout = true;
+    n.steep_dropout = true;
     return n;
   }
 };

@@ -127,7 +127,9 @@ std::string truth_to_json(const GeneratedScene& s) {
   for (const Object& o : s.world.objects) {
     json parts = json::array();
     for (const Part& p : o.parts) parts.push_back(part_json(p));
-    objects.push_back(json{{"name", o.name}, {"kind", o.kind}, {"parts", parts}});
+    json jo{{"name", o.name}, {"kind", o.kind}, {"parts", parts}};
+    if (o.albedo != 1.0) jo["albedo"] = o.albedo;  // written only when set: classic files stay as they were
+    objects.push_back(jo);
   }
   const Table& t = s.world.table;
   const NoiseModel& n = s.noise;
@@ -172,6 +174,24 @@ std::string truth_to_json(const GeneratedScene& s) {
         {"edge_dropout", n.edge_dropout},
         {"edge_jump", n.edge_jump}}},
   };
+  // What classic scenes never set is written only when set, so their files stay as they were.
+  if (s.distribution != Distribution::classic) root["distribution"] = distribution_name(s.distribution);
+  if (t.albedo != 1.0) root["table"]["albedo"] = t.albedo;
+  json& jn = root["noise"];
+  if (n.edge_band_px != 1) jn["edge_band_px"] = n.edge_band_px;
+  if (n.projector_shadow) {
+    jn["projector_shadow"] = true;
+    jn["projector_baseline"] = n.projector_baseline;
+  }
+  if (n.dark_dropout) {
+    jn["dark_dropout"] = true;
+    jn["return_none"] = n.return_none;
+    jn["return_full"] = n.return_full;
+  }
+  if (n.steep_dropout) {
+    jn["steep_dropout"] = true;
+    jn["steep_from_deg"] = n.steep_from_deg;
+  }
   return root.dump(1) + "\n";
 }
 
@@ -191,10 +211,15 @@ ReadResult parse_truth(const std::string& text, const std::string& name, Generat
     s.world.table.y_min = t.at("y").at(0).get<double>();
     s.world.table.y_max = t.at("y").at(1).get<double>();
     s.world.table.thickness = t.value("thickness", 0.03);
+    s.world.table.albedo = t.value("albedo", 1.0);
+    if (root.contains("distribution") &&
+        !distribution_from_name(root["distribution"].get<std::string>(), s.distribution))
+      return ReadResult::failure(name + ": unknown distribution " + root["distribution"].get<std::string>());
     for (const json& jo : root.at("objects")) {
       Object o;
       o.name = jo.value("name", std::string());
       o.kind = jo.value("kind", std::string());
+      o.albedo = jo.value("albedo", 1.0);
       for (const json& jp : jo.at("parts")) o.parts.push_back(read_part(jp));
       s.world.objects.push_back(std::move(o));
     }
@@ -238,6 +263,14 @@ ReadResult parse_truth(const std::string& text, const std::string& name, Generat
       m.z_max = n.value("z_max", m.z_max);
       m.edge_dropout = n.value("edge_dropout", m.edge_dropout);
       m.edge_jump = n.value("edge_jump", m.edge_jump);
+      m.edge_band_px = n.value("edge_band_px", m.edge_band_px);
+      m.projector_shadow = n.value("projector_shadow", m.projector_shadow);
+      m.projector_baseline = n.value("projector_baseline", m.projector_baseline);
+      m.dark_dropout = n.value("dark_dropout", m.dark_dropout);
+      m.return_none = n.value("return_none", m.return_none);
+      m.return_full = n.value("return_full", m.return_full);
+      m.steep_dropout = n.value("steep_dropout", m.steep_dropout);
+      m.steep_from_deg = n.value("steep_from_deg", m.steep_from_deg);
     }
     // The facts are recomputed from the geometry (the stored ones are for people and scripts).
     s.truth = compute_truth(s.world, s.target, s.gripper, root.value("fit_margin", 0.005));

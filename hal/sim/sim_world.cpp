@@ -294,6 +294,33 @@ double Part::sdf(const V3& pw) const {
   return kInf;
 }
 
+double Part::distance(const V3& pw) const {
+  if (shape != Shape::ellipsoid) return std::max(0.0, sdf(pw));
+  // The nearest point of the ellipsoid to an outside point y is x_i = e_i^2 y_i / (t + e_i^2)
+  // for the root t >= 0 of sum (e_i y_i / (t + e_i^2))^2 = 1, which decreases in t
+  // (Eberly, "Distance from a point to an ellipse, an ellipsoid, or a hyperellipsoid").
+  const V3 y = world_T_shape.inverse_apply(pw).cwiseAbs();
+  const V3& e = size;
+  if (y.cwiseQuotient(e).squaredNorm() <= 1.0) return 0.0;
+  const auto excess = [&](double t) {
+    double sum = 0.0;
+    for (int i = 0; i < 3; ++i) {
+      const double r = e[i] * y[i] / (t + e[i] * e[i]);
+      sum += r * r;
+    }
+    return sum - 1.0;
+  };
+  double lo = 0.0, hi = e.maxCoeff() * y.norm();  // excess(hi) <= 0
+  for (int it = 0; it < 200 && hi - lo > 1e-15 * (1.0 + hi); ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (excess(mid) > 0.0 ? lo : hi) = mid;
+  }
+  const double t = 0.5 * (lo + hi);
+  V3 x;
+  for (int i = 0; i < 3; ++i) x[i] = e[i] * e[i] * y[i] / (t + e[i] * e[i]);
+  return (y - x).norm();
+}
+
 bool Part::intersect(const V3& ow, const V3& dw, double tmin, double tmax, double& t, V3& normal,
                      bool* inside_out) const {
   const M3& R = world_T_shape.R;
@@ -386,6 +413,12 @@ Aabb Object::aabb() const {
   Aabb b;
   for (const Part& p : parts) b.extend(p.aabb());
   return b;
+}
+
+double Object::distance(const V3& p) const {
+  double d = kInf;
+  for (const Part& part : parts) d = std::min(d, part.distance(p));
+  return d;
 }
 
 double Object::sdf(const V3& p) const {

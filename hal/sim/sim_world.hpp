@@ -90,6 +90,9 @@ struct Part {
                  bool* inside = nullptr) const;
   //! Extent of the part along the unit direction u (its width between two planes normal to u).
   double width_along(const V3& u) const;
+  //! Exact distance from p to the solid (0 inside), for every shape: unlike sdf, exact for
+  //! an ellipsoid too, where sdf's bound can be half the distance a few centimetres out.
+  double distance(const V3& p) const;
   //! [lo, hi] of the part's points projected on the unit direction u.
   void project(const V3& u, double& lo, double& hi) const;
 };
@@ -99,9 +102,13 @@ struct Object {
   std::string name;
   std::string kind;
   std::vector<Part> parts;
+  //! Share of the sensor's infrared light the surface sends back (1: white; a dark
+  //! surface returns too little and its pixels go missing: NoiseModel::dark_dropout).
+  double albedo = 1.0;
 
   Aabb aabb() const;
   double sdf(const V3& p) const;                            //!< min over parts
+  double distance(const V3& p) const;                       //!< exact, 0 inside (Part::distance)
   V3 sdf_gradient(const V3& p, double h = 1e-4) const;      //!< central differences (unnormalized)
   V3 normal(const V3& p, double h = 1e-4) const;            //!< normalized gradient
   bool intersect(const V3& o, const V3& d, double tmin, double tmax, double& t, V3& normal,
@@ -115,6 +122,7 @@ struct Table {
   double x_min = 0.1, x_max = 1.1;
   double y_min = -0.6, y_max = 0.6;
   double thickness = 0.03;
+  double albedo = 1.0;  //!< as Object::albedo
   Part as_part() const;
 };
 

@@ -7,6 +7,7 @@
 //              [--spread] [--head-at-workspace] [--noise-scale F] [--table-height H]
 //              [--gripper OPENING,FINGER_WIDTH,FINGER_DEPTH] [--head-height LO,HI]
 //              [--hand-distance LO,HI] [--hand-elevation LO_DEG,HI_DEG] [--export DIR]
+//              [--distribution classic|cell]
 // --spread puts the target anywhere in the scene contract's area (x 0.3..0.7, y
 // -0.35..0.35) instead of near the workspace centre; --head-at-workspace keeps the head
 // camera looking at the workspace centre instead of at the target; --noise-scale
@@ -15,7 +16,10 @@
 // --head-height, --hand-distance and --hand-elevation draw the cameras' placement from
 // other ranges (defaults 0.75,0.9 m above the table; 0.35,0.55 m from the target, 25,60
 // deg up); --export writes each scene judged wrong as DIR/<kind>-<seed>/ (scene.json,
-// head.pcd, hand.pcd, truth.json), for `forcegrasp plan --pictures`.
+// head.pcd, hand.pcd, truth.json), for `forcegrasp plan --pictures`. --distribution picks
+// the scenes (hal/sim scene_gen.hpp): classic, the default here, which the seeds of the
+// tests and of docs/quality.md are of, or cell; the options above then change its ranges
+// (the camera ranges are classic's only).
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -58,6 +62,16 @@ int main(int argc, char** argv) {
   bool use_head = true, use_hand = true;  // --sensors: both (the default), head or hand
   std::vector<std::string> sets;
   fg::sim::SceneOptions scene_opt;
+  // The distribution first: the other options change its ranges, whatever their order.
+  for (int i = 1; i + 1 < argc; ++i) {
+    if (std::string(argv[i]) != "--distribution") continue;
+    fg::sim::Distribution d;
+    if (!fg::sim::distribution_from_name(argv[i + 1], d)) {
+      std::fprintf(stderr, "--distribution %s: expected classic or cell\n", argv[i + 1]);
+      return 2;
+    }
+    scene_opt = fg::sim::SceneOptions::of(d);
+  }
   std::vector<fg::sim::ObjectKind> kinds = fg::sim::all_kinds();
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -85,6 +99,7 @@ int main(int argc, char** argv) {
       scene_opt.noise.gaussian = k > 0;
     } else if (a == "--table-height") scene_opt.table.height = std::atof(next().c_str());
     else if (a == "--export") export_dir = next();
+    else if (a == "--distribution") next();  // read above
     else if (a == "--head-height" || a == "--hand-distance" || a == "--hand-elevation") {
       // A range LO,HI for the cameras' placement (scene_gen.hpp SceneOptions).
       double lo = 0, hi = 0;
@@ -130,7 +145,7 @@ int main(int argc, char** argv) {
         kinds.push_back(kind);
       }
     } else {
-      std::fprintf(stderr, "usage: fg_quality [--count N] [--seed S] [--kinds a,b] [--min-rate R] [--verbose] [--set name=value] [--sensors both|head|hand] [--spread] [--head-at-workspace] [--noise-scale F] [--table-height H] [--gripper OPENING,FINGER_WIDTH,FINGER_DEPTH] [--head-height LO,HI] [--hand-distance LO,HI] [--hand-elevation LO_DEG,HI_DEG] [--export DIR]\n");
+      std::fprintf(stderr, "usage: fg_quality [--count N] [--seed S] [--kinds a,b] [--min-rate R] [--verbose] [--set name=value] [--sensors both|head|hand] [--spread] [--head-at-workspace] [--noise-scale F] [--table-height H] [--gripper OPENING,FINGER_WIDTH,FINGER_DEPTH] [--head-height LO,HI] [--hand-distance LO,HI] [--hand-elevation LO_DEG,HI_DEG] [--export DIR] [--distribution classic|cell]\n");
       return 2;
     }
   }

@@ -1,5 +1,6 @@
 // hal/sim depth rendering: analytic plane depth, noise statistics and quantization, the
-// pinhole silhouette size, the validity limits, the cloud conversion, and the render time.
+// pinhole silhouette size, the validity limits, the cloud conversion, the structured-light
+// effects (edge band, projector shadows, dark and steep surfaces), and the render time.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -198,6 +199,121 @@ TEST(SimRender, EdgeDropoutsHitDepthEdgesOnly) {
     }
   EXPECT_GT(dropped, 100);
   EXPECT_LT(dropped, 400);
+}
+
+TEST(SimRender, EdgeDropoutsReachTheBand) {
+  World w = big_table_world();
+  Object box;
+  box.parts.push_back(Part::box("b", V3(0.05, 0.05, 0.1), Rigid::translation(V3(0.5, 0, 0.1))));
+  w.objects.push_back(box);
+  NoiseModel n = NoiseModel::none();
+  n.edge_dropout = 0.5;
+  n.edge_band_px = 2;
+  const DepthImage clean = render_depth(w, down_camera(1.0), NoiseModel::none(), 1);
+  const DepthImage img = render_depth(w, down_camera(1.0), n, 1);
+  int dropped = 0, second_pixel = 0;
+  for (int v = 2; v < 478; ++v)
+    for (int u = 2; u < 638; ++u) {
+      if (clean.at(u, v) == 0 || img.at(u, v) != 0) continue;
+      ++dropped;
+      const auto edge_at = [&](int r) {
+        return clean.at(u - r, v) != clean.at(u, v) || clean.at(u + r, v) != clean.at(u, v) ||
+               clean.at(u, v - r) != clean.at(u, v) || clean.at(u, v + r) != clean.at(u, v);
+      };
+      EXPECT_TRUE(edge_at(1) || edge_at(2)) << u << "," << v;
+      second_pixel += !edge_at(1) ? 1 : 0;
+    }
+  EXPECT_GT(second_pixel, 100);  // the band's second pixel drops too
+  EXPECT_LT(dropped, 1000);
+}
+
+TEST(SimRender, ProjectorShadowsFallBesideNearerSurfaces) {
+  // A 0.2 m box under a camera 1 m up: the projector, 7.5 cm along the optical x axis,
+  // cannot light a band of table f b (1/z_near - 1/z_far) = 525 x 0.075 x (1/0.8 - 1) ~ 10
+  // pixels wide on the box's side away from it, as long as the box's top edge looks
+  // (0.1 m at 0.8 m: 66 pixels).
+  World w = big_table_world();
+  Object box;
+  box.parts.push_back(Part::box("b", V3(0.05, 0.05, 0.1), Rigid::translation(V3(0.5, 0, 0.1))));
+  w.objects.push_back(box);
+  const Camera cam = down_camera(1.0);
+  NoiseModel n = NoiseModel::none();
+  n.projector_shadow = true;
+  const DepthImage clean = render_depth(w, cam, NoiseModel::none(), 1);
+  const DepthImage img = render_depth(w, cam, n, 1);
+  int shadow = 0, box_left = 640;
+  for (int v = 0; v < 480; ++v)
+    for (int u = 0; u < 640; ++u)
+      if (clean.at(u, v) == 800) box_left = std::min(box_left, u);
+  for (int v = 0; v < 480; ++v)
+    for (int u = 0; u < 640; ++u) {
+      if (clean.at(u, v) == img.at(u, v)) continue;
+      ++shadow;
+      EXPECT_EQ(img.at(u, v), 0);
+      EXPECT_EQ(clean.at(u, v), 1000) << "only the table is shadowed";
+      EXPECT_LT(u, box_left) << "on the side away from the projector";
+      EXPECT_GE(u, box_left - 11);
+    }
+  EXPECT_GT(shadow, 9 * 64);
+  EXPECT_LT(shadow, 11 * 68);
+}
+
+TEST(SimRender, DarkSurfacesLoseReturns) {
+  // Two boxes' tops 1 m from the camera: albedo 0.05 returns 0.05 cos(i) / 1^2, dropped with
+  // probability (0.08 - 0.05) / (0.08 - 0.01) = 0.43; white returns all, the table too.
+  World w = big_table_world();
+  w.table.height = -0.3;
+  for (int k = 0; k < 2; ++k) {
+    Object box;
+    box.parts.push_back(Part::box("b", V3(0.08, 0.08, 0.15), Rigid::translation(V3(0.5, k ? 0.1 : -0.1, -0.15))));
+    box.albedo = k ? 1.0 : 0.05;
+    w.objects.push_back(box);
+  }
+  const Camera cam = down_camera(1.0);
+  NoiseModel n = NoiseModel::none();
+  n.dark_dropout = true;
+  const DepthImage img = render_depth(w, cam, n, 5);
+  std::vector<int> hit;
+  std::vector<double> cosi;
+  render_true_depth(w, cam, &cosi, &hit);
+  int seen[3] = {0, 0, 0}, kept[3] = {0, 0, 0};
+  for (size_t i = 0; i < hit.size(); ++i) {
+    const int which = hit[i] == 0 ? 0 : hit[i] == 1 ? 1 : 2;
+    // The tops only: the boxes' sides, seen almost edge-on, return little whatever their albedo.
+    if (hit[i] == kHitNothing || (which < 2 && cosi[i] < 0.9)) continue;
+    ++seen[which];
+    kept[which] += img.mm[i] != 0 ? 1 : 0;
+  }
+  ASSERT_GT(seen[0], 5000);
+  EXPECT_NEAR(1.0 - static_cast<double>(kept[0]) / seen[0], 0.43, 0.03);
+  EXPECT_EQ(kept[1], seen[1]);
+  EXPECT_EQ(kept[2], seen[2]);  // the table at 1.3 m: 1 / 1.69 still returns enough
+}
+
+TEST(SimRender, SteepSurfacesThinOutBeforeTheLimit) {
+  const World w = big_table_world();
+  Camera cam;
+  cam.world_T_sensor = look_at(V3(-0.3, 0, 0.7), V3(1.2, 0, 0));
+  NoiseModel n = NoiseModel::none();
+  n.steep_dropout = true;
+  const DepthImage img = render_depth(w, cam, n, 9);
+  std::vector<double> cosi;
+  render_true_depth(w, cam, &cosi, nullptr);
+  // Kept share by incidence: all below 60 deg, then 1 - (i - 60) / 18.
+  int seen[3] = {0, 0, 0}, kept[3] = {0, 0, 0};
+  for (size_t i = 0; i < cosi.size(); ++i) {
+    const double inc = std::acos(std::clamp(cosi[i], 0.0, 1.0)) * 180.0 / M_PI;
+    const int bin = inc < 58 ? 0 : (inc > 63 && inc < 65) ? 1 : (inc > 71 && inc < 73) ? 2 : -1;
+    if (bin < 0 || !(img.mm[i] != 0 || cosi[i] > 0)) continue;
+    ++seen[bin];
+    kept[bin] += img.mm[i] != 0 ? 1 : 0;
+  }
+  ASSERT_GT(seen[0], 1000);
+  ASSERT_GT(seen[1], 1000);
+  ASSERT_GT(seen[2], 1000);
+  EXPECT_EQ(kept[0], seen[0]);
+  EXPECT_NEAR(static_cast<double>(kept[1]) / seen[1], 1.0 - 4.0 / 18.0, 0.04);
+  EXPECT_NEAR(static_cast<double>(kept[2]) / seen[2], 1.0 - 12.0 / 18.0, 0.04);
 }
 
 TEST(SimRender, RendersTableAndTwoObjects) {

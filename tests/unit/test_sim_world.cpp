@@ -1,5 +1,5 @@
 // hal/sim world geometry: ray-primitive intersections against sphere tracing on the SDF,
-// SDF values, widths, bounding boxes, look_at.
+// SDF values, exact distances, widths, bounding boxes, look_at.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -148,6 +148,45 @@ TEST(SimWorld, SignedDistances) {
       }
     EXPECT_LE(std::abs(d), best + 1e-9);
   }
+}
+
+TEST(SimWorld, DistancesAreExactOutsideAndZeroInside) {
+  // Box, cylinder and sphere: the sdf outside, 0 inside.
+  Rng rng(17);
+  for (Shape shape : {Shape::box, Shape::cylinder, Shape::sphere}) {
+    const Part p = random_part(shape, rng);
+    for (int i = 0; i < 200; ++i) {
+      const V3 q(rng.uniform(-0.3, 0.3), rng.uniform(-0.3, 0.3), rng.uniform(-0.3, 0.3));
+      EXPECT_EQ(p.distance(q), std::max(0.0, p.sdf(q))) << shape_name(shape);
+    }
+  }
+  // Ellipsoid: the distance itself, which its sdf only bounds: against the nearest of
+  // dense surface samples (0.5 deg apart), which can only lie above it.
+  const Part e = Part::ellipsoid("e", V3(0.1, 0.05, 0.02), Rigid::translation(V3(0.2, -0.1, 0.3)) * Rigid::rot_z(0.4));
+  EXPECT_NEAR(e.distance(e.world_T_shape.apply(V3(0.25, 0, 0))), 0.15, 1e-12);
+  EXPECT_NEAR(e.distance(e.world_T_shape.apply(V3(0, 0, -0.07))), 0.05, 1e-12);
+  EXPECT_EQ(e.distance(e.world_T_shape.apply(V3(0.05, 0.01, 0.0))), 0.0);
+  for (int i = 0; i < 40; ++i) {
+    const V3 local(rng.uniform(-0.3, 0.3), rng.uniform(-0.3, 0.3), rng.uniform(-0.3, 0.3));
+    if (local.cwiseQuotient(e.size).norm() <= 1.0) continue;
+    double best = 1e9;
+    for (int a = 0; a < 720; ++a)
+      for (int b = 0; b <= 360; ++b) {
+        const double th = 2 * kPi * a / 720, ph = kPi * b / 360;
+        const V3 q(0.1 * std::sin(ph) * std::cos(th), 0.05 * std::sin(ph) * std::sin(th), 0.02 * std::cos(ph));
+        best = std::min(best, (local - q).norm());
+      }
+    const double d = e.distance(e.world_T_shape.apply(local));
+    EXPECT_LE(d, best + 1e-12);
+    EXPECT_GE(d, best - 2e-4);  // the samples' spacing: 0.1 m x 0.5 deg = 0.9 mm
+    EXPECT_GE(d, e.sdf(e.world_T_shape.apply(local)) - 1e-12);
+  }
+  // An object: its nearest part.
+  Object o;
+  o.parts.push_back(Part::sphere("a", 0.05, V3(0, 0, 0)));
+  o.parts.push_back(Part::ellipsoid("b", V3(0.02, 0.08, 0.02), Rigid::translation(V3(0.5, 0, 0))));
+  EXPECT_NEAR(o.distance(V3(0.5, 0.2, 0)), 0.12, 1e-12);
+  EXPECT_NEAR(o.distance(V3(-0.2, 0, 0)), 0.15, 1e-12);
 }
 
 TEST(SimWorld, WidthsAndBoundingBoxes) {

@@ -1,7 +1,9 @@
 // fg_make_scenes OUTDIR [--count N] [--seed S] [--kinds k1,k2,...] [--second-object-rate R]
 //                       [--encoding binary|ascii|binary_compressed] [--no-noise]
+//                       [--distribution classic|cell]
 // Writes OUTDIR/<kind>-<seed>/ scene folders (scene.json, head.pcd, hand.pcd, truth.json):
-// scene i has kind kinds[i % kinds] (a balanced mix) and seed S + i.
+// scene i has kind kinds[i % kinds] (a balanced mix) and seed S + i. The distribution is
+// classic unless given (scene_gen.hpp); --second-object-rate is classic's.
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -15,7 +17,7 @@ namespace {
 void usage(const char* argv0) {
   std::fprintf(stderr,
                "usage: %s OUTDIR [--count N] [--seed S] [--kinds k1,k2,...] [--second-object-rate R]\n"
-               "       [--encoding binary|ascii|binary_compressed] [--no-noise]\n"
+               "       [--encoding binary|ascii|binary_compressed] [--no-noise] [--distribution classic|cell]\n"
                "kinds:",
                argv0);
   for (fg::sim::ObjectKind k : fg::sim::all_kinds()) std::fprintf(stderr, " %s", fg::sim::kind_name(k));
@@ -45,6 +47,13 @@ int main(int argc, char** argv) {
   std::vector<ObjectKind> kinds = all_kinds();
   SceneOptions opt;
   ExportOptions eopt;
+  // The distribution first: the other options change its ranges, whatever their order.
+  for (int i = 1; i + 1 < argc; ++i) {
+    if (std::string(argv[i]) != "--distribution") continue;
+    Distribution d;
+    if (!distribution_from_name(argv[i + 1], d)) return usage(argv[0]), 2;
+    opt = SceneOptions::of(d);
+  }
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto value = [&](std::string& v) {
@@ -91,6 +100,8 @@ int main(int argc, char** argv) {
       else if (v == "ascii") eopt.encoding = fg::host::PcdEncoding::ascii;
       else if (v == "binary_compressed") eopt.encoding = fg::host::PcdEncoding::binary_compressed;
       else return usage(argv[0]), 2;
+    } else if (a == "--distribution") {
+      if (!value(v)) return usage(argv[0]), 2;  // read above
     } else if (a == "--no-noise") {
       opt.noise = NoiseModel::none();
     } else if (!a.empty() && a[0] == '-') {

@@ -1,8 +1,10 @@
 // The `forcegrasp` host program.
+#include <chrono>
 #include <cstdio>
 #include <fstream>
-#include <sstream>
 #include <iostream>
+#include <random>
+#include <sstream>
 #include <string>
 
 #include <CLI/CLI.hpp>
@@ -41,9 +43,16 @@ int main(int argc, char** argv) {
                       return k;
                     }() + ")");
     sim_cmd->add_option("--trials", so.trials, "number of trials (default 20 per object kind); trial i: kind i % kinds");
-    sim_cmd->add_option("--seed", so.seed, "seed of the first trial (trial i uses seed + i)");
+    CLI::Option* seed_opt =
+        sim_cmd->add_option("--seed", so.seed, "seed of the first trial (trial i uses seed + i); without it a seed is drawn and printed");
+    std::string distribution_arg = "cell";
+    sim_cmd
+        ->add_option("--distribution", distribution_arg,
+                     "cell: scenes as a user's robot cell shows them (the default); classic: the project's own "
+                     "spread, which the tests' pinned seeds use")
+        ->check(CLI::IsMember({"cell", "classic"}));
     sim_cmd->add_option("--mu", so.mu, "friction coefficient of the judge");
-    sim_cmd->add_option("--second-object-rate", so.second_object_rate, "share of scenes with a second object");
+    sim_cmd->add_option("--second-object-rate", so.second_object_rate, "classic: share of scenes with a second object");
     sim_cmd->add_option("--pictures", so.pictures_dir, "write SVG pictures of each trial's plan to DIR/<kind>-<seed>");
     sim_cmd->add_option("--export", so.export_dir, "write each trial's scene (scene.json, PCD, truth.json) to DIR/<kind>-<seed>");
     sim_cmd->add_option("--json", so.json_path, "write every trial and the table as JSON to this file");
@@ -106,6 +115,15 @@ int main(int argc, char** argv) {
         return kExitInvalid;
       }
       so.progress = !quiet;
+      fg::sim::distribution_from_name(distribution_arg, so.distribution);
+      if (seed_opt->count() == 0) {
+        // A fresh sample each run; the seed is printed so that --seed repeats it. Twelve
+        // digits at most: easy to retype, and seed + i stays exact in JSON readers' doubles.
+        std::random_device entropy;
+        const uint64_t drawn = (static_cast<uint64_t>(entropy()) << 32) ^ entropy() ^
+                               static_cast<uint64_t>(std::chrono::steady_clock::now().time_since_epoch().count());
+        so.seed = drawn % 1000000000000ull;
+      }
       fg::Planner& planner = planner_instance();
       const char* field = nullptr;
       if (planner.configure(cfg, &field) != fg::Status::ok) {

@@ -82,15 +82,20 @@ SimTrial run_sim_trial(const std::string& kind_name, uint64_t seed, const SimOpt
   out.seed = seed;
   sim::ObjectKind kind;
   if (!sim::kind_from_name(kind_name, kind)) throw std::invalid_argument("unknown object kind: " + kind_name);
-  sim::SceneOptions so;
+  const Pose hand_eye = robot::default_hand_eye();
+  const Rigid tool0_T_camera = Rigid::from_pose(hand_eye);
+  sim::SceneOptions so = sim::SceneOptions::of(opt.distribution);
   so.gripper = cfg.gripper;
   so.second_object_rate = opt.second_object_rate;
-  const sim::GeneratedScene scene = sim::make_scene(kind, seed, so);
+  // cell: the wrist camera only where the arm can put it.
+  const sim::WristPoseTest reachable = [&tool0_T_camera](const Rigid& world_T_camera) {
+    double q[6];
+    return capture_joints(world_T_camera, tool0_T_camera, q);
+  };
+  const sim::GeneratedScene scene = sim::make_scene(kind, seed, so, reachable);
   out.fits = scene.truth.target_fits;
 
   // The hardware.
-  const Pose hand_eye = robot::default_hand_eye();
-  const Rigid tool0_T_camera = Rigid::from_pose(hand_eye);
   double q0[6];
   out.wrist_view = capture_joints(scene.hand.world_T_sensor, tool0_T_camera, q0);
   sim::SimClock clock;
@@ -263,6 +268,9 @@ nlohmann::json run_sim(const SimOptions& opt, const PlannerConfig& cfg, Planner&
   };
   const auto max_of = [](const std::vector<double>& v) { return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end()); };
   json table = json::array();
+  std::printf("distribution %s, seed %llu (trial i: seed + i; --distribution %s --seed %llu repeats it)\n",
+              sim::distribution_name(opt.distribution), static_cast<unsigned long long>(opt.seed),
+              sim::distribution_name(opt.distribution), static_cast<unsigned long long>(opt.seed));
   std::printf("%-22s %6s %5s %8s %9s %11s %9s  %s\n", "object", "trials", "fits", "success", "rate", "plan med ms",
               "max ms", "failures");
   const auto print_row = [&](const std::string& name, const Row& r) {
@@ -298,7 +306,8 @@ nlohmann::json run_sim(const SimOptions& opt, const PlannerConfig& cfg, Planner&
     }
     records.push_back(r);
   }
-  return json{{"trials", records}, {"table", table}};
+  return json{{"distribution", sim::distribution_name(opt.distribution)}, {"seed", opt.seed}, {"trials", records},
+              {"table", table}};
 }
 
 }  // namespace fg::host
