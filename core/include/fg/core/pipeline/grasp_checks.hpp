@@ -90,7 +90,7 @@ class GraspChecks {
   GraspChecks(const GraspChecks&) = delete;
   GraspChecks& operator=(const GraspChecks&) = delete;
 
-  //! A new target: its normals forgotten, the voxels a gripper at any of its
+  //! The start of a target: its normals forgotten, the voxels a gripper at any of its
   //! candidates could touch listed in `storage` (grid.size() entries: the grid's lent
   //! count storage), sorted by cell with `tables` (2 << kNearCellBits words, lent), and
   //! its plausible body built in `scratch` (2 * kMaxObjectPoints points, lent; it may be

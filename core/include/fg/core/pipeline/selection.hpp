@@ -19,12 +19,12 @@ struct CheckRejections {
 
 class Selection {
  public:
-  //! A new plan: the whole check budget, nothing deferred.
+  //! The start of a plan: the whole check budget, nothing deferred.
   void begin_plan() {
     checks_left_ = kMaxCheckedCandidates;
     n_deferred_ = 0;
   }
-  //! A new target within the plan (the fall-back): nothing deferred; the budget goes on.
+  //! Another target within the plan (the fall-back): nothing deferred; the budget goes on.
   void begin_target() { n_deferred_ = 0; }
 
   //! The first pass over candidates [first, list.n) (one family's): ranked, balanced

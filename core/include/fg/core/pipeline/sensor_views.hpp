@@ -25,7 +25,7 @@ struct SensorViews {
 
   //! No sensor added.
   void clear();
-  //! Sensor r starts a new view from `world_T_sensor` (its sight map emptied).
+  //! Sensor r starts its view from `world_T_sensor` (its sight map emptied).
   void begin(uint32_t r, const Pose& world_T_sensor);
   bool any() const;
   bool both() const { return added[0] && added[1]; }
