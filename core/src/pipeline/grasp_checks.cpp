@@ -200,6 +200,8 @@ void GraspChecks::begin_target(uint32_t* storage, uint32_t* tables, Vec2* scratc
     reach = std::max(reach, std::sqrt(x * x + y * y + z * z));
   }
   const float r = near_slack_ + reach + cfg_.collision_tolerance_m;
+  near_reach_ = reach;
+  near_radius_ = r;
   const Vec3* centroids = grid_.centroids();
   for (uint32_t i = 0; i < grid_.size(); ++i)
     if (state_[i] != kVoxelRemoved && (centroids[i] - near_centre_).squaredNorm() <= r * r) near_[n_near_++] = i;
@@ -1180,14 +1182,7 @@ float GraspChecks::swept_clearance(const Candidate& c) const {
   if (near_ != nullptr && off_centre <= near_slack_) {
     const uint32_t index_mask = (1u << kNearIndexBits) - 1u;
     for (uint32_t k = 0; k < n_near_; ++k) visit(near_[k] & index_mask);
-    float reach = 0.f;
-    for (const Box& b : boxes) {
-      const float x = std::max(std::fabs(b.x0), std::fabs(b.x1)), y = std::max(std::fabs(b.y0), std::fabs(b.y1));
-      const float z = std::max(std::fabs(b.z0), std::fabs(b.z1));
-      reach = std::max(reach, std::sqrt(x * x + y * y + z * z));
-    }
-    const float r = near_slack_ + reach + tol;
-    best = std::min(best, r - off_centre - reach);
+    best = std::min(best, near_radius_ - off_centre - near_reach_);
   } else {
     for (uint32_t i = 0; i < grid_.size(); ++i) visit(i);
   }

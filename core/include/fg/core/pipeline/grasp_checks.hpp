@@ -182,6 +182,8 @@ class GraspChecks {
   uint32_t n_near_ = 0;
   Vec3 near_centre_ = Vec3::Zero();
   float near_slack_ = 0.f;
+  float near_reach_ = 0.f;   // the farthest corner of the swept boxes from the grasp point
+  float near_radius_ = 0.f;  // the list holds every voxel within this of near_centre_
   NearGrid near_grid_{};
 
   // The plausible body (plausibly_solid): its hull's edges as inward unit normals and
