@@ -40,8 +40,8 @@
 #include <cstdlib>
 #include <cstring>
 
-#include "forcegrasp/forcegrasp.h"
 #include "byte_reader.hpp"
+#include "forcegrasp/forcegrasp.h"
 #include "no_heap_guard.hpp"
 
 namespace {
@@ -83,7 +83,10 @@ void override_field(fg_config& c, uint8_t index, uint32_t value) {
 fg_pose read_pose(uint32_t encoding, Reader& r) {
   fg_pose p = {{1, 0, 0, 0, 1, 0, 0, 0, 1}, {0, 0, 0}};
   switch (encoding) {
-    case 0: p.t[0] = 0.5f; p.t[2] = 0.9f; break;  // identity rotation: looking up
+    case 0:
+      p.t[0] = 0.5f;
+      p.t[2] = 0.9f;
+      break;  // identity rotation: looking up
     case 1:
       for (float& v : p.r) v = r.f32();
       for (float& v : p.t) v = r.f32();
@@ -217,10 +220,17 @@ void op_init(Reader& r) {
   const size_t offset = mem & 15u;
   size_t size = kMemBytes - offset;
   switch ((mem >> 4) & 3u) {
-    case 1: size = fg_workspace_size(); break;
-    case 2: size = fg_workspace_size() - 1; break;
-    case 3: size = static_cast<size_t>(r.u16()) * 64u; break;
-    default: break;
+    case 1:
+      size = fg_workspace_size();
+      break;
+    case 2:
+      size = fg_workspace_size() - 1;
+      break;
+    case 3:
+      size = static_cast<size_t>(r.u16()) * 64u;
+      break;
+    default:
+      break;
   }
   if (size > kMemBytes - offset) size = kMemBytes - offset;
   unsigned char* memory = (mem & 64u) != 0 ? nullptr : g_mem[slot] + offset;
@@ -246,7 +256,8 @@ void op_init(Reader& r) {
   if (s == FG_OK) {
     if (memory == nullptr || outp == nullptr || (offset % FG_WORKSPACE_ALIGN) != 0 || size < fg_workspace_size())
       breach("fg_init accepted bad memory", s);
-    if (static_cast<void*>(out) != static_cast<void*>(memory)) breach("fg_init's workspace is not at the memory given", s);
+    if (static_cast<void*>(out) != static_cast<void*>(memory))
+      breach("fg_init's workspace is not at the memory given", s);
     g_ws[slot] = out;
     return;
   }
@@ -300,8 +311,8 @@ void op_add_depth(Reader& r) {
   g_last.k = k;
   g_last.pose = pose;
   fg_fuzz::arm();
-  named(fg_add_depth_image(ws, role, (flags & 1u) != 0 ? nullptr : g_depth, w, h,
-                           (flags & 16u) != 0 ? nullptr : &k, (flags & 2u) != 0 ? nullptr : &pose));
+  named(fg_add_depth_image(ws, role, (flags & 1u) != 0 ? nullptr : g_depth, w, h, (flags & 16u) != 0 ? nullptr : &k,
+                           (flags & 2u) != 0 ? nullptr : &pose));
   fg_fuzz::disarm();
 }
 
@@ -379,7 +390,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   Reader r(data, size);
   for (int op = 0; op < 64 && !r.done(); ++op) {
     switch (r.u8() % 10u) {
-      case 0: op_init(r); break;
+      case 0:
+        op_init(r);
+        break;
       case 1: {
         fg_workspace* ws = slot_ws(r.u8());
         fg_fuzz::arm();
@@ -387,9 +400,15 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         fg_fuzz::disarm();
         break;
       }
-      case 2: op_add_points(r); break;
-      case 3: op_add_depth(r); break;
-      case 4: op_plan(r); break;
+      case 2:
+        op_add_points(r);
+        break;
+      case 3:
+        op_add_depth(r);
+        break;
+      case 4:
+        op_plan(r);
+        break;
       case 5: {
         fg_workspace* ws = slot_ws(r.u8());
         fg_fuzz::arm();
@@ -404,9 +423,15 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
           breach("a string function returned NULL", s);
         break;
       }
-      case 7: op_bogus(r); break;
-      case 8: op_check(r); break;
-      default: op_task(r); break;
+      case 7:
+        op_bogus(r);
+        break;
+      case 8:
+        op_check(r);
+        break;
+      default:
+        op_task(r);
+        break;
     }
   }
   return 0;

@@ -9,13 +9,12 @@
 
 #include "io/point_cloud.hpp"
 
-#define FG_FUZZ_CHECK(cond, what)                                                         \
-  do {                                                                                    \
-    if (!(cond)) {                                                                        \
-      std::fprintf(stderr, "\n==fg-fuzz== FINDING at %s:%d: %s (failed: %s)\n", __FILE__, \
-                   __LINE__, what, #cond);                                                \
-      std::abort();                                                                       \
-    }                                                                                     \
+#define FG_FUZZ_CHECK(cond, what)                                                                                 \
+  do {                                                                                                            \
+    if (!(cond)) {                                                                                                \
+      std::fprintf(stderr, "\n==fg-fuzz== FINDING at %s:%d: %s (failed: %s)\n", __FILE__, __LINE__, what, #cond); \
+      std::abort();                                                                                               \
+    }                                                                                                             \
   } while (0)
 
 namespace fg_fuzz {
@@ -32,8 +31,7 @@ inline fg::host::PointCloud sentinel_cloud() {
 //! The contracts of parse_pcd / parse_ply: an error names the file ("NAME: what");
 //! the output is only touched when the whole file parsed; a parsed cloud has
 //! width x height points of 3 floats, and labels are empty or one per point.
-inline void check_cloud_read(const fg::host::ReadResult& r, const fg::host::PointCloud& c,
-                             const std::string& name) {
+inline void check_cloud_read(const fg::host::ReadResult& r, const fg::host::PointCloud& c, const std::string& name) {
   if (!r.ok) {
     FG_FUZZ_CHECK(r.error.rfind(name + ": ", 0) == 0, "error message does not start with the file name");
     FG_FUZZ_CHECK(r.error.size() > name.size() + 2, "empty error message");

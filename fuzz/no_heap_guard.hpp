@@ -16,13 +16,13 @@
 // Defines global functions: include from exactly one translation unit.
 #pragma once
 
+#include <unistd.h>
+
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <new>
-
-#include <unistd.h>
 
 #if defined(__SANITIZE_ADDRESS__)
 #define FG_FUZZ_UNDER_ASAN 1
@@ -40,7 +40,7 @@ namespace {
 
 // Per thread: libFuzzer's own threads (the RSS watcher) may allocate at any time.
 thread_local bool t_armed = false;
-thread_local bool t_probe = false;     // self test: count instead of aborting
+thread_local bool t_probe = false;  // self test: count instead of aborting
 thread_local uint32_t t_probe_hits = 0;
 
 void say(const char* s) {
@@ -74,8 +74,8 @@ void heap_use(const char* what) {
 
 #if FG_FUZZ_UNDER_ASAN
 
-extern "C" int __sanitizer_install_malloc_and_free_hooks(
-    void (*malloc_hook)(const volatile void*, size_t), void (*free_hook)(const volatile void*));
+extern "C" int __sanitizer_install_malloc_and_free_hooks(void (*malloc_hook)(const volatile void*, size_t),
+                                                         void (*free_hook)(const volatile void*));
 
 namespace fg_fuzz {
 namespace {
@@ -190,12 +190,8 @@ void operator delete(void* p, std::align_val_t) noexcept { fg_fuzz::guarded_dele
 void operator delete[](void* p, std::align_val_t) noexcept { fg_fuzz::guarded_delete(p); }
 void operator delete(void* p, size_t, std::align_val_t) noexcept { fg_fuzz::guarded_delete(p); }
 void operator delete[](void* p, size_t, std::align_val_t) noexcept { fg_fuzz::guarded_delete(p); }
-void operator delete(void* p, std::align_val_t, const std::nothrow_t&) noexcept {
-  fg_fuzz::guarded_delete(p);
-}
-void operator delete[](void* p, std::align_val_t, const std::nothrow_t&) noexcept {
-  fg_fuzz::guarded_delete(p);
-}
+void operator delete(void* p, std::align_val_t, const std::nothrow_t&) noexcept { fg_fuzz::guarded_delete(p); }
+void operator delete[](void* p, std::align_val_t, const std::nothrow_t&) noexcept { fg_fuzz::guarded_delete(p); }
 
 #endif  // FG_FUZZ_UNDER_ASAN
 

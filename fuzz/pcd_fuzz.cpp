@@ -27,9 +27,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     FG_FUZZ_CHECK(planar.size() == cloud.size(), "the planar read has another point count");
     for (size_t i = 0; i < cloud.size(); ++i)
       for (int k = 0; k < 3; ++k)
-        FG_FUZZ_CHECK(std::memcmp(planar.planar_array(k) + i, &cloud.xyz[i * 3 + static_cast<size_t>(k)],
-                                  sizeof(float)) == 0,
-                      "the planar read has other coordinates");
+        FG_FUZZ_CHECK(
+            std::memcmp(planar.planar_array(k) + i, &cloud.xyz[i * 3 + static_cast<size_t>(k)], sizeof(float)) == 0,
+            "the planar read has other coordinates");
   }
   return 0;
 }

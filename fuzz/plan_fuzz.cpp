@@ -30,8 +30,8 @@
 #include <cstring>
 #include <limits>
 
-#include "fg/core/planner.hpp"
 #include "byte_reader.hpp"
+#include "fg/core/planner.hpp"
 #include "no_heap_guard.hpp"
 
 namespace {
@@ -51,32 +51,78 @@ using Reader = fg_fuzz::ByteReader;
 
 void apply_preset(fg::PlannerConfig& c, uint32_t preset) {
   switch (preset) {
-    case 1: c.extend_search = false; break;
-    case 2: c.paper_depth = true; c.centre_weight = 1e-6f; break;
-    case 3: c.executability_checks = false; break;
-    case 4: c.voxel_leaf_m = 0.01f; c.min_object_points = 10; break;
-    case 5: c.target_rule = fg::TargetRule::largest; c.cluster_cells = 2; break;
-    case 6: c.friction_mu = 0.f; c.ransac_iterations = 20; break;
-    case 7: c.min_object_points = 3; c.dtheta_rad = 0.0087f; break;
-    default: break;  // 0: the documented defaults
+    case 1:
+      c.extend_search = false;
+      break;
+    case 2:
+      c.paper_depth = true;
+      c.centre_weight = 1e-6f;
+      break;
+    case 3:
+      c.executability_checks = false;
+      break;
+    case 4:
+      c.voxel_leaf_m = 0.01f;
+      c.min_object_points = 10;
+      break;
+    case 5:
+      c.target_rule = fg::TargetRule::largest;
+      c.cluster_cells = 2;
+      break;
+    case 6:
+      c.friction_mu = 0.f;
+      c.ransac_iterations = 20;
+      break;
+    case 7:
+      c.min_object_points = 3;
+      c.dtheta_rad = 0.0087f;
+      break;
+    default:
+      break;  // 0: the documented defaults
   }
 }
 
 void apply_override(fg::PlannerConfig& c, uint8_t index, Reader& r) {
-  float* floats[] = {&c.gripper.max_opening_m, &c.gripper.min_opening_m, &c.gripper.finger_width_m,
-                     &c.gripper.finger_depth_m, &c.gripper.finger_thickness_m,
-                     &c.gripper.palm_depth_m, &c.gripper.palm_width_m, &c.range_min_m,
-                     &c.range_max_m, &c.crop_half_x_m, &c.crop_half_y_m, &c.crop_min_z_m,
-                     &c.crop_max_z_m, &c.voxel_leaf_m, &c.plane_distance_m,
-                     &c.plane_max_tilt_rad, &c.object_min_height_m, &c.workspace_centre_x_m,
-                     &c.workspace_centre_y_m, &c.dtheta_rad, &c.single_sensor_arc_rad,
-                     &c.vertical_snap_rad, &c.vertical_snap_round_rad, &c.axis_ratio_min, &c.extension_dtheta_rad,
-                     &c.approach_view_max_rad, &c.scan_delta_m, &c.dx_threshold_m,
-                     &c.width_margin_m, &c.hull_cell_m, &c.centre_weight, &c.beta_max_rad,
-                     &c.contact_band_m, &c.reach_width_ratio, &c.friction_mu,
-                     &c.table_clearance_m, &c.collision_tolerance_m, &c.pregrasp_clearance_m,
+  float* floats[] = {&c.gripper.max_opening_m,
+                     &c.gripper.min_opening_m,
+                     &c.gripper.finger_width_m,
+                     &c.gripper.finger_depth_m,
+                     &c.gripper.finger_thickness_m,
+                     &c.gripper.palm_depth_m,
+                     &c.gripper.palm_width_m,
+                     &c.range_min_m,
+                     &c.range_max_m,
+                     &c.crop_half_x_m,
+                     &c.crop_half_y_m,
+                     &c.crop_min_z_m,
+                     &c.crop_max_z_m,
+                     &c.voxel_leaf_m,
+                     &c.plane_distance_m,
+                     &c.plane_max_tilt_rad,
+                     &c.object_min_height_m,
+                     &c.workspace_centre_x_m,
+                     &c.workspace_centre_y_m,
+                     &c.dtheta_rad,
+                     &c.single_sensor_arc_rad,
+                     &c.vertical_snap_rad,
+                     &c.vertical_snap_round_rad,
+                     &c.axis_ratio_min,
+                     &c.extension_dtheta_rad,
+                     &c.approach_view_max_rad,
+                     &c.scan_delta_m,
+                     &c.dx_threshold_m,
+                     &c.width_margin_m,
+                     &c.hull_cell_m,
+                     &c.centre_weight,
+                     &c.beta_max_rad,
+                     &c.contact_band_m,
+                     &c.reach_width_ratio,
+                     &c.friction_mu,
+                     &c.table_clearance_m,
+                     &c.collision_tolerance_m,
+                     &c.pregrasp_clearance_m,
                      &c.palm_clearance_m};
-  uint32_t* ints[] = {&c.ransac_iterations, &c.ransac_seed, &c.cluster_cells,
+  uint32_t* ints[] = {&c.ransac_iterations, &c.ransac_seed,        &c.cluster_cells,
                       &c.min_object_points, &c.hull_closing_cells, &c.candidates_per_view};
   bool* flags[] = {&c.extend_search, &c.paper_depth, &c.executability_checks};
   constexpr size_t nf = sizeof floats / sizeof floats[0];
@@ -185,8 +231,7 @@ Call read_call(Reader& r) {
 
 fg::Status run_call(const Call& c) {
   if (!c.depth) return g_planner.add_points(c.role, c.xyz, c.count, c.stride, c.pose);
-  return g_planner.add_depth_image(c.role, c.null_data ? nullptr : g_depth, c.width, c.height, c.k,
-                                   c.pose);
+  return g_planner.add_depth_image(c.role, c.null_data ? nullptr : g_depth, c.width, c.height, c.k, c.pose);
 }
 
 }  // namespace
@@ -233,13 +278,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   fg_fuzz::disarm();
 
   if (g_verbose) {
-    std::fprintf(stderr, "plan_fuzz: config %s%s, statuses:", fg::to_string(st[0]),
-                 field != nullptr ? field : "");
+    std::fprintf(stderr, "plan_fuzz: config %s%s, statuses:", fg::to_string(st[0]), field != nullptr ? field : "");
     for (uint32_t i = 1; i < ns; ++i) std::fprintf(stderr, " %s", fg::to_string(st[i]));
     std::fprintf(stderr, "; reason %s, %u input, %u kept, %u voxels, %u object, %u views, %u candidates\n",
                  fg::to_string(g_result.reason), g_result.points.input, g_result.points.after_filter,
-                 g_result.points.voxels, g_result.points.object, g_result.viewpoints,
-                 g_result.candidates);
+                 g_result.points.voxels, g_result.points.object, g_result.viewpoints, g_result.candidates);
   }
   return 0;
 }

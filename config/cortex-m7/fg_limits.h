@@ -5,24 +5,24 @@
 #ifndef FG_LIMITS_H
 #define FG_LIMITS_H
 
-#define FG_MAX_VOXELS 4096u          /* occupied voxels of the merged cloud */
-#define FG_VOXEL_HASH_SLOTS 8192u    /* open-addressing slots, a power of two >= 4/3 x voxels */
-#define FG_MAX_OBJECT_POINTS 1024u   /* voxel centroids of the target object */
-#define FG_HULL_GRID_DIM 64u         /* silhouette raster is at most DIM x DIM cells */
-#define FG_MAX_CONTOUR_VERTICES 512u /* concave hull polygon */
-#define FG_MAX_SCAN_LINES 128u       /* scan lines over one silhouette */
-#define FG_MAX_VIEWPOINTS 96u        /* virtual viewpoints over all families */
-#define FG_MAX_CANDIDATES 128u       /* ranked grasp candidates kept for the checks */
-#define FG_MAX_CHECKED_CANDIDATES 32u   /* candidates the executability checks examine per plan */
-#define FG_RANSAC_MAX_ITERS 256u     /* upper bound of the configured iteration count */
-#define FG_MAX_SENSORS 2u            /* head and hand */
-#define FG_SIGHT_BINS 64u            /* nearest-return direction bins per axis, per sensor */
-#define FG_VOXEL_CACHE_BITS 8u       /* 2^bits recent cells cached by the ingest loop */
+#define FG_MAX_VOXELS 4096u           /* occupied voxels of the merged cloud */
+#define FG_VOXEL_HASH_SLOTS 8192u     /* open-addressing slots, a power of two >= 4/3 x voxels */
+#define FG_MAX_OBJECT_POINTS 1024u    /* voxel centroids of the target object */
+#define FG_HULL_GRID_DIM 64u          /* silhouette raster is at most DIM x DIM cells */
+#define FG_MAX_CONTOUR_VERTICES 512u  /* concave hull polygon */
+#define FG_MAX_SCAN_LINES 128u        /* scan lines over one silhouette */
+#define FG_MAX_VIEWPOINTS 96u         /* virtual viewpoints over all families */
+#define FG_MAX_CANDIDATES 128u        /* ranked grasp candidates kept for the checks */
+#define FG_MAX_CHECKED_CANDIDATES 32u /* candidates the executability checks examine per plan */
+#define FG_RANSAC_MAX_ITERS 256u      /* upper bound of the configured iteration count */
+#define FG_MAX_SENSORS 2u             /* head and hand */
+#define FG_SIGHT_BINS 64u             /* nearest-return direction bins per axis, per sensor */
+#define FG_VOXEL_CACHE_BITS 8u        /* 2^bits recent cells cached by the ingest loop */
 
 /* The workspace budget: firmware_api's FG_WORKSPACE_SIZE, a compile-time upper bound of
  * fg_workspace_size() (checked by a static_assert in firmware_api/src/fg_api.cpp).
  * Kept close to the real size (227.3 KiB) because firmware reserves FG_WORKSPACE_SIZE
  * bytes statically; the configuration's limit is 512 KiB. */
-#define FG_WORKSPACE_SIZE 233472u      /* 228 KiB */
+#define FG_WORKSPACE_SIZE 233472u /* 228 KiB */
 
 #endif

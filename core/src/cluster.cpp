@@ -39,8 +39,8 @@ __attribute__((target("avx2"))) uint32_t filter_mask_avx2(const VoxelGrid::Looku
   for (uint32_t o = 0; o < n; o += 4) {
     const __m256i h = _mm256_add_epi64(vkh, _mm256_loadu_si256(reinterpret_cast<const __m256i*>(oh + o)));
     const __m256i a = _mm256_xor_si256(h, _mm256_srli_epi64(h, 32));
-    const __m256i cross = _mm256_add_epi64(_mm256_mul_epu32(_mm256_srli_epi64(a, 32), mul_lo),
-                                           _mm256_mul_epu32(a, mul_hi));
+    const __m256i cross =
+        _mm256_add_epi64(_mm256_mul_epu32(_mm256_srli_epi64(a, 32), mul_lo), _mm256_mul_epu32(a, mul_hi));
     const __m256i g = _mm256_add_epi64(_mm256_mul_epu32(a, mul_lo), _mm256_slli_epi64(cross, 32));
     const __m256i m = _mm256_or_si256(_mm256_sllv_epi64(one, _mm256_and_si256(_mm256_srli_epi64(g, 32), six_bits)),
                                       _mm256_sllv_epi64(one, _mm256_and_si256(_mm256_srli_epi64(g, 26), six_bits)));
@@ -94,11 +94,10 @@ uint32_t make_offsets(uint32_t cells, Offset* out, OffsetHashes& hashes) {
         const int32_t d2 = dx * dx + dy * dy + dz * dz;
         if (d2 == 0) continue;
         if (r > 1 && d2 > r * r) continue;
-        out[n++] = Offset{static_cast<uint32_t>(dx) + (static_cast<uint32_t>(dy) << 11) +
-                              (static_cast<uint32_t>(dz) << 22),
-                          static_cast<int8_t>(dx), static_cast<int8_t>(dy), static_cast<int8_t>(dz),
-                          VoxelGrid::filter_hash_of_offset(dx + dy * (int64_t{1} << 11) +
-                                                           dz * (int64_t{1} << 22))};
+        out[n++] =
+            Offset{static_cast<uint32_t>(dx) + (static_cast<uint32_t>(dy) << 11) + (static_cast<uint32_t>(dz) << 22),
+                   static_cast<int8_t>(dx), static_cast<int8_t>(dy), static_cast<int8_t>(dz),
+                   VoxelGrid::filter_hash_of_offset(dx + dy * (int64_t{1} << 11) + dz * (int64_t{1} << 22))};
         hashes.h[n - 1] = out[n - 1].hash;
       }
   return n;
@@ -126,9 +125,8 @@ struct Walk {
 
 // Breadth-first walk of the component of `seed` through the voxels in state `from`;
 // marks it `mark` (!= from); returns its size and leaves its voxels in queue[0, size).
-uint32_t flood(const VoxelGrid& grid, uint8_t* state, uint32_t* queue, uint32_t seed,
-               const Offset* off, const OffsetHashes& hashes, uint32_t n_off, uint8_t from, uint8_t mark,
-               Walk& w) {
+uint32_t flood(const VoxelGrid& grid, uint8_t* state, uint32_t* queue, uint32_t seed, const Offset* off,
+               const OffsetHashes& hashes, uint32_t n_off, uint8_t from, uint8_t mark, Walk& w) {
   uint32_t head = 0, tail = 0;
   queue[tail++] = seed;
   state[seed] = mark;
@@ -152,8 +150,7 @@ uint32_t flood(const VoxelGrid& grid, uint8_t* state, uint32_t* queue, uint32_t 
       queue[tail++] = j;
     };
     if (vector) {
-      for (uint32_t maybe = detail::filter_mask_vector(filter, kh, hashes.h, n_off); maybe != 0u;
-           maybe &= maybe - 1u)
+      for (uint32_t maybe = detail::filter_mask_vector(filter, kh, hashes.h, n_off); maybe != 0u; maybe &= maybe - 1u)
         visit(static_cast<uint32_t>(__builtin_ctz(maybe)));
       continue;
     }
@@ -252,8 +249,8 @@ bool footprint_covers(const VoxelGrid& grid, const ClusterSummary& c, float cx, 
 }
 }  // namespace
 
-bool build_cell_bitmap(const VoxelGrid& grid, const uint8_t* state, uint8_t from, uint32_t* list,
-                       uint64_t* words, uint32_t n_words, CellBitmap& out) {
+bool build_cell_bitmap(const VoxelGrid& grid, const uint8_t* state, uint8_t from, uint32_t* list, uint64_t* words,
+                       uint32_t n_words, CellBitmap& out) {
   out = CellBitmap{};
   if (words == nullptr || list == nullptr) return false;
   // The set's voxels first, listed without a branch on the state: the plan's few
@@ -293,17 +290,16 @@ bool build_cell_bitmap(const VoxelGrid& grid, const uint8_t* state, uint8_t from
   return true;
 }
 
-ClusterResult cluster_and_pick(const VoxelGrid& grid, uint8_t* state, uint32_t* queue,
-                               const ClusterParams& prm, uint32_t* target,
-                               uint32_t target_capacity, CellBitmap* free_cells) {
+ClusterResult cluster_and_pick(const VoxelGrid& grid, uint8_t* state, uint32_t* queue, const ClusterParams& prm,
+                               uint32_t* target, uint32_t target_capacity, CellBitmap* free_cells) {
   Offset off[kMaxOffsets];
   OffsetHashes hashes;
   const uint32_t n_off = make_offsets(prm.cells > 2 ? 2u : prm.cells, off, hashes);
   int32_t lin[kMaxOffsets];
   if (free_cells != nullptr)
     for (uint32_t o = 0; o < n_off; ++o)
-      lin[o] = off[o].dx + static_cast<int32_t>(free_cells->nx) *
-                               (off[o].dy + static_cast<int32_t>(free_cells->ny) * off[o].dz);
+      lin[o] = off[o].dx +
+               static_cast<int32_t>(free_cells->nx) * (off[o].dy + static_cast<int32_t>(free_cells->ny) * off[o].dz);
   ClusterResult res;
   const uint32_t n = grid.size();
   uint32_t best_seed = VoxelGrid::kNone, best_size = 0;
@@ -358,10 +354,9 @@ ClusterResult cluster_and_pick(const VoxelGrid& grid, uint8_t* state, uint32_t* 
   return res;
 }
 
-uint32_t retarget_to_cover(const VoxelGrid& grid, uint8_t* state, uint32_t* queue,
-                           const ClusterParams& prm, const uint32_t* old_target, uint32_t old_size,
-                           float cx, float cy, uint32_t* target, uint32_t target_capacity,
-                           const ClusterResult* labelled) {
+uint32_t retarget_to_cover(const VoxelGrid& grid, uint8_t* state, uint32_t* queue, const ClusterParams& prm,
+                           const uint32_t* old_target, uint32_t old_size, float cx, float cy, uint32_t* target,
+                           uint32_t target_capacity, const ClusterResult* labelled) {
   Offset off[kMaxOffsets];
   OffsetHashes hashes;
   const uint32_t n_off = make_offsets(prm.cells > 2 ? 2u : prm.cells, off, hashes);

@@ -82,9 +82,21 @@ bool jacobi_sym3(const double u[6], Vec3& evals, Mat3& evecs) {
   // Ascending order (a stable three-element sort: ties keep their index order).
   int idx[3] = {0, 1, 2};
   const double d[3] = {a[0][0], a[1][1], a[2][2]};
-  if (d[idx[1]] < d[idx[0]]) { const int tmp = idx[0]; idx[0] = idx[1]; idx[1] = tmp; }
-  if (d[idx[2]] < d[idx[1]]) { const int tmp = idx[1]; idx[1] = idx[2]; idx[2] = tmp; }
-  if (d[idx[1]] < d[idx[0]]) { const int tmp = idx[0]; idx[0] = idx[1]; idx[1] = tmp; }
+  if (d[idx[1]] < d[idx[0]]) {
+    const int tmp = idx[0];
+    idx[0] = idx[1];
+    idx[1] = tmp;
+  }
+  if (d[idx[2]] < d[idx[1]]) {
+    const int tmp = idx[1];
+    idx[1] = idx[2];
+    idx[2] = tmp;
+  }
+  if (d[idx[1]] < d[idx[0]]) {
+    const int tmp = idx[0];
+    idx[0] = idx[1];
+    idx[1] = tmp;
+  }
 
   double e[3][3];  // e[row][col]: sorted eigenvector columns
   for (int col = 0; col < 3; ++col) {
@@ -154,16 +166,14 @@ bool pca(const Vec3* points, uint32_t n, Vec3& centroid, Vec3& evals, Mat3& evec
   }
   const double inv_n = 1.0 / static_cast<double>(n);
   const double m[3] = {s[0] * inv_n, s[1] * inv_n, s[2] * inv_n};
-  double cov[6] = {ss[0] * inv_n - m[0] * m[0], ss[1] * inv_n - m[0] * m[1],
-                   ss[2] * inv_n - m[0] * m[2], ss[3] * inv_n - m[1] * m[1],
-                   ss[4] * inv_n - m[1] * m[2], ss[5] * inv_n - m[2] * m[2]};
+  double cov[6] = {ss[0] * inv_n - m[0] * m[0], ss[1] * inv_n - m[0] * m[1], ss[2] * inv_n - m[0] * m[2],
+                   ss[3] * inv_n - m[1] * m[1], ss[4] * inv_n - m[1] * m[2], ss[5] * inv_n - m[2] * m[2]};
   // A variance cannot be negative: clamp cancellation noise on the diagonal.
   if (cov[0] < 0.0) cov[0] = 0.0;
   if (cov[3] < 0.0) cov[3] = 0.0;
   if (cov[5] < 0.0) cov[5] = 0.0;
 
-  const Vec3 c(static_cast<float>(sx + m[0]), static_cast<float>(sy + m[1]),
-               static_cast<float>(sz + m[2]));
+  const Vec3 c(static_cast<float>(sx + m[0]), static_cast<float>(sy + m[1]), static_cast<float>(sz + m[2]));
   bool finite = std::isfinite(c.x()) && std::isfinite(c.y()) && std::isfinite(c.z());
   for (int i = 0; i < 6; ++i) finite = finite && std::isfinite(cov[i]);
   if (!finite || !jacobi_sym3(cov, evals, evecs)) {

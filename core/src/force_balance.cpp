@@ -2,15 +2,15 @@
 
 #include <algorithm>
 #include <cmath>
+
 #include "fg/core/hull.hpp"
 
 namespace fg {
 
-uint32_t build_scan_lines(const Vec2* contour, uint32_t n_contour, float y_min, float y_max,
-                          float delta, ScanLine* lines, uint32_t capacity, float& used_delta) {
+uint32_t build_scan_lines(const Vec2* contour, uint32_t n_contour, float y_min, float y_max, float delta,
+                          ScanLine* lines, uint32_t capacity, float& used_delta) {
   used_delta = delta;
-  if (contour == nullptr || n_contour < 3 || capacity == 0 || !(y_max >= y_min) || !(delta > 0.f))
-    return 0;
+  if (contour == nullptr || n_contour < 3 || capacity == 0 || !(y_max >= y_min) || !(delta > 0.f)) return 0;
   const float span = y_max - y_min;
   // In double and clamped first: span / delta can exceed any integer type. A span
   // within 0.1% of a whole number of steps keeps its last line at y_max.
@@ -43,7 +43,7 @@ uint32_t build_scan_lines(const Vec2* contour, uint32_t n_contour, float y_min, 
     const Vec2& a = contour[i];
     const Vec2& b = contour[(i + 1 == n_contour) ? 0 : i + 1];
     const double lo = std::min<double>(a.y, b.y), hi = std::max<double>(a.y, b.y);
-    if (!(lo <= hi)) continue;  // a NaN end: the edge meets nothing
+    if (!(lo <= hi)) continue;     // a NaN end: the edge meets nothing
     uint32_t first = 0, last = n;  // the first line with y >= lo, by bisection
     for (uint32_t guard = 0; first < last && guard < 32; ++guard) {
       const uint32_t mid = first + (last - first) / 2;
@@ -121,9 +121,7 @@ bool fit_x_of_y(const float* y, const float* x, uint32_t n, float& a, float& b) 
   return std::isfinite(a) && std::isfinite(b);
 }
 
-float side_angle(float a_left, float a_right) {
-  return std::fabs(std::atan(a_left) - std::atan(a_right));
-}
+float side_angle(float a_left, float a_right) { return std::fabs(std::atan(a_left) - std::atan(a_right)); }
 
 namespace {
 // Inserts c into the sorted list out[0, n) of at most cap entries.
@@ -138,8 +136,8 @@ void insert_best(SideFit* out, uint32_t& n, uint32_t cap, const SideFit& c) {
 }
 }  // namespace
 
-uint32_t best_windows(const ScanLine* lines, uint32_t n, float dx_threshold, uint32_t k,
-                      float y_ref, float centre_weight, SideFit* out, uint32_t max_out) {
+uint32_t best_windows(const ScanLine* lines, uint32_t n, float dx_threshold, uint32_t k, float y_ref,
+                      float centre_weight, SideFit* out, uint32_t max_out) {
   if (lines == nullptr || out == nullptr || max_out == 0 || k < 2 || n < k) return 0;
   uint32_t found = 0;
   uint32_t j = 0;

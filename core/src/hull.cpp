@@ -141,8 +141,8 @@ struct BitRows {
   //! One word of `src` shifted by s cells (s > 0: towards larger i), zeros shifted in.
   static uint64_t shifted_word(const uint64_t* src, uint32_t words, uint32_t k, int32_t s) {
     const int32_t ws = s >= 0 ? s / 64 : -((-s + 63) / 64);  // floor(s / 64)
-    const uint32_t b = static_cast<uint32_t>(s - ws * 64);  // 0..63
-    const int64_t lo = static_cast<int64_t>(k) - ws;        // source word of the low part
+    const uint32_t b = static_cast<uint32_t>(s - ws * 64);   // 0..63
+    const int64_t lo = static_cast<int64_t>(k) - ws;         // source word of the low part
     auto at = [&](int64_t q) { return q >= 0 && q < static_cast<int64_t>(words) ? src[q] : uint64_t{0}; };
     if (b == 0) return at(lo);
     return (at(lo) << b) | (at(lo - 1) >> (64 - b));
@@ -244,8 +244,8 @@ struct DfsResult {
 //! interior (off the raster's outer ring): the callers make the ring fail its test
 //! (background for a foreground flood, marked before a background flood), so a
 //! neighbour is one index offset away, with no bounds test.
-DfsResult flood(uint8_t* g, const CellCounts* counts, uint32_t w, uint32_t h, uint32_t start,
-                bool want_fg, int dir_step, uint8_t mark) {
+DfsResult flood(uint8_t* g, const CellCounts* counts, uint32_t w, uint32_t h, uint32_t start, bool want_fg,
+                int dir_step, uint8_t mark) {
   DfsResult res{0, false, true};
   const uint64_t cells = static_cast<uint64_t>(w) * h;
   const uint64_t max_steps = 2 * cells + 2;
@@ -304,8 +304,8 @@ void run_union(HullRun* runs, uint32_t a, uint32_t b) {
 //! that touch them (overlap, or meet diagonally). n_runs receives the count; false
 //! when the raster has more runs than `runs` holds (nothing else is then valid).
 //! The sums must stay below 2^31 (bit 31 marks an uncounted cell).
-bool label_runs(const uint8_t* g, const CellCounts& counts, uint32_t w, uint32_t h, HullRun* runs,
-                uint32_t* row_first, uint32_t& n_runs) {
+bool label_runs(const uint8_t* g, const CellCounts& counts, uint32_t w, uint32_t h, HullRun* runs, uint32_t* row_first,
+                uint32_t& n_runs) {
   n_runs = 0;
   for (uint32_t j = 0; j < h; ++j) {
     row_first[j] = n_runs;
@@ -315,7 +315,8 @@ bool label_runs(const uint8_t* g, const CellCounts& counts, uint32_t w, uint32_t
 #if defined(__SSE2__)
       // Background skipped 16 cells at a time, to the first foreground one.
       if (i + 16 <= w) {
-        const __m128i fg16 = _mm_and_si128(_mm_loadu_si128(reinterpret_cast<const __m128i*>(line + i)), _mm_set1_epi8(kFg));
+        const __m128i fg16 =
+            _mm_and_si128(_mm_loadu_si128(reinterpret_cast<const __m128i*>(line + i)), _mm_set1_epi8(kFg));
         const uint32_t set = static_cast<uint32_t>(_mm_movemask_epi8(_mm_cmpeq_epi8(fg16, _mm_set1_epi8(kFg))));
         if (set == 0) {
           i += 16;
@@ -336,7 +337,8 @@ bool label_runs(const uint8_t* g, const CellCounts& counts, uint32_t w, uint32_t
         // Sixteen foreground cells at a time while none of them is full: their counts
         // summed by psadbw (two sums of eight, at most 8 * 254 each).
         for (; i + 16 <= w; i += 16) {
-          const __m128i fg16 = _mm_and_si128(_mm_loadu_si128(reinterpret_cast<const __m128i*>(line + i)), _mm_set1_epi8(kFg));
+          const __m128i fg16 =
+              _mm_and_si128(_mm_loadu_si128(reinterpret_cast<const __m128i*>(line + i)), _mm_set1_epi8(kFg));
           const __m128i cnt16 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(cnt + i));
           const __m128i bad = _mm_or_si128(_mm_cmpeq_epi8(fg16, _mm_setzero_si128()),
                                            _mm_cmpeq_epi8(cnt16, _mm_set1_epi8(static_cast<char>(0xFF))));
@@ -363,8 +365,8 @@ bool label_runs(const uint8_t* g, const CellCounts& counts, uint32_t w, uint32_t
         ++i;
       }
       if (n_runs == ConcaveHullScratch::kMaxRuns) return false;
-      runs[n_runs] = HullRun{n_runs, pts | (sat ? 0x80000000u : 0u), static_cast<uint16_t>(x0),
-                             static_cast<uint16_t>(i - 1)};
+      runs[n_runs] =
+          HullRun{n_runs, pts | (sat ? 0x80000000u : 0u), static_cast<uint16_t>(x0), static_cast<uint16_t>(i - 1)};
       ++n_runs;
     }
     if (j == 0) continue;
@@ -394,8 +396,8 @@ bool label_runs(const uint8_t* g, const CellCounts& counts, uint32_t w, uint32_t
 }  // namespace
 
 // ------------------------------------------------------------------------------------
-Status convex_hull_2d(const Vec2* points, uint32_t n, Vec2* scratch, Vec2* out,
-                      uint32_t out_capacity, uint32_t& out_n) {
+Status convex_hull_2d(const Vec2* points, uint32_t n, Vec2* scratch, Vec2* out, uint32_t out_capacity,
+                      uint32_t& out_n) {
   out_n = 0;
   if (n > 0 && (points == nullptr || scratch == nullptr)) return Status::invalid_argument;
   if (out == nullptr && out_capacity > 0) return Status::invalid_argument;
@@ -423,11 +425,9 @@ Status convex_hull_2d(const Vec2* points, uint32_t n, Vec2* scratch, Vec2* out,
   // right of the chord; the upper chain the points strictly left of it. Points on the
   // chord (other than lo, hi) are never vertices. Each group is sorted the way
   // Andrew's passes visit it (lower: ascending; upper: descending).
-  Vec2* const g0_end = std::partition(scratch, scratch + m, [&](const Vec2& p) {
-    return same(p, lo) || same(p, hi) || cross(lo, hi, p) < 0.0;
-  });
-  Vec2* const g1_end = std::partition(g0_end, scratch + m,
-                                      [&](const Vec2& p) { return cross(lo, hi, p) > 0.0; });
+  Vec2* const g0_end = std::partition(
+      scratch, scratch + m, [&](const Vec2& p) { return same(p, lo) || same(p, hi) || cross(lo, hi, p) < 0.0; });
+  Vec2* const g1_end = std::partition(g0_end, scratch + m, [&](const Vec2& p) { return cross(lo, hi, p) > 0.0; });
   std::sort(scratch, g0_end, [](const Vec2& a, const Vec2& b) { return lex_less(a, b); });
   std::sort(g0_end, g1_end, [](const Vec2& a, const Vec2& b) { return lex_less(b, a); });
 
@@ -457,9 +457,8 @@ Status convex_hull_2d(const Vec2* points, uint32_t n, Vec2* scratch, Vec2* out,
 }
 
 // ------------------------------------------------------------------------------------
-Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& params,
-                       ConcaveHullScratch& scratch, Vec2* out, uint32_t out_capacity,
-                       uint32_t& out_n, float& out_cell_m, bool& all_inside) {
+Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& params, ConcaveHullScratch& scratch,
+                       Vec2* out, uint32_t out_capacity, uint32_t& out_n, float& out_cell_m, bool& all_inside) {
   out_n = 0;
   out_cell_m = 0.0f;
   all_inside = false;
@@ -470,9 +469,9 @@ Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& 
   if (!std::isfinite(params.cell_m) || !(params.cell_m > 0.0f)) return Status::invalid_argument;
   if (params.closing_cells > kMaxClosing) return Status::invalid_argument;
 
-  if (params.bounds_given && !(std::isfinite(params.xmin) && std::isfinite(params.ymin) &&
-                               std::isfinite(params.xmax) && std::isfinite(params.ymax) &&
-                               params.xmin <= params.xmax && params.ymin <= params.ymax)) {
+  if (params.bounds_given &&
+      !(std::isfinite(params.xmin) && std::isfinite(params.ymin) && std::isfinite(params.xmax) &&
+        std::isfinite(params.ymax) && params.xmin <= params.xmax && params.ymin <= params.ymax)) {
     return Status::invalid_argument;
   }
   // Bounding box of the finite points (or the caller's).
@@ -537,9 +536,8 @@ Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& 
   const uint32_t avail = kDim - 2 * r - 4;
   const double ext_x = static_cast<double>(xmax) - xmin;
   const double ext_y = static_cast<double>(ymax) - ymin;
-  const double max_abs =
-      std::max(std::max(std::fabs(static_cast<double>(xmin)), std::fabs(static_cast<double>(xmax))),
-               std::max(std::fabs(static_cast<double>(ymin)), std::fabs(static_cast<double>(ymax))));
+  const double max_abs = std::max(std::max(std::fabs(static_cast<double>(xmin)), std::fabs(static_cast<double>(xmax))),
+                                  std::max(std::fabs(static_cast<double>(ymin)), std::fabs(static_cast<double>(ymax))));
   const double ulp = max_abs > 0.0 ? std::ldexp(1.0, std::ilogb(2.0 * max_abs) - 23) : 0.0;
   const double need = std::max(std::max(ext_x, ext_y) / static_cast<double>(avail), 2.0 * ulp);
   float cell_f = params.cell_m;
@@ -676,8 +674,8 @@ Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& 
       const __m128i spread = _mm_set_epi64x(static_cast<int64_t>((bits16 >> 8) * kBytes01),
                                             static_cast<int64_t>((bits16 & 0xFFu) * kBytes01));
       const __m128i set = _mm_cmpeq_epi8(_mm_and_si128(spread, pick), pick);
-      const __m128i empty = _mm_cmpeq_epi8(_mm_loadu_si128(reinterpret_cast<const __m128i*>(count_line + c)),
-                                           _mm_setzero_si128());
+      const __m128i empty =
+          _mm_cmpeq_epi8(_mm_loadu_si128(reinterpret_cast<const __m128i*>(count_line + c)), _mm_setzero_si128());
       _mm_storeu_si128(reinterpret_cast<__m128i*>(line + c), _mm_and_si128(_mm_or_si128(set, ~empty), one));
     }
 #endif
@@ -686,7 +684,7 @@ Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& 
       const uint64_t picked = (byte * kBytes01) & 0x8040201008040201u;
       const uint64_t spread = ((picked + 0x7F7F7F7F7F7F7F7Fu) >> 7) & kBytes01;
       uint64_t c8;
-      std::memcpy(&c8, count_line + c, sizeof c8);  // nonzero_ones8 keeps each byte in its place
+      std::memcpy(&c8, count_line + c, sizeof c8);                     // nonzero_ones8 keeps each byte in its place
       const uint64_t cells8 = le_order64(spread) | nonzero_ones8(c8);  // spread's byte b is cell c + b
       std::memcpy(line + c, &cells8, sizeof cells8);
     }
@@ -908,7 +906,7 @@ uint32_t edge_meets_line(const Vec2& a, const Vec2& b, double yl, double x[2]) {
     return 2;
   }
   if ((ay < yl && by < yl) || (ay > yl && by > yl)) return 0;  // both on one side
-  if (ay == yl) {  // through a vertex: the vertex itself
+  if (ay == yl) {                                              // through a vertex: the vertex itself
     x[0] = a.x;
     return 1;
   }

@@ -103,10 +103,10 @@ FG_LANES_TARGET inline void offsets_of(VF ox, VF oy, VF oz, V4f* out) {
   const VF xy_b = __builtin_shufflevector(ox, oy, 2, 10, 3, 11, 6, 14, 7, 15);
   const VF z1_a = __builtin_shufflevector(oz, one, 0, 8, 1, 9, 4, 12, 5, 13);
   const VF z1_b = __builtin_shufflevector(oz, one, 2, 10, 3, 11, 6, 14, 7, 15);
-  const VF p[4] = {__builtin_shufflevector(xy_a, z1_a, 0, 1, 8, 9, 4, 5, 12, 13),    // points 0 and 4
-                   __builtin_shufflevector(xy_a, z1_a, 2, 3, 10, 11, 6, 7, 14, 15),  // 1 and 5
-                   __builtin_shufflevector(xy_b, z1_b, 0, 1, 8, 9, 4, 5, 12, 13),    // 2 and 6
-                   __builtin_shufflevector(xy_b, z1_b, 2, 3, 10, 11, 6, 7, 14, 15)}; // 3 and 7
+  const VF p[4] = {__builtin_shufflevector(xy_a, z1_a, 0, 1, 8, 9, 4, 5, 12, 13),     // points 0 and 4
+                   __builtin_shufflevector(xy_a, z1_a, 2, 3, 10, 11, 6, 7, 14, 15),   // 1 and 5
+                   __builtin_shufflevector(xy_b, z1_b, 0, 1, 8, 9, 4, 5, 12, 13),     // 2 and 6
+                   __builtin_shufflevector(xy_b, z1_b, 2, 3, 10, 11, 6, 7, 14, 15)};  // 3 and 7
   for (int j = 0; j < 4; ++j) {
     out[j] = __builtin_shufflevector(p[j], p[j], 0, 1, 2, 3);
     out[j + 4] = __builtin_shufflevector(p[j], p[j], 4, 5, 6, 7);

@@ -30,7 +30,7 @@ struct State {
   // to back. 64 points per block (about 1.3 KiB) on the host; small builds keep the
   // stack small.
   static constexpr uint32_t kBatch = kMaxVoxels >= 65536u ? 64u : 16u;
-  V4f pend_o[kBatch];         // offsets from the cell corner (m), lane 3 = 1 (the count)
+  V4f pend_o[kBatch];  // offsets from the cell corner (m), lane 3 = 1 (the count)
   uint32_t pend_key[kBatch];
   uint8_t pend_lane[kBatch];  // the point's place in its block
   uint32_t n_pend = 0;

@@ -36,11 +36,9 @@ void sort_by_cell(uint32_t* a, uint32_t n, uint32_t index_bits, uint32_t cell_bi
   }
 }
 
-bool near_list_hits(const uint32_t* entries, uint32_t n, uint32_t index_bits, const NearGrid& g,
-                    const Vec3* points, const uint8_t* state, const Vec3& pos, const Vec3 axes[3],
-                    const FrameBox& b, float tol) {
-  const float x0 = b.x0 + tol, x1 = b.x1 - tol, y0 = b.y0 + tol, y1 = b.y1 - tol, z0 = b.z0 + tol,
-              z1 = b.z1 - tol;
+bool near_list_hits(const uint32_t* entries, uint32_t n, uint32_t index_bits, const NearGrid& g, const Vec3* points,
+                    const uint8_t* state, const Vec3& pos, const Vec3 axes[3], const FrameBox& b, float tol) {
+  const float x0 = b.x0 + tol, x1 = b.x1 - tol, y0 = b.y0 + tol, y1 = b.y1 - tol, z0 = b.z0 + tol, z1 = b.z1 - tol;
   if (!(x0 < x1 && y0 < y1 && z0 < z1)) return false;  // shrunk to nothing
   const Vec3 centre = pos + axes[0] * (0.5f * (x0 + x1)) + axes[1] * (0.5f * (y0 + y1)) + axes[2] * (0.5f * (z0 + z1));
   const Vec3 half = axes[0].cwiseAbs() * (0.5f * (x1 - x0)) + axes[1].cwiseAbs() * (0.5f * (y1 - y0)) +

@@ -1,6 +1,7 @@
 #include "fg/core/plane.hpp"
 
 #include <cmath>
+
 #include "fg/core/eigen_sym3.hpp"
 #include "fg/core/prng.hpp"
 #include "fg/core/vec4.hpp"
@@ -9,8 +10,7 @@ namespace fg {
 namespace {
 constexpr uint32_t kScoreSamples = 4096;
 
-uint32_t count_inliers(const Vec3* pts, uint32_t n, uint32_t step, const Vec3& nrm, float d,
-                       float thr) {
+uint32_t count_inliers(const Vec3* pts, uint32_t n, uint32_t step, const Vec3& nrm, float d, float thr) {
   uint32_t c = 0;
   for (uint32_t i = 0; i < n; i += step) c += std::fabs(nrm.dot(pts[i]) + d) <= thr ? 1u : 0u;
   return c;
@@ -32,12 +32,12 @@ constexpr uint32_t kFlushGroups = 64;
 inline V4f splat4(float v) { return V4f{v, v, v, v}; }
 inline V4f select_or_zero(V4i m, V4f v) { return reinterpret_cast<V4f>(reinterpret_cast<V4i>(v) & m); }
 inline double lane_sum(V4f v) {
-  return (static_cast<double>(v[0]) + static_cast<double>(v[1])) + (static_cast<double>(v[2]) + static_cast<double>(v[3]));
+  return (static_cast<double>(v[0]) + static_cast<double>(v[1])) +
+         (static_cast<double>(v[2]) + static_cast<double>(v[3]));
 }
 
 template <bool kSums>
-void inlier_sums(const Vec3* pts, uint32_t n, const Vec3& nrm, float d, float thr, const Vec3& ref,
-                 InlierSums& out) {
+void inlier_sums(const Vec3* pts, uint32_t n, const Vec3& nrm, float d, float thr, const Vec3& ref, InlierSums& out) {
   static_assert(sizeof(Vec3) == 12, "Vec3 arrays are packed xyz triples");
   const auto* bytes = reinterpret_cast<const uint8_t*>(pts);
   const V4f nx = splat4(nrm.x()), ny = splat4(nrm.y()), nz = splat4(nrm.z()), dd = splat4(d);
@@ -121,7 +121,9 @@ bool refit_plane(const Vec3* pts, uint32_t n, float thr, Vec3& nrm, float& d) {
   C(1, 1) = static_cast<float>(m.ss[3] * inv - my * my);
   C(1, 2) = static_cast<float>(m.ss[4] * inv - my * mz);
   C(2, 2) = static_cast<float>(m.ss[5] * inv - mz * mz);
-  C(1, 0) = C(0, 1); C(2, 0) = C(0, 2); C(2, 1) = C(1, 2);
+  C(1, 0) = C(0, 1);
+  C(2, 0) = C(0, 2);
+  C(2, 1) = C(1, 2);
   Vec3 evals;
   Mat3 evecs;
   if (!eigen_sym3(C, evals, evecs)) return false;
@@ -141,9 +143,7 @@ uint32_t count_plane_inliers(const Vec3* pts, uint32_t n, const Vec3& nrm, float
   return m.count;
 }
 
-
-bool ransac_plane(const Vec3* pts, uint32_t n, const PlaneParams& prm, Plane& out,
-                  uint32_t& inliers) {
+bool ransac_plane(const Vec3* pts, uint32_t n, const PlaneParams& prm, Plane& out, uint32_t& inliers) {
   inliers = 0;
   if (pts == nullptr || n < 3) return false;
   const uint32_t step = n > kScoreSamples ? (n + kScoreSamples - 1) / kScoreSamples : 1u;

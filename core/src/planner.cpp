@@ -4,11 +4,12 @@
 // stage is a function or a small class of core/src/pipeline/ over the memory the
 // planner lends it; the planner runs them in order and fills the report. Ingest
 // (A.1-A.4) is in planner_ingest.cpp.
+#include "fg/core/planner.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
-#include "fg/core/planner.hpp"
 #include "fg/platform/platform.hpp"
 
 namespace fg {
@@ -22,8 +23,8 @@ constexpr float kSameAxisCos = 0.9848078f;
 RejectCounts RejectCounts::of(const CheckRejections& r) {
   RejectCounts c;
   c.table = r[CheckId::support_plane];
-  c.collision = r[CheckId::swept_collision] + r[CheckId::local_hull] + r[CheckId::under_target] +
-                r[CheckId::robot_collision];
+  c.collision =
+      r[CheckId::swept_collision] + r[CheckId::local_hull] + r[CheckId::under_target] + r[CheckId::robot_collision];
   c.occluded = r[CheckId::unknown_space] + r[CheckId::unseen_side];
   c.friction = r[CheckId::friction_cone];
   c.unreachable = r[CheckId::robot_reach];
@@ -106,8 +107,7 @@ Status Planner::plan(PlanResult& out) {
   // a larger cluster's footprint (the stand under a standing bat, a veil of mixed
   // pixels beside a bottle) gives way to that cluster, once. The checks' budget is the
   // plan's: the fall-back gets what the first search left.
-  if (found == kMaxCandidates && cfg_.extend_search && cp.rule == TargetRule::nearest_to_centre &&
-      cr.clusters > 1) {
+  if (found == kMaxCandidates && cfg_.extend_search && cp.rule == TargetRule::nearest_to_centre && cr.clusters > 1) {
     const uint32_t first_size = object_.size();
     uint32_t size = 0;
     {

@@ -25,10 +25,10 @@ void Planner::reset() {
   counts_ = PointCounts{};
   ingest_us_ = 0;
   overflow_ = false;
-  const Vec3 crop_min(cfg_.workspace_centre_x_m - cfg_.crop_half_x_m,
-                      cfg_.workspace_centre_y_m - cfg_.crop_half_y_m, cfg_.crop_min_z_m);
-  const Vec3 crop_max(cfg_.workspace_centre_x_m + cfg_.crop_half_x_m,
-                      cfg_.workspace_centre_y_m + cfg_.crop_half_y_m, cfg_.crop_max_z_m);
+  const Vec3 crop_min(cfg_.workspace_centre_x_m - cfg_.crop_half_x_m, cfg_.workspace_centre_y_m - cfg_.crop_half_y_m,
+                      cfg_.crop_min_z_m);
+  const Vec3 crop_max(cfg_.workspace_centre_x_m + cfg_.crop_half_x_m, cfg_.workspace_centre_y_m + cfg_.crop_half_y_m,
+                      cfg_.crop_max_z_m);
   // 2.5 cells of margin below the crop box: every accepted point has a key with room
   // for the +-2 cell neighbour offsets of the clustering (voxel_grid.hpp).
   grid_.reset(crop_min - Vec3::Constant(2.5f * cfg_.voxel_leaf_m), cfg_.voxel_leaf_m);
@@ -116,7 +116,8 @@ void gather(Block& blk, const uint8_t* const b[3], uint32_t stride, uint32_t n, 
       for (; k + 4 <= whole; k += 4) {
         const uint8_t* p = b[0] + static_cast<size_t>(k) * 16;
         const V4f p0 = load4(p), p1 = load4(p + 16), p2 = load4(p + 32), p3 = load4(p + 48);
-        const V4f xy01 = __builtin_shufflevector(p0, p1, 0, 4, 1, 5), xy23 = __builtin_shufflevector(p2, p3, 0, 4, 1, 5);
+        const V4f xy01 = __builtin_shufflevector(p0, p1, 0, 4, 1, 5),
+                  xy23 = __builtin_shufflevector(p2, p3, 0, 4, 1, 5);
         const V4f z01 = __builtin_shufflevector(p0, p1, 2, 6, 2, 6), z23 = __builtin_shufflevector(p2, p3, 2, 6, 2, 6);
         const V4f x = __builtin_shufflevector(xy01, xy23, 0, 1, 4, 5);
         const V4f y = __builtin_shufflevector(xy01, xy23, 2, 3, 6, 7);
@@ -166,7 +167,9 @@ Status Planner::end_ingest(uint32_t offered, uint32_t finite, uint32_t kept, uin
   ingest_us_ += static_cast<uint32_t>(platform::monotonic_us() - t0);
   if (st != Status::ok) {
     overflow_ = true;
-    message_ = "more occupied voxels than the build's FG_MAX_VOXELS with the crop box shrunk to crop_shrink_min (or a cloud that crowds the voxel hash); shrink the crop box or enlarge the voxel leaf";
+    message_ =
+        "more occupied voxels than the build's FG_MAX_VOXELS with the crop box shrunk to crop_shrink_min (or a cloud "
+        "that crowds the voxel hash); shrink the crop box or enlarge the voxel leaf";
   }
   return st;
 }
@@ -223,8 +226,8 @@ void Planner::shrink_crop(ingest::State& in) {
   }
 }
 
-Status Planner::add_points(SensorRole role, const float* xyz, uint32_t count,
-                           uint32_t stride_bytes, const Pose& world_T_sensor) {
+Status Planner::add_points(SensorRole role, const float* xyz, uint32_t count, uint32_t stride_bytes,
+                           const Pose& world_T_sensor) {
   if (xyz == nullptr && count > 0) {
     message_ = "point array is null";
     return Status::invalid_argument;
@@ -239,8 +242,8 @@ Status Planner::add_points(SensorRole role, const float* xyz, uint32_t count,
   return add_coordinates(role, base, count, stride_bytes, world_T_sensor);
 }
 
-Status Planner::add_points_planar(SensorRole role, const float* x, const float* y, const float* z,
-                                  uint32_t count, const Pose& world_T_sensor) {
+Status Planner::add_points_planar(SensorRole role, const float* x, const float* y, const float* z, uint32_t count,
+                                  const Pose& world_T_sensor) {
   if ((x == nullptr || y == nullptr || z == nullptr) && count > 0) {
     message_ = "a coordinate array is null";
     return Status::invalid_argument;
@@ -250,13 +253,14 @@ Status Planner::add_points_planar(SensorRole role, const float* x, const float* 
   return add_coordinates(role, base, count, sizeof(float), world_T_sensor);
 }
 
-Status Planner::add_coordinates(SensorRole role, const uint8_t* const base[3], uint32_t count,
-                                uint32_t stride_bytes, const Pose& world_T_sensor) {
+Status Planner::add_coordinates(SensorRole role, const uint8_t* const base[3], uint32_t count, uint32_t stride_bytes,
+                                const Pose& world_T_sensor) {
   const Status s = ingest_begin(role, world_T_sensor);
   if (s != Status::ok) return s;
   const uint64_t t0 = platform::monotonic_us();
   ingest::State in;
-  make_ingest(in, world_T_sensor, cfg_, grid_, crop_lo_cells_, crop_hi_cells_, sensors_.sight_mm[static_cast<uint32_t>(role)]);
+  make_ingest(in, world_T_sensor, cfg_, grid_, crop_lo_cells_, crop_hi_cells_,
+              sensors_.sight_mm[static_cast<uint32_t>(role)]);
   Status st = Status::ok;
   const uint8_t *bx = base[0], *by = base[1], *bz = base[2];
   // x, y and z arrays are read in place; other strides are gathered into a block.
@@ -283,9 +287,8 @@ Status Planner::add_coordinates(SensorRole role, const uint8_t* const base[3], u
   return end_ingest(count, in.offered - in.nonfinite, in.kept, t0, st);
 }
 
-Status Planner::add_depth_image(SensorRole role, const uint16_t* depth_mm, uint16_t width,
-                                uint16_t height, const PinholeIntrinsics& k,
-                                const Pose& world_T_sensor) {
+Status Planner::add_depth_image(SensorRole role, const uint16_t* depth_mm, uint16_t width, uint16_t height,
+                                const PinholeIntrinsics& k, const Pose& world_T_sensor) {
   if (depth_mm == nullptr || width == 0 || height == 0) {
     message_ = "depth image is null or empty";
     return Status::invalid_argument;
@@ -294,8 +297,7 @@ Status Planner::add_depth_image(SensorRole role, const uint16_t* depth_mm, uint1
     message_ = "depth intrinsics have a NaN or Inf value";
     return Status::non_finite;
   }
-  if (!(k.fx > 1.f && k.fy > 1.f && k.fx < 1e5f && k.fy < 1e5f) ||
-      std::fabs(k.cx) > 1e5f || std::fabs(k.cy) > 1e5f) {
+  if (!(k.fx > 1.f && k.fy > 1.f && k.fx < 1e5f && k.fy < 1e5f) || std::fabs(k.cx) > 1e5f || std::fabs(k.cy) > 1e5f) {
     message_ = "depth intrinsics are out of range (focal length must be 1..1e5 px)";
     return Status::invalid_argument;
   }
@@ -303,7 +305,8 @@ Status Planner::add_depth_image(SensorRole role, const uint16_t* depth_mm, uint1
   if (s != Status::ok) return s;
   const uint64_t t0 = platform::monotonic_us();
   ingest::State in;
-  make_ingest(in, world_T_sensor, cfg_, grid_, crop_lo_cells_, crop_hi_cells_, sensors_.sight_mm[static_cast<uint32_t>(role)]);
+  make_ingest(in, world_T_sensor, cfg_, grid_, crop_lo_cells_, crop_hi_cells_,
+              sensors_.sight_mm[static_cast<uint32_t>(role)]);
   Status st = Status::ok;
   const float ifx = 1.f / k.fx, ify = 1.f / k.fy;
   Block blk;

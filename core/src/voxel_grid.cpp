@@ -1,8 +1,8 @@
 #include "fg/core/voxel_grid.hpp"
 
-#include "fg/core/byte_flags.hpp"
-
 #include <cstring>
+
+#include "fg/core/byte_flags.hpp"
 
 namespace fg {
 
@@ -50,9 +50,7 @@ uint32_t VoxelGrid::find_in_table(uint32_t key) const {
   return kNone;
 }
 
-uint32_t VoxelGrid::count(uint32_t i) const {
-  return finalized_ ? 0u : static_cast<uint32_t>(store_[4 * i + 3]);
-}
+uint32_t VoxelGrid::count(uint32_t i) const { return finalized_ ? 0u : static_cast<uint32_t>(store_[4 * i + 3]); }
 
 Vec3 VoxelGrid::centroid(uint32_t i) const {
   if (finalized_) return centroids()[i];
@@ -100,8 +98,10 @@ void VoxelGrid::finalize() {
     const V4f a0 = load4(acc), a1 = load4(acc + 4), a2 = load4(acc + 8), a3 = load4(acc + 12);
     const V4f xy01 = __builtin_shufflevector(a0, a1, 0, 4, 1, 5), xy23 = __builtin_shufflevector(a2, a3, 0, 4, 1, 5);
     const V4f zn01 = __builtin_shufflevector(a0, a1, 2, 6, 3, 7), zn23 = __builtin_shufflevector(a2, a3, 2, 6, 3, 7);
-    const V4f sx = __builtin_shufflevector(xy01, xy23, 0, 1, 4, 5), sy = __builtin_shufflevector(xy01, xy23, 2, 3, 6, 7);
-    const V4f sz = __builtin_shufflevector(zn01, zn23, 0, 1, 4, 5), cnt = __builtin_shufflevector(zn01, zn23, 2, 3, 6, 7);
+    const V4f sx = __builtin_shufflevector(xy01, xy23, 0, 1, 4, 5),
+              sy = __builtin_shufflevector(xy01, xy23, 2, 3, 6, 7);
+    const V4f sz = __builtin_shufflevector(zn01, zn23, 0, 1, 4, 5),
+              cnt = __builtin_shufflevector(zn01, zn23, 2, 3, 6, 7);
     const V4f inv = 1.0f / cnt;
     V4i k;
     std::memcpy(&k, keys_ + i, sizeof k);
@@ -109,8 +109,8 @@ void VoxelGrid::finalize() {
     const V4f ky = __builtin_convertvector((k >> 11) & 0x7FF, V4f);
     const V4f kz = __builtin_convertvector(reinterpret_cast<V4i>(reinterpret_cast<V4u>(k) >> 22), V4f);
     V4f c0, c1, c2;
-    interleave_xyz((o[0] + kx * leaf) + sx * inv, (o[1] + ky * leaf) + sy * inv, (o[2] + kz * leaf) + sz * inv, c0,
-                   c1, c2);
+    interleave_xyz((o[0] + kx * leaf) + sx * inv, (o[1] + ky * leaf) + sy * inv, (o[2] + kz * leaf) + sz * inv, c0, c1,
+                   c2);
     float* out = store_ + 3 * i;
     std::memcpy(out, &c0, sizeof c0);
     std::memcpy(out + 4, &c1, sizeof c1);
@@ -136,8 +136,10 @@ bool VoxelGrid::rebuild_index(const uint8_t* keep, uint32_t bits) {
     uint32_t s = slot_of(keys_[i]);
     uint32_t probe = 0;
     for (; probe < kMaxProbe && slots_[s] != 0; ++probe) s = (s + 1) & slot_mask_;
-    if (probe == kMaxProbe) ok = false;  // the caller starts again with the full table
-    else slots_[s] = tag_of(keys_[i]) | (i + 1);
+    if (probe == kMaxProbe)
+      ok = false;  // the caller starts again with the full table
+    else
+      slots_[s] = tag_of(keys_[i]) | (i + 1);
   });
   return ok;
 }

@@ -1,13 +1,12 @@
 // The C API of firmware_api/include/forcegrasp/forcegrasp.h over the C++ core.
 // Embedded rules: no heap (the workspace is placement-constructed in caller memory),
 // no exceptions, no global state.
-#include "forcegrasp/forcegrasp.h"
-
 #include <cstdint>
 #include <new>
 
 #include "fg/core/planner.hpp"
 #include "fg/task/grasp_task.hpp"
+#include "forcegrasp/forcegrasp.h"
 
 namespace {
 constexpr uint32_t kMagic = 0x46475753u;  // "FGWS"
@@ -34,15 +33,18 @@ class OpsSensor final : public fg::hal::DepthSensor {
   fg::hal::CaptureState do_poll(fg::hal::DepthFrame& out) override {
     fg_depth_frame f{};
     switch (ops->sensor_poll(ops->ctx, role, &f)) {
-      case FG_CAPTURE_IDLE: return fg::hal::CaptureState::idle;
-      case FG_CAPTURE_BUSY: return fg::hal::CaptureState::busy;
+      case FG_CAPTURE_IDLE:
+        return fg::hal::CaptureState::idle;
+      case FG_CAPTURE_BUSY:
+        return fg::hal::CaptureState::busy;
       case FG_CAPTURE_READY:
         out.depth_mm = f.depth_mm;
         out.width = f.width;
         out.height = f.height;
         out.k = fg::PinholeIntrinsics{f.k.fx, f.k.fy, f.k.cx, f.k.cy};
         return fg::hal::CaptureState::ready;
-      default: return fg::hal::CaptureState::failed;
+      default:
+        return fg::hal::CaptureState::failed;
     }
   }
 };
@@ -91,9 +93,9 @@ class OpsGripper final : public fg::hal::Gripper {
 }  // namespace
 
 struct fg_workspace {
-  uint32_t magic;             // kMagic while the workspace is valid
-  const fg_workspace* self;   // == this: a byte copy of a workspace is refused
-  const char* message;        // static text of the last call
+  uint32_t magic;            // kMagic while the workspace is valid
+  const fg_workspace* self;  // == this: a byte copy of a workspace is refused
+  const char* message;       // static text of the last call
   fg::Planner planner;
   // The grasp task and the firmware's hardware behind the HAL interfaces.
   bool task_started;
@@ -170,6 +172,7 @@ namespace {
 fg_status to_c(fg::Status s) { return static_cast<fg_status>(static_cast<int32_t>(s)); }
 
 // One field list for both directions keeps the C struct and PlannerConfig in step.
+// clang-format off
 #define FG_CONFIG_FIELDS(X)                                                                   \
   X(range_min_m) X(range_max_m) X(crop_half_x_m) X(crop_half_y_m) X(crop_min_z_m)            \
   X(crop_max_z_m) X(voxel_leaf_m) X(plane_distance_m) X(ransac_iterations) X(ransac_seed)    \
@@ -183,6 +186,7 @@ fg_status to_c(fg::Status s) { return static_cast<fg_status>(static_cast<int32_t
 #define FG_GRIPPER_FIELDS(X)                                                                  \
   X(max_opening_m) X(min_opening_m) X(finger_width_m) X(finger_depth_m) X(finger_thickness_m) \
   X(palm_depth_m) X(palm_width_m)
+// clang-format on
 
 void to_c(const fg::PlannerConfig& p, fg_config& c) {
 #define X(f) c.f = p.f;
@@ -304,23 +308,40 @@ size_t fg_workspace_align(void) { return FG_WORKSPACE_ALIGN; }
 
 const char* fg_status_str(int32_t status) {
   switch (status) {
-    case FG_OK: return "FG_OK";
-    case FG_NO_GRASP: return "FG_NO_GRASP";
-    case FG_ERR_INVALID_ARGUMENT: return "FG_ERR_INVALID_ARGUMENT";
-    case FG_ERR_NON_FINITE: return "FG_ERR_NON_FINITE";
-    case FG_ERR_INVALID_POSE: return "FG_ERR_INVALID_POSE";
-    case FG_ERR_INVALID_CONFIG: return "FG_ERR_INVALID_CONFIG";
-    case FG_ERR_NO_INPUT: return "FG_ERR_NO_INPUT";
-    case FG_ERR_INVALID_SENSOR: return "FG_ERR_INVALID_SENSOR";
-    case FG_ERR_INVALID_SEQUENCE: return "FG_ERR_INVALID_SEQUENCE";
-    case FG_ERR_WORKSPACE_TOO_SMALL: return "FG_ERR_WORKSPACE_TOO_SMALL";
-    case FG_ERR_WORKSPACE_MISALIGNED: return "FG_ERR_WORKSPACE_MISALIGNED";
-    case FG_ERR_ABI_MISMATCH: return "FG_ERR_ABI_MISMATCH";
-    case FG_ERR_CONFIG_SIZE: return "FG_ERR_CONFIG_SIZE";
-    case FG_ERR_NOT_A_WORKSPACE: return "FG_ERR_NOT_A_WORKSPACE";
-    case FG_ERR_CAPACITY_EXCEEDED: return "FG_ERR_CAPACITY_EXCEEDED";
-    case FG_ERR_NUMERIC_FAILURE: return "FG_ERR_NUMERIC_FAILURE";
-    case FG_ERR_INTERNAL: return "FG_ERR_INTERNAL";
+    case FG_OK:
+      return "FG_OK";
+    case FG_NO_GRASP:
+      return "FG_NO_GRASP";
+    case FG_ERR_INVALID_ARGUMENT:
+      return "FG_ERR_INVALID_ARGUMENT";
+    case FG_ERR_NON_FINITE:
+      return "FG_ERR_NON_FINITE";
+    case FG_ERR_INVALID_POSE:
+      return "FG_ERR_INVALID_POSE";
+    case FG_ERR_INVALID_CONFIG:
+      return "FG_ERR_INVALID_CONFIG";
+    case FG_ERR_NO_INPUT:
+      return "FG_ERR_NO_INPUT";
+    case FG_ERR_INVALID_SENSOR:
+      return "FG_ERR_INVALID_SENSOR";
+    case FG_ERR_INVALID_SEQUENCE:
+      return "FG_ERR_INVALID_SEQUENCE";
+    case FG_ERR_WORKSPACE_TOO_SMALL:
+      return "FG_ERR_WORKSPACE_TOO_SMALL";
+    case FG_ERR_WORKSPACE_MISALIGNED:
+      return "FG_ERR_WORKSPACE_MISALIGNED";
+    case FG_ERR_ABI_MISMATCH:
+      return "FG_ERR_ABI_MISMATCH";
+    case FG_ERR_CONFIG_SIZE:
+      return "FG_ERR_CONFIG_SIZE";
+    case FG_ERR_NOT_A_WORKSPACE:
+      return "FG_ERR_NOT_A_WORKSPACE";
+    case FG_ERR_CAPACITY_EXCEEDED:
+      return "FG_ERR_CAPACITY_EXCEEDED";
+    case FG_ERR_NUMERIC_FAILURE:
+      return "FG_ERR_NUMERIC_FAILURE";
+    case FG_ERR_INTERNAL:
+      return "FG_ERR_INTERNAL";
   }
   return "FG_UNKNOWN_STATUS";
 }
@@ -378,17 +399,16 @@ fg_status fg_reset(fg_workspace* ws) {
   return FG_OK;
 }
 
-fg_status fg_add_depth_image(fg_workspace* ws, int32_t role, const uint16_t* depth_mm,
-                             uint16_t width, uint16_t height, const fg_intrinsics* k,
-                             const fg_pose* world_T_sensor) {
+fg_status fg_add_depth_image(fg_workspace* ws, int32_t role, const uint16_t* depth_mm, uint16_t width, uint16_t height,
+                             const fg_intrinsics* k, const fg_pose* world_T_sensor) {
   if (!valid(ws)) return FG_ERR_NOT_A_WORKSPACE;
   if (!role_ok(role)) return fail(ws, FG_ERR_INVALID_SENSOR, "unknown sensor role");
   if (k == nullptr) return fail(ws, FG_ERR_INVALID_ARGUMENT, "intrinsics pointer is null");
   if (world_T_sensor == nullptr) return fail(ws, FG_ERR_INVALID_ARGUMENT, "pose pointer is null");
   const fg::Pose pose = to_pose(*world_T_sensor);
   const fg::PinholeIntrinsics ki{k->fx, k->fy, k->cx, k->cy};
-  const fg::Status s = ws->planner.add_depth_image(static_cast<fg::SensorRole>(role), depth_mm, width,
-                                                   height, ki, pose);
+  const fg::Status s =
+      ws->planner.add_depth_image(static_cast<fg::SensorRole>(role), depth_mm, width, height, ki, pose);
   ws->message = ws->planner.last_message();
   return to_c(s);
 }
@@ -404,24 +424,23 @@ fg_status points_call_ok(fg_workspace* ws, int32_t role, size_t count, const fg_
 }
 }  // namespace
 
-fg_status fg_add_points(fg_workspace* ws, int32_t role, const float* xyz, size_t count,
-                        size_t stride_bytes, const fg_pose* world_T_sensor) {
+fg_status fg_add_points(fg_workspace* ws, int32_t role, const float* xyz, size_t count, size_t stride_bytes,
+                        const fg_pose* world_T_sensor) {
   if (const fg_status c = points_call_ok(ws, role, count, world_T_sensor); c != FG_OK) return c;
   if (stride_bytes > UINT32_MAX) return fail(ws, FG_ERR_INVALID_ARGUMENT, "stride_bytes above 2^32 - 1");
   const fg::Pose pose = to_pose(*world_T_sensor);
-  const fg::Status s =
-      ws->planner.add_points(static_cast<fg::SensorRole>(role), xyz, static_cast<uint32_t>(count),
-                             static_cast<uint32_t>(stride_bytes), pose);
+  const fg::Status s = ws->planner.add_points(static_cast<fg::SensorRole>(role), xyz, static_cast<uint32_t>(count),
+                                              static_cast<uint32_t>(stride_bytes), pose);
   ws->message = ws->planner.last_message();
   return to_c(s);
 }
 
-fg_status fg_add_points_planar(fg_workspace* ws, int32_t role, const float* x, const float* y,
-                               const float* z, size_t count, const fg_pose* world_T_sensor) {
+fg_status fg_add_points_planar(fg_workspace* ws, int32_t role, const float* x, const float* y, const float* z,
+                               size_t count, const fg_pose* world_T_sensor) {
   if (const fg_status c = points_call_ok(ws, role, count, world_T_sensor); c != FG_OK) return c;
   const fg::Pose pose = to_pose(*world_T_sensor);
-  const fg::Status s = ws->planner.add_points_planar(static_cast<fg::SensorRole>(role), x, y, z,
-                                                     static_cast<uint32_t>(count), pose);
+  const fg::Status s =
+      ws->planner.add_points_planar(static_cast<fg::SensorRole>(role), x, y, z, static_cast<uint32_t>(count), pose);
   ws->message = ws->planner.last_message();
   return to_c(s);
 }

@@ -17,36 +17,60 @@ bool all_finite(const Pose& p) { return p.R.allFinite() && p.t.allFinite(); }
 
 const char* to_string(TaskState s) {
   switch (s) {
-    case TaskState::idle: return "idle";
-    case TaskState::capturing: return "capturing";
-    case TaskState::planning: return "planning";
-    case TaskState::opening: return "opening";
-    case TaskState::to_pregrasp: return "to_pregrasp";
-    case TaskState::approaching: return "approaching";
-    case TaskState::closing: return "closing";
-    case TaskState::lifting: return "lifting";
-    case TaskState::succeeded: return "succeeded";
-    case TaskState::failed: return "failed";
+    case TaskState::idle:
+      return "idle";
+    case TaskState::capturing:
+      return "capturing";
+    case TaskState::planning:
+      return "planning";
+    case TaskState::opening:
+      return "opening";
+    case TaskState::to_pregrasp:
+      return "to_pregrasp";
+    case TaskState::approaching:
+      return "approaching";
+    case TaskState::closing:
+      return "closing";
+    case TaskState::lifting:
+      return "lifting";
+    case TaskState::succeeded:
+      return "succeeded";
+    case TaskState::failed:
+      return "failed";
   }
   return "unknown_state";
 }
 
 const char* to_string(TaskFailure f) {
   switch (f) {
-    case TaskFailure::none: return "none";
-    case TaskFailure::invalid_config: return "invalid_config";
-    case TaskFailure::sensor_failed: return "sensor_failed";
-    case TaskFailure::sensor_timeout: return "sensor_timeout";
-    case TaskFailure::no_grasp: return "no_grasp";
-    case TaskFailure::unreachable: return "unreachable";
-    case TaskFailure::arm_refused: return "arm_refused";
-    case TaskFailure::arm_fault: return "arm_fault";
-    case TaskFailure::arm_timeout: return "arm_timeout";
-    case TaskFailure::gripper_refused: return "gripper_refused";
-    case TaskFailure::gripper_fault: return "gripper_fault";
-    case TaskFailure::gripper_timeout: return "gripper_timeout";
-    case TaskFailure::missed: return "missed";
-    case TaskFailure::aborted: return "aborted";
+    case TaskFailure::none:
+      return "none";
+    case TaskFailure::invalid_config:
+      return "invalid_config";
+    case TaskFailure::sensor_failed:
+      return "sensor_failed";
+    case TaskFailure::sensor_timeout:
+      return "sensor_timeout";
+    case TaskFailure::no_grasp:
+      return "no_grasp";
+    case TaskFailure::unreachable:
+      return "unreachable";
+    case TaskFailure::arm_refused:
+      return "arm_refused";
+    case TaskFailure::arm_fault:
+      return "arm_fault";
+    case TaskFailure::arm_timeout:
+      return "arm_timeout";
+    case TaskFailure::gripper_refused:
+      return "gripper_refused";
+    case TaskFailure::gripper_fault:
+      return "gripper_fault";
+    case TaskFailure::gripper_timeout:
+      return "gripper_timeout";
+    case TaskFailure::missed:
+      return "missed";
+    case TaskFailure::aborted:
+      return "aborted";
   }
   return "unknown_failure";
 }
@@ -55,10 +79,9 @@ Status GraspTask::start(const TaskConfig& cfg) {
   state_ = TaskState::idle;
   ticks_ = 0;
   plan_ = PlanResult{};
-  const bool ok = all_finite(cfg.world_T_base) && all_finite(cfg.world_T_head) &&
-                  all_finite(cfg.tool0_T_hand) && (cfg.use_head || cfg.use_hand) &&
-                  std::isfinite(cfg.tcp_offset_m) && cfg.tcp_offset_m >= 0.f && cfg.tcp_offset_m < 1.f &&
-                  std::isfinite(cfg.lift_m) && cfg.lift_m >= 0.f && cfg.lift_m < 1.f &&
+  const bool ok = all_finite(cfg.world_T_base) && all_finite(cfg.world_T_head) && all_finite(cfg.tool0_T_hand) &&
+                  (cfg.use_head || cfg.use_hand) && std::isfinite(cfg.tcp_offset_m) && cfg.tcp_offset_m >= 0.f &&
+                  cfg.tcp_offset_m < 1.f && std::isfinite(cfg.lift_m) && cfg.lift_m >= 0.f && cfg.lift_m < 1.f &&
                   cfg.speed_fraction > 0.0 && cfg.speed_fraction <= 1.0 && std::isfinite(cfg.grip_force_n) &&
                   cfg.grip_force_n > 0.f && cfg.joint_tolerance_rad > 0.0 && cfg.joint_tolerance_rad < 0.5 &&
                   cfg.capture_timeout_us > 0 && cfg.move_timeout_us > 0 && cfg.gripper_timeout_us > 0;
@@ -99,13 +122,12 @@ TaskState GraspTask::fail(TaskFailure f, const char* message) {
   return state_;
 }
 
-bool GraspTask::timed_out(uint64_t now_us, uint32_t timeout_us) const {
-  return now_us - entered_us_ > timeout_us;
-}
+bool GraspTask::timed_out(uint64_t now_us, uint32_t timeout_us) const { return now_us - entered_us_ > timeout_us; }
 
 void GraspTask::abort(const TaskHal& hal) {
   hal.arm.stop();
-  if (state_ != TaskState::succeeded && state_ != TaskState::failed) fail(TaskFailure::aborted, "aborted by the caller");
+  if (state_ != TaskState::succeeded && state_ != TaskState::failed)
+    fail(TaskFailure::aborted, "aborted by the caller");
 }
 
 TaskState GraspTask::step(Planner& planner, const TaskHal& hal) {
@@ -114,8 +136,10 @@ TaskState GraspTask::step(Planner& planner, const TaskHal& hal) {
   const uint64_t now = hal.clock.now_us();
   if (ticks_ == 1) entered_us_ = now;
   switch (state_) {
-    case TaskState::capturing: return step_capture(planner, hal, now);
-    case TaskState::planning: return step_plan(planner, hal, now);
+    case TaskState::capturing:
+      return step_capture(planner, hal, now);
+    case TaskState::planning:
+      return step_plan(planner, hal, now);
     case TaskState::opening:
     case TaskState::closing: {
       const bool opening = state_ == TaskState::opening;
@@ -143,17 +167,21 @@ TaskState GraspTask::step(Planner& planner, const TaskHal& hal) {
         return fail(TaskFailure::gripper_timeout, "the gripper did not finish in time");
       return state_;
     }
-    case TaskState::to_pregrasp: return step_move(hal, now, q_pre_, TaskState::approaching);
+    case TaskState::to_pregrasp:
+      return step_move(hal, now, q_pre_, TaskState::approaching);
     case TaskState::approaching: {
       // One waypoint after the other; each has the move timeout.
       const bool last = waypoint_ + 1 >= robot::GraspMotion::kApproachSteps;
       const bool moving = entry_done_;
-      const TaskState s = step_move(hal, now, q_approach_[waypoint_], last ? TaskState::closing : TaskState::approaching);
+      const TaskState s =
+          step_move(hal, now, q_approach_[waypoint_], last ? TaskState::closing : TaskState::approaching);
       if (s == TaskState::approaching && moving && !entry_done_) ++waypoint_;  // arrived at a waypoint
       return s;
     }
-    case TaskState::lifting: return step_move(hal, now, q_lift_, TaskState::succeeded);
-    default: return state_;
+    case TaskState::lifting:
+      return step_move(hal, now, q_lift_, TaskState::succeeded);
+    default:
+      return state_;
   }
 }
 
@@ -196,8 +224,8 @@ TaskState GraspTask::step_capture(Planner& planner, const TaskHal& hal, uint64_t
         return fail(TaskFailure::arm_fault, "the arm reported non-finite joints");
       world_T_sensor = to_f(compose(compose(to_d(cfg_.world_T_base), base_T_tool0), to_d(cfg_.tool0_T_hand)));
     }
-    const Status s = planner.add_depth_image(r == 0 ? SensorRole::head : SensorRole::hand, frame.depth_mm,
-                                             frame.width, frame.height, frame.k, world_T_sensor);
+    const Status s = planner.add_depth_image(r == 0 ? SensorRole::head : SensorRole::hand, frame.depth_mm, frame.width,
+                                             frame.height, frame.k, world_T_sensor);
     if (s != Status::ok) return fail(TaskFailure::sensor_failed, planner.last_message());
     pending_[r] = false;
   }
@@ -205,7 +233,8 @@ TaskState GraspTask::step_capture(Planner& planner, const TaskHal& hal, uint64_t
     enter(TaskState::planning, now);
     return state_;
   }
-  if (timed_out(now, cfg_.capture_timeout_us)) return fail(TaskFailure::sensor_timeout, "a sensor gave no image in time");
+  if (timed_out(now, cfg_.capture_timeout_us))
+    return fail(TaskFailure::sensor_timeout, "a sensor gave no image in time");
   return state_;
 }
 
@@ -247,7 +276,8 @@ TaskState GraspTask::step_move(const TaskHal& hal, uint64_t now, const double* t
     return state_;
   }
   hal::ArmState arm;
-  if (hal.arm.read_state(arm) != Status::ok || arm.fault) return fail(TaskFailure::arm_fault, "the arm reported a fault");
+  if (hal.arm.read_state(arm) != Status::ok || arm.fault)
+    return fail(TaskFailure::arm_fault, "the arm reported a fault");
   bool there = !arm.moving;
   for (int i = 0; i < 6 && there; ++i) there = std::fabs(arm.q[i] - target[i]) <= cfg_.joint_tolerance_rad;
   if (there) {

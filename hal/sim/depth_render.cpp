@@ -1,10 +1,10 @@
 #include "sim/depth_render.hpp"
 
-#include "sim/sim_rng.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
+
+#include "sim/sim_rng.hpp"
 
 namespace fg::sim {
 
@@ -20,8 +20,7 @@ double depth_sigma(const NoiseModel& noise, double z) {
   return noise.sigma_a + noise.sigma_b * dz * dz;
 }
 
-std::vector<double> render_true_depth(const World& world, const Camera& cam,
-                                      std::vector<double>* cos_incidence,
+std::vector<double> render_true_depth(const World& world, const Camera& cam, std::vector<double>* cos_incidence,
                                       std::vector<int>* hit_object) {
   const Intrinsics& K = cam.K;
   const size_t n = static_cast<size_t>(std::max(0, K.width)) * static_cast<size_t>(std::max(0, K.height));
@@ -48,8 +47,7 @@ std::vector<double> render_true_depth(const World& world, const Camera& cam,
   return depth;
 }
 
-DepthImage render_depth(const World& world, const Camera& cam, const NoiseModel& noise,
-                        uint64_t seed) {
+DepthImage render_depth(const World& world, const Camera& cam, const NoiseModel& noise, uint64_t seed) {
   std::vector<double> cosi;
   std::vector<int> hit_object;
   const bool by_surface = noise.dark_dropout;
@@ -110,8 +108,9 @@ DepthImage render_depth(const World& world, const Camera& cam, const NoiseModel&
         double keep = 1.0;
         if (noise.dark_dropout) {
           const int o = hit_object[i];
-          const double albedo = o >= 0 ? world.objects[static_cast<size_t>(o)].albedo
-                                       : o == kHitTable ? world.table.albedo : 1.0;
+          const double albedo = o >= 0           ? world.objects[static_cast<size_t>(o)].albedo
+                                : o == kHitTable ? world.table.albedo
+                                                 : 1.0;
           const double ret = albedo * cosi[i] / (zz * zz);
           const double drop = (noise.return_full - ret) / (noise.return_full - noise.return_none);
           keep *= 1.0 - std::clamp(drop, 0.0, 1.0);
@@ -140,8 +139,7 @@ fg::host::PointCloud depth_to_cloud(const DepthImage& depth, const Intrinsics& K
   fg::host::PointCloud cloud;
   cloud.width = static_cast<uint32_t>(depth.width);
   cloud.height = static_cast<uint32_t>(depth.height);
-  cloud.xyz.assign(static_cast<size_t>(depth.width) * depth.height * 3,
-                   std::numeric_limits<float>::quiet_NaN());
+  cloud.xyz.assign(static_cast<size_t>(depth.width) * depth.height * 3, std::numeric_limits<float>::quiet_NaN());
   for (int v = 0; v < depth.height; ++v) {
     for (int u = 0; u < depth.width; ++u) {
       const size_t i = static_cast<size_t>(v) * depth.width + u;

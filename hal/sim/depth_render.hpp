@@ -28,18 +28,18 @@ struct Camera {
 //! Sensor model. Validity limits (range, incidence) always apply; the random parts can be
 //! switched off one by one.
 struct NoiseModel {
-  bool gaussian = true;              //!< axial noise sigma(z) = a + b (z - z0)^2 (Nguyen et al. 2012)
+  bool gaussian = true;  //!< axial noise sigma(z) = a + b (z - z0)^2 (Nguyen et al. 2012)
   double sigma_a = 1.2e-3;
   double sigma_b = 1.9e-3;
   double sigma_z0 = 0.4;
-  bool quantize = true;              //!< disparity quantization: steps of k z^2 in depth
-  double quant_k = 2.85e-3;          //!< = step of 1/z (1/m)
-  double max_incidence_deg = 78.0;   //!< larger ray-to-normal angles give no return
-  double z_min = 0.35;               //!< valid depth range (m)
+  bool quantize = true;             //!< disparity quantization: steps of k z^2 in depth
+  double quant_k = 2.85e-3;         //!< = step of 1/z (1/m)
+  double max_incidence_deg = 78.0;  //!< larger ray-to-normal angles give no return
+  double z_min = 0.35;              //!< valid depth range (m)
   double z_max = 3.5;
-  double edge_dropout = 0.25;        //!< probability of dropping a pixel next to a depth edge
-  double edge_jump = 0.02;           //!< a neighbour this much nearer/farther (m) makes an edge
-  int edge_band_px = 1;              //!< "next to": a neighbour up to this many pixels away along a row or column
+  double edge_dropout = 0.25;  //!< probability of dropping a pixel next to a depth edge
+  double edge_jump = 0.02;     //!< a neighbour this much nearer/farther (m) makes an edge
+  int edge_band_px = 1;        //!< "next to": a neighbour up to this many pixels away along a row or column
 
   // Structured-light effects, off unless set (structured_light() sets them all); off, they
   // draw no random numbers, so the images of a model without them stay what they were.
@@ -94,8 +94,7 @@ std::vector<double> render_true_depth(const World& world, const Camera& cam,
 
 //! A simulated sensor frame: true depth, validity limits, then the noise model (seeded:
 //! the same inputs give the same image on every run).
-DepthImage render_depth(const World& world, const Camera& cam, const NoiseModel& noise,
-                        uint64_t seed);
+DepthImage render_depth(const World& world, const Camera& cam, const NoiseModel& noise, uint64_t seed);
 
 //! Organized cloud (width x height) in the sensor optical frame; NaN for missing pixels.
 fg::host::PointCloud depth_to_cloud(const DepthImage& depth, const Intrinsics& K);

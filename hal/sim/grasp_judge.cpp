@@ -28,8 +28,7 @@ struct GBox {
 // Adaptive test of a gripper box against one object: subdivides until every cell is either
 // clear (sdf(centre) - radius >= -tol, valid because the SDFs are 1-Lipschitz), below the
 // resolution, or holds a point deeper than tol inside the object.
-bool box_hits_object(const Rigid& G, const GBox& box, const Object& obj, double tol,
-                     double& depth) {
+bool box_hits_object(const Rigid& G, const GBox& box, const Object& obj, double tol, double& depth) {
   struct Cell {
     V3 c, h;
   };
@@ -81,8 +80,8 @@ std::string open_pose_hit(const World& world, int target, const Rigid& G, const 
     for (const GBox& b : boxes) {
       double zmin = std::numeric_limits<double>::infinity();
       for (int k = 0; k < 8; ++k) {
-        const V3 corner = b.c + V3((k & 1) ? b.h.x() : -b.h.x(), (k & 2) ? b.h.y() : -b.h.y(),
-                                   (k & 4) ? b.h.z() : -b.h.z());
+        const V3 corner =
+            b.c + V3((k & 1) ? b.h.x() : -b.h.x(), (k & 2) ? b.h.y() : -b.h.y(), (k & 4) ? b.h.z() : -b.h.z());
         zmin = std::min(zmin, G.apply(corner).z());
       }
       const double depth = world.table.height - zmin;
@@ -103,8 +102,8 @@ std::string open_pose_hit(const World& world, int target, const Rigid& G, const 
       // Early out: the box's world AABB against the object's.
       Aabb bb;
       for (int k = 0; k < 8; ++k)
-        bb.extend(G.apply(b.c + V3((k & 1) ? b.h.x() : -b.h.x(), (k & 2) ? b.h.y() : -b.h.y(),
-                                   (k & 4) ? b.h.z() : -b.h.z())));
+        bb.extend(G.apply(
+            b.c + V3((k & 1) ? b.h.x() : -b.h.x(), (k & 2) ? b.h.y() : -b.h.y(), (k & 4) ? b.h.z() : -b.h.z())));
       if ((bb.lo.array() > ob.hi.array()).any() || (bb.hi.array() < ob.lo.array()).any()) continue;
       double depth = 0.0;
       if (box_hits_object(G, b, obj, tolerance, depth)) {
@@ -123,8 +122,8 @@ bool finite(const fg::Vec3& v) { return v.allFinite(); }
 // between the force and the inward normal of the faces meeting at p. The normals are the SDF
 // gradients at points just inside the surface around p: there they are the normals of the
 // nearby faces (at an edge, of both faces, never the bisector the gradient has on the edge
-// itself; points on the SDF's creases are skipped). The best face counts: a flat pad on a face beside an edge holds by that face,
-// while an edge whose faces are all steep to the closing line (a box's diagonal) fails.
+// itself; points on the SDF's creases are skipped). The best face counts: a flat pad on a face beside an edge holds by
+// that face, while an edge whose faces are all steep to the closing line (a box's diagonal) fails.
 double contact_angle(const Object& obj, const V3& p, const V3& force) {
   constexpr double rho = 0.5e-3;  // sampling radius around the contact
   constexpr double h = 2e-5;      // gradient step
@@ -160,23 +159,22 @@ double contact_angle(const Object& obj, const V3& p, const V3& force) {
 
 }  // namespace
 
-JudgeResult judge_grasp(const World& world, int target, const Grasp& grasp,
-                        const fg::GripperGeometry& gripper, double mu) {
+JudgeResult judge_grasp(const World& world, int target, const Grasp& grasp, const fg::GripperGeometry& gripper,
+                        double mu) {
   JudgeOptions o;
   o.mu = mu;
   return judge_grasp(world, target, grasp, gripper, o);
 }
 
-JudgeResult judge_grasp(const World& world, int target, const Grasp& grasp,
-                        const fg::GripperGeometry& gripper, const JudgeOptions& opt) {
+JudgeResult judge_grasp(const World& world, int target, const Grasp& grasp, const fg::GripperGeometry& gripper,
+                        const JudgeOptions& opt) {
   JudgeResult res;
   if (target < 0 || static_cast<size_t>(target) >= world.objects.size()) {
     res.reason = "invalid_target";
     return res;
   }
   // ---- The grasp frame.
-  if (!finite(grasp.position) || !finite(grasp.approach) || !finite(grasp.closing) ||
-      !std::isfinite(grasp.width)) {
+  if (!finite(grasp.position) || !finite(grasp.approach) || !finite(grasp.closing) || !std::isfinite(grasp.width)) {
     res.reason = "invalid_grasp non-finite";
     return res;
   }
@@ -317,8 +315,7 @@ JudgeResult judge_grasp(const World& world, int target, const Grasp& grasp,
   for (int side = 0; side < 2; ++side) {
     const double angle = pads[side].angle;
     if (angle > cone + 1e-6) {
-      res.reason = std::string(side == 0 ? "friction_left " : "friction_right ") +
-                   fmt("%.1fdeg", angle * 180.0 / kPi);
+      res.reason = std::string(side == 0 ? "friction_left " : "friction_right ") + fmt("%.1fdeg", angle * 180.0 / kPi);
       return res;
     }
   }
@@ -334,8 +331,8 @@ JudgeResult judge_grasp(const World& world, int target, const Grasp& grasp,
   return res;
 }
 
-std::string open_pose_collision(const World& world, int target, const Grasp& grasp,
-                                const fg::GripperGeometry& gripper, double tolerance) {
+std::string open_pose_collision(const World& world, int target, const Grasp& grasp, const fg::GripperGeometry& gripper,
+                                double tolerance) {
   V3 z = to_v3(grasp.approach), x = to_v3(grasp.closing);
   if (!finite(grasp.position) || !(z.norm() > 1e-6) || !(x.norm() > 1e-6)) return "invalid_grasp";
   z.normalize();

@@ -38,37 +38,37 @@ struct Grasp {
 };
 
 struct JudgeOptions {
-  double mu = 0.5;                      //!< friction coefficient of the pads
-  double width_tolerance = 0.01;        //!< |reported - true| width allowed (m)
-  double collision_tolerance = 0.001;   //!< penetration allowed at the open pose (m)
-  int rays_across = 9;                  //!< closing rays across the pad (grasp y)
-  int rays_along = 17;                  //!< closing rays along the pad (grasp z)
-  double max_frame_skew = 0.05;         //!< |approach . closing| allowed before "invalid_grasp"
+  double mu = 0.5;                     //!< friction coefficient of the pads
+  double width_tolerance = 0.01;       //!< |reported - true| width allowed (m)
+  double collision_tolerance = 0.001;  //!< penetration allowed at the open pose (m)
+  int rays_across = 9;                 //!< closing rays across the pad (grasp y)
+  int rays_along = 17;                 //!< closing rays along the pad (grasp z)
+  double max_frame_skew = 0.05;        //!< |approach . closing| allowed before "invalid_grasp"
 };
 
 struct JudgeResult {
   bool success = false;
-  std::string reason;             //!< "success" or the first failed criterion
-  float true_width = -1.0f;       //!< x_R - x_L between the first contacts (m); -1 if unknown
-  float angle_left = -1.0f;       //!< friction angle at each contact (rad); -1 if unknown
+  std::string reason;        //!< "success" or the first failed criterion
+  float true_width = -1.0f;  //!< x_R - x_L between the first contacts (m); -1 if unknown
+  float angle_left = -1.0f;  //!< friction angle at each contact (rad); -1 if unknown
   float angle_right = -1.0f;
-  fg::Vec3 contact_left = fg::Vec3::Zero();   //!< first contact points (world)
+  fg::Vec3 contact_left = fg::Vec3::Zero();  //!< first contact points (world)
   fg::Vec3 contact_right = fg::Vec3::Zero();
-  float max_penetration = 0.0f;   //!< deepest penetration found at the open pose (m), if any
+  float max_penetration = 0.0f;  //!< deepest penetration found at the open pose (m), if any
 };
 
-JudgeResult judge_grasp(const World& world, int target, const Grasp& grasp,
-                        const fg::GripperGeometry& gripper, const JudgeOptions& options = {});
+JudgeResult judge_grasp(const World& world, int target, const Grasp& grasp, const fg::GripperGeometry& gripper,
+                        const JudgeOptions& options = {});
 
 //! Convenience overload with mu and the other options at their defaults.
-JudgeResult judge_grasp(const World& world, int target, const Grasp& grasp,
-                        const fg::GripperGeometry& gripper, double mu);
+JudgeResult judge_grasp(const World& world, int target, const Grasp& grasp, const fg::GripperGeometry& gripper,
+                        double mu);
 
 //! Criterion (a) alone: the open gripper at grasp's pose (width ignored) against the
 //! table and every object. "" when clear, else judge_grasp's reason
 //! ("collision_open_pose:<what> <part> DEPTH"; "invalid_grasp" for a degenerate frame).
-std::string open_pose_collision(const World& world, int target, const Grasp& grasp,
-                                const fg::GripperGeometry& gripper, double tolerance = 0.001);
+std::string open_pose_collision(const World& world, int target, const Grasp& grasp, const fg::GripperGeometry& gripper,
+                                double tolerance = 0.001);
 
 //! Does the object fit the gripper in some direction? Minimum width over horizontal
 //! closing directions of its graspable parts (and of the whole object).
@@ -76,12 +76,11 @@ std::string open_pose_collision(const World& world, int target, const Grasp& gra
 //! for objects resting on the table (none of the generated kinds has such an overhang).
 struct FitReport {
   bool fits = false;
-  double min_width = 0.0;    //!< smallest horizontal width found (m)
-  int part = -1;             //!< part giving it (-1 = the whole object)
-  V3 direction = V3::UnitX();//!< closing direction giving it (horizontal, unit)
+  double min_width = 0.0;      //!< smallest horizontal width found (m)
+  int part = -1;               //!< part giving it (-1 = the whole object)
+  V3 direction = V3::UnitX();  //!< closing direction giving it (horizontal, unit)
 };
 
-FitReport target_fit(const Object& object, const fg::GripperGeometry& gripper,
-                     double margin = 0.005);
+FitReport target_fit(const Object& object, const fg::GripperGeometry& gripper, double margin = 0.005);
 
 }  // namespace fg::sim

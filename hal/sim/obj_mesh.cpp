@@ -134,9 +134,8 @@ struct TriangleMesh::Nearest {
   V3 point = V3::Zero();
 };
 
-TriangleMesh::TriangleMesh(std::vector<V3> vertices, std::vector<Triangle> triangles,
-                           std::vector<int> groups, std::vector<std::string> group_names,
-                           std::string source)
+TriangleMesh::TriangleMesh(std::vector<V3> vertices, std::vector<Triangle> triangles, std::vector<int> groups,
+                           std::vector<std::string> group_names, std::string source)
     : source_(std::move(source)),
       vertices_(std::move(vertices)),
       triangles_(std::move(triangles)),
@@ -144,7 +143,9 @@ TriangleMesh::TriangleMesh(std::vector<V3> vertices, std::vector<Triangle> trian
       group_names_(std::move(group_names)) {
   const size_t nt = triangles_.size();
   const size_t ng = group_names_.size();
-  auto corner = [&](size_t t, int k) -> const V3& { return vertices_[static_cast<size_t>(triangles_[t][static_cast<size_t>(k)])]; };
+  auto corner = [&](size_t t, int k) -> const V3& {
+    return vertices_[static_cast<size_t>(triangles_[t][static_cast<size_t>(k)])];
+  };
 
   // Volumes per group fix the orientation: a group wound inside out is reversed.
   std::vector<double> group_volume(ng, 0.0);
@@ -219,9 +220,8 @@ TriangleMesh::TriangleMesh(std::vector<V3> vertices, std::vector<Triangle> trian
   // One hierarchy per group (median splits: balanced, so the traversal stacks stay short).
   order_.resize(nt);
   std::iota(order_.begin(), order_.end(), 0);
-  std::stable_sort(order_.begin(), order_.end(), [&](int a, int b) {
-    return groups_[static_cast<size_t>(a)] < groups_[static_cast<size_t>(b)];
-  });
+  std::stable_sort(order_.begin(), order_.end(),
+                   [&](int a, int b) { return groups_[static_cast<size_t>(a)] < groups_[static_cast<size_t>(b)]; });
   std::vector<V3> centres(nt);
   for (size_t t = 0; t < nt; ++t) centres[t] = (corner(t, 0) + corner(t, 1) + corner(t, 2)) / 3.0;
   nodes_.reserve(2 * nt / kLeafSize + 2 * ng + 1);
@@ -239,7 +239,8 @@ TriangleMesh::TriangleMesh(std::vector<V3> vertices, std::vector<Triangle> trian
 int TriangleMesh::build(int begin, int end, const std::vector<V3>& centres) {
   Node node;
   for (int i = begin; i < end; ++i)
-    for (int v : triangles_[static_cast<size_t>(order_[static_cast<size_t>(i)])]) node.box.extend(vertices_[static_cast<size_t>(v)]);
+    for (int v : triangles_[static_cast<size_t>(order_[static_cast<size_t>(i)])])
+      node.box.extend(vertices_[static_cast<size_t>(v)]);
   const int index = static_cast<int>(nodes_.size());
   if (end - begin <= kLeafSize) {
     node.first = begin;
@@ -278,8 +279,8 @@ double TriangleMesh::extent_along(const V3& u) const {
   return vertices_.empty() ? 0.0 : hi - lo;
 }
 
-bool TriangleMesh::intersect(const V3& o, const V3& d, double tmin, double tmax, double& t,
-                             V3& normal, int* triangle) const {
+bool TriangleMesh::intersect(const V3& o, const V3& d, double tmin, double tmax, double& t, V3& normal,
+                             int* triangle) const {
   const V3 inv_d(1.0 / d.x(), 1.0 / d.y(), 1.0 / d.z());
   double best = tmax;
   int best_tri = -1;
@@ -370,13 +371,26 @@ double TriangleMesh::sign_of(const V3& p, const Nearest& n) const {
   const size_t t = static_cast<size_t>(n.triangle);
   V3 pseudo = face_normals_[t];
   switch (n.feature) {
-    case Feature::face: break;
-    case Feature::corner0: pseudo = corner_normals_[t][0]; break;
-    case Feature::corner1: pseudo = corner_normals_[t][1]; break;
-    case Feature::corner2: pseudo = corner_normals_[t][2]; break;
-    case Feature::edge01: pseudo = edge_normals_[t][0]; break;
-    case Feature::edge12: pseudo = edge_normals_[t][1]; break;
-    case Feature::edge20: pseudo = edge_normals_[t][2]; break;
+    case Feature::face:
+      break;
+    case Feature::corner0:
+      pseudo = corner_normals_[t][0];
+      break;
+    case Feature::corner1:
+      pseudo = corner_normals_[t][1];
+      break;
+    case Feature::corner2:
+      pseudo = corner_normals_[t][2];
+      break;
+    case Feature::edge01:
+      pseudo = edge_normals_[t][0];
+      break;
+    case Feature::edge12:
+      pseudo = edge_normals_[t][1];
+      break;
+    case Feature::edge20:
+      pseudo = edge_normals_[t][2];
+      break;
   }
   return (p - n.point).dot(pseudo) < 0.0 ? -1.0 : 1.0;
 }
@@ -410,9 +424,13 @@ void split_words(std::string_view line, std::vector<std::string_view>& words) {
   words.clear();
   size_t i = 0;
   while (i < line.size()) {
-    while (i < line.size() && (line[i] == ' ' || line[i] == '\t' || line[i] == '\r' || line[i] == '\f' || line[i] == '\v')) ++i;
+    while (i < line.size() &&
+           (line[i] == ' ' || line[i] == '\t' || line[i] == '\r' || line[i] == '\f' || line[i] == '\v'))
+      ++i;
     const size_t start = i;
-    while (i < line.size() && !(line[i] == ' ' || line[i] == '\t' || line[i] == '\r' || line[i] == '\f' || line[i] == '\v')) ++i;
+    while (i < line.size() &&
+           !(line[i] == ' ' || line[i] == '\t' || line[i] == '\r' || line[i] == '\f' || line[i] == '\v'))
+      ++i;
     if (i > start) words.push_back(line.substr(start, i - start));
   }
 }
@@ -452,8 +470,7 @@ std::string quoted(std::string_view s) {
 
 }  // namespace
 
-bool load_obj_text(const std::string& text, const std::string& name, TriangleMesh& out,
-                   std::string& error) {
+bool load_obj_text(const std::string& text, const std::string& name, TriangleMesh& out, std::string& error) {
   std::vector<V3> vertices;
   std::vector<TriangleMesh::Triangle> triangles;
   std::vector<int> groups;
@@ -481,8 +498,7 @@ bool load_obj_text(const std::string& text, const std::string& name, TriangleMes
     const std::string_view key = words[0];
     if (key == "v") {
       if (words.size() < 4) return fail("a vertex needs 3 coordinates");
-      if (vertices.size() >= kObjMaxVertices)
-        return fail("more than " + std::to_string(kObjMaxVertices) + " vertices");
+      if (vertices.size() >= kObjMaxVertices) return fail("more than " + std::to_string(kObjMaxVertices) + " vertices");
       V3 v;
       for (int i = 0; i < 3; ++i) {
         const std::string_view w = words[static_cast<size_t>(i) + 1];
@@ -500,7 +516,8 @@ bool load_obj_text(const std::string& text, const std::string& name, TriangleMes
         if (idx == 0) return fail("face index 0 (indices start at 1)");
         const long long resolved = idx > 0 ? idx - 1 : n + idx;
         if (resolved < 0 || resolved >= n)
-          return fail("face index " + std::to_string(idx) + " out of range (" + std::to_string(n) + " vertices so far)");
+          return fail("face index " + std::to_string(idx) + " out of range (" + std::to_string(n) +
+                      " vertices so far)");
         polygon.push_back(static_cast<int>(resolved));
       }
       if (group < 0) {
@@ -676,7 +693,9 @@ class ConvexHull {
 
  private:
   const V3& P(int i) const { return (*pts_)[static_cast<size_t>(i)]; }
-  static uint64_t key(int a, int b) { return (static_cast<uint64_t>(static_cast<uint32_t>(a)) << 32) | static_cast<uint32_t>(b); }
+  static uint64_t key(int a, int b) {
+    return (static_cast<uint64_t>(static_cast<uint32_t>(a)) << 32) | static_cast<uint32_t>(b);
+  }
   double height(int f, const V3& p) const {
     const Face& face = faces_[static_cast<size_t>(f)];
     return face.n.dot(p) - face.off;
@@ -737,8 +756,7 @@ class ConvexHull {
 // Is p (on the plane of triangle abc) inside it, up to tol (scaled with the triangle)?
 bool in_triangle(const V3& p, const V3& a, const V3& b, const V3& c, const V3& n) {
   const double tol = -1e-12;
-  return (b - a).cross(p - a).dot(n) >= tol && (c - b).cross(p - b).dot(n) >= tol &&
-         (a - c).cross(p - c).dot(n) >= tol;
+  return (b - a).cross(p - a).dot(n) >= tol && (c - b).cross(p - b).dot(n) >= tol && (a - c).cross(p - c).dot(n) >= tol;
 }
 
 }  // namespace
@@ -753,14 +771,16 @@ std::vector<RestingFace> resting_faces(const TriangleMesh& mesh) {
   std::vector<int> parent(faces.size());
   std::iota(parent.begin(), parent.end(), 0);
   auto root = [&](int i) {
-    while (parent[static_cast<size_t>(i)] != i) i = parent[static_cast<size_t>(i)] = parent[static_cast<size_t>(parent[static_cast<size_t>(i)])];
+    while (parent[static_cast<size_t>(i)] != i)
+      i = parent[static_cast<size_t>(i)] = parent[static_cast<size_t>(parent[static_cast<size_t>(i)])];
     return i;
   };
   for (size_t i = 0; i < faces.size(); ++i) {
     if (!faces[i].alive) continue;
     for (int e = 0; e < 3; ++e) {
       const int nb = hull.neighbour(faces[i].v[static_cast<size_t>(e)], faces[i].v[static_cast<size_t>((e + 1) % 3)]);
-      if (faces[i].n.dot(faces[static_cast<size_t>(nb)].n) > 1.0 - 1e-10) parent[static_cast<size_t>(root(static_cast<int>(i)))] = root(nb);
+      if (faces[i].n.dot(faces[static_cast<size_t>(nb)].n) > 1.0 - 1e-10)
+        parent[static_cast<size_t>(root(static_cast<int>(i)))] = root(nb);
     }
   }
   struct Merged {
@@ -773,7 +793,8 @@ std::vector<RestingFace> resting_faces(const TriangleMesh& mesh) {
   for (size_t i = 0; i < faces.size(); ++i) {
     const auto& f = faces[i];
     if (!f.alive) continue;
-    const V3 &a = pts[static_cast<size_t>(f.v[0])], &b = pts[static_cast<size_t>(f.v[1])], &d = pts[static_cast<size_t>(f.v[2])];
+    const V3 &a = pts[static_cast<size_t>(f.v[0])], &b = pts[static_cast<size_t>(f.v[1])],
+             &d = pts[static_cast<size_t>(f.v[2])];
     const double area = 0.5 * (b - a).cross(d - a).norm();
     Merged& m = merged[root(static_cast<int>(i))];
     m.normal_sum += area * f.n;

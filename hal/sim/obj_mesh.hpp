@@ -73,7 +73,7 @@ class TriangleMesh {
   std::vector<Triangle> triangles_;
   std::vector<int> groups_;
   std::vector<std::string> group_names_;
-  std::vector<V3> face_normals_;                  //!< unit outward (zero when degenerate)
+  std::vector<V3> face_normals_;                   //!< unit outward (zero when degenerate)
   std::vector<std::array<V3, 3>> corner_normals_;  //!< vertex pseudo-normals at each corner
   std::vector<std::array<V3, 3>> edge_normals_;    //!< edge k runs from corner k to k + 1
   std::vector<Node> nodes_;
@@ -93,8 +93,7 @@ constexpr size_t kObjMaxVertices = 2'000'000;
 //! normal). On failure returns false with "FILE:LINE: problem" in error; out is untouched.
 bool load_obj(const std::string& path, TriangleMesh& out, std::string& error);
 //! The same from the text of a file; name stands for the file in messages and source().
-bool load_obj_text(const std::string& text, const std::string& name, TriangleMesh& out,
-                   std::string& error);
+bool load_obj_text(const std::string& text, const std::string& name, TriangleMesh& out, std::string& error);
 //! load_obj once per path and process (thread-safe); nullptr and error on failure.
 std::shared_ptr<const TriangleMesh> load_obj_cached(const std::string& path, std::string& error);
 

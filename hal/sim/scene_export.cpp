@@ -3,9 +3,8 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
-
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "io/scene.hpp"
 #include "sim/obj_mesh.hpp"
@@ -14,8 +13,8 @@ namespace fg::sim {
 
 namespace {
 
-using nlohmann::json;
 using fg::host::ReadResult;
+using nlohmann::json;
 
 json vec_json(const V3& v) { return json::array({v.x(), v.y(), v.z()}); }
 
@@ -43,8 +42,7 @@ Rigid read_pose(const json& j) {
 double tidy(float v) { return std::round(static_cast<double>(v) * 1e6) / 1e6; }
 
 json intrinsics_json(const Intrinsics& K) {
-  return json{{"width", K.width}, {"height", K.height}, {"fx", K.fx},
-              {"fy", K.fy},       {"cx", K.cx},         {"cy", K.cy}};
+  return json{{"width", K.width}, {"height", K.height}, {"fx", K.fx}, {"fy", K.fy}, {"cx", K.cx}, {"cy", K.cy}};
 }
 
 Intrinsics read_intrinsics(const json& j) {
@@ -59,17 +57,27 @@ Intrinsics read_intrinsics(const json& j) {
 }
 
 json part_json(const Part& p) {
-  json j{{"name", p.name}, {"shape", shape_name(p.shape)}, {"graspable", p.graspable},
+  json j{{"name", p.name},
+         {"shape", shape_name(p.shape)},
+         {"graspable", p.graspable},
          {"pose", pose_json(p.world_T_shape)}};
   switch (p.shape) {
-    case Shape::box: j["half_extents"] = vec_json(p.size); break;
+    case Shape::box:
+      j["half_extents"] = vec_json(p.size);
+      break;
     case Shape::cylinder:
       j["radius"] = p.radius();
       j["half_height"] = p.half_height();
       break;
-    case Shape::sphere: j["radius"] = p.radius(); break;
-    case Shape::ellipsoid: j["semi_axes"] = vec_json(p.size); break;
-    case Shape::mesh: j["mesh"] = p.triangle_mesh ? p.triangle_mesh->source() : std::string(); break;
+    case Shape::sphere:
+      j["radius"] = p.radius();
+      break;
+    case Shape::ellipsoid:
+      j["semi_axes"] = vec_json(p.size);
+      break;
+    case Shape::mesh:
+      j["mesh"] = p.triangle_mesh ? p.triangle_mesh->source() : std::string();
+      break;
   }
   return j;
 }
@@ -82,14 +90,20 @@ Part read_part(const json& j) {
   p.graspable = j.value("graspable", true);
   p.world_T_shape = read_pose(j.at("pose"));
   switch (p.shape) {
-    case Shape::box: p.size = read_vec(j.at("half_extents")); break;
+    case Shape::box:
+      p.size = read_vec(j.at("half_extents"));
+      break;
     case Shape::cylinder: {
       const double r = j.at("radius").get<double>();
       p.size = V3(r, r, j.at("half_height").get<double>());
       break;
     }
-    case Shape::sphere: p.size = V3::Constant(j.at("radius").get<double>()); break;
-    case Shape::ellipsoid: p.size = read_vec(j.at("semi_axes")); break;
+    case Shape::sphere:
+      p.size = V3::Constant(j.at("radius").get<double>());
+      break;
+    case Shape::ellipsoid:
+      p.size = read_vec(j.at("semi_axes"));
+      break;
     case Shape::mesh: {
       // The OBJ file is read again (once per process); a flat mesh may have a zero size.
       std::string error;
@@ -106,9 +120,7 @@ Part read_part(const json& j) {
 }
 
 json camera_json(const Camera& c, uint64_t noise_seed) {
-  return json{{"pose", pose_json(c.world_T_sensor)},
-              {"intrinsics", intrinsics_json(c.K)},
-              {"noise_seed", noise_seed}};
+  return json{{"pose", pose_json(c.world_T_sensor)}, {"intrinsics", intrinsics_json(c.K)}, {"noise_seed", noise_seed}};
 }
 
 fg::host::PoseD to_posed(const Rigid& r) {
@@ -299,20 +311,18 @@ ReadResult read_truth(const std::string& path, GeneratedScene& out) {
   return parse_truth(ss.str(), path, out);
 }
 
-ReadResult export_scene(const GeneratedScene& scene, const std::string& dir,
-                        const ExportOptions& options) {
+ReadResult export_scene(const GeneratedScene& scene, const std::string& dir, const ExportOptions& options) {
   return export_scene(scene, render_scene(scene), dir, options);
 }
 
-ReadResult export_scene(const GeneratedScene& scene, const SceneImages& images,
-                        const std::string& dir, const ExportOptions& options) {
+ReadResult export_scene(const GeneratedScene& scene, const SceneImages& images, const std::string& dir,
+                        const ExportOptions& options) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec) return ReadResult::failure(dir + ": cannot create the folder: " + ec.message());
   const std::string base = dir.empty() || dir.back() == '/' ? dir : dir + "/";
 
-  ReadResult r = fg::host::write_pcd(base + "head.pcd", depth_to_cloud(images.head, scene.head.K),
-                                     options.encoding);
+  ReadResult r = fg::host::write_pcd(base + "head.pcd", depth_to_cloud(images.head, scene.head.K), options.encoding);
   if (!r.ok) return r;
   r = fg::host::write_pcd(base + "hand.pcd", depth_to_cloud(images.hand, scene.hand.K), options.encoding);
   if (!r.ok) return r;

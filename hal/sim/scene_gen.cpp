@@ -1,5 +1,6 @@
 #include "sim/scene_gen.hpp"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -9,8 +10,6 @@
 #include <map>
 #include <mutex>
 #include <stdexcept>
-
-#include <Eigen/Geometry>
 
 #include "sim/grasp_judge.hpp"
 #include "sim/obj_mesh.hpp"
@@ -140,10 +139,9 @@ Part mesh_part(const MeshKind& kind, const std::string& mesh_dir) {
 
 const std::vector<ObjectKind>& all_kinds() {
   static const std::vector<ObjectKind> kinds = {
-      ObjectKind::box,        ObjectKind::can,          ObjectKind::bottle,
-      ObjectKind::spray_bottle, ObjectKind::sphere,     ObjectKind::big_sphere,
-      ObjectKind::ellipsoid,  ObjectKind::lying_cylinder, ObjectKind::bat_standing,
-      ObjectKind::bat_lying,  ObjectKind::wide_box};
+      ObjectKind::box,          ObjectKind::can,        ObjectKind::bottle,    ObjectKind::spray_bottle,
+      ObjectKind::sphere,       ObjectKind::big_sphere, ObjectKind::ellipsoid, ObjectKind::lying_cylinder,
+      ObjectKind::bat_standing, ObjectKind::bat_lying,  ObjectKind::wide_box};
   return kinds;
 }
 
@@ -169,17 +167,28 @@ std::string default_mesh_dir() {
 
 const char* kind_name(ObjectKind k) {
   switch (k) {
-    case ObjectKind::box: return "box";
-    case ObjectKind::can: return "can";
-    case ObjectKind::bottle: return "bottle";
-    case ObjectKind::spray_bottle: return "spray_bottle";
-    case ObjectKind::sphere: return "sphere";
-    case ObjectKind::big_sphere: return "big_sphere";
-    case ObjectKind::ellipsoid: return "ellipsoid";
-    case ObjectKind::lying_cylinder: return "lying_cylinder";
-    case ObjectKind::bat_standing: return "bat_standing";
-    case ObjectKind::bat_lying: return "bat_lying";
-    case ObjectKind::wide_box: return "wide_box";
+    case ObjectKind::box:
+      return "box";
+    case ObjectKind::can:
+      return "can";
+    case ObjectKind::bottle:
+      return "bottle";
+    case ObjectKind::spray_bottle:
+      return "spray_bottle";
+    case ObjectKind::sphere:
+      return "sphere";
+    case ObjectKind::big_sphere:
+      return "big_sphere";
+    case ObjectKind::ellipsoid:
+      return "ellipsoid";
+    case ObjectKind::lying_cylinder:
+      return "lying_cylinder";
+    case ObjectKind::bat_standing:
+      return "bat_standing";
+    case ObjectKind::bat_lying:
+      return "bat_lying";
+    case ObjectKind::wide_box:
+      return "wide_box";
     case ObjectKind::ycb_mustard_bottle:
     case ObjectKind::ycb_master_chef_can:
     case ObjectKind::ycb_tomato_soup_can:
@@ -187,7 +196,8 @@ const char* kind_name(ObjectKind k) {
     case ObjectKind::ycb_banana:
     case ObjectKind::ycb_power_drill:
     case ObjectKind::ycb_scissors:
-    case ObjectKind::ycb_chips_can: return find_mesh_kind(k)->name;
+    case ObjectKind::ycb_chips_can:
+      return find_mesh_kind(k)->name;
   }
   return "box";
 }
@@ -251,9 +261,8 @@ Object build_object(ObjectKind kind, Rng& rng, double stretch, const std::string
       const double head_z = h + hn + head.z() - 0.001;
       o.parts.push_back(Part::box("head", head, at(0, head_y, head_z)));
       const double rz = size(0.004, 0.006), hl = size(0.006, 0.01);
-      Part nozzle = Part::cylinder("nozzle", rz, hl,
-                                   at(0, head_y + head.y() + hl - 0.002, head_z + head.z() - 0.01) *
-                                       Rigid::rot_x(0.5 * kPi));
+      Part nozzle = Part::cylinder(
+          "nozzle", rz, hl, at(0, head_y + head.y() + hl - 0.002, head_z + head.z() - 0.01) * Rigid::rot_x(0.5 * kPi));
       nozzle.graspable = false;
       o.parts.push_back(nozzle);
       break;
@@ -299,8 +308,7 @@ Object build_object(ObjectKind kind, Rng& rng, double stretch, const std::string
       o.parts.push_back(Part::cylinder("blade", r, hh, Rigid::translation(c) * Rigid::rot_x(0.5 * kPi)));
       const V3 dir(std::sin(phi), 0, std::cos(phi));
       o.parts.push_back(Part::box("handle", V3(0.5 * L, 0.5 * t, 0.5 * w),
-                                  Rigid::translation(c + (r - 0.008 + 0.5 * L) * dir) *
-                                      Rigid::rot_y(phi - 0.5 * kPi)));
+                                  Rigid::translation(c + (r - 0.008 + 0.5 * L) * dir) * Rigid::rot_y(phi - 0.5 * kPi)));
       break;
     }
     case ObjectKind::wide_box: {
@@ -331,8 +339,7 @@ Object make_object(ObjectKind kind, uint64_t rng_seed, const std::string& mesh_d
   return o;
 }
 
-GroundTruth compute_truth(const World& world, int target, const fg::GripperGeometry& gripper,
-                          double fit_margin) {
+GroundTruth compute_truth(const World& world, int target, const fg::GripperGeometry& gripper, double fit_margin) {
   GroundTruth t;
   t.fit_margin = fit_margin;
   if (target < 0 || static_cast<size_t>(target) >= world.objects.size()) return t;
@@ -350,9 +357,9 @@ namespace {
 // ------------------------------------------------------------------ the cell distribution
 
 constexpr uint64_t kCellSalt = 0x5CE11D157B1B5A17ull;  // cell seeds draw apart from classic ones
-constexpr int kClassRedraws = 20;       // size draws per target before its class gives way
-constexpr int kPlacementAttempts = 32;  // draws of an other object's place or of a sensor pose
-constexpr double kGapSampleSpacing = 0.004;  // surface_gap's sample spacing (m)
+constexpr int kClassRedraws = 20;                      // size draws per target before its class gives way
+constexpr int kPlacementAttempts = 32;                 // draws of an other object's place or of a sensor pose
+constexpr double kGapSampleSpacing = 0.004;            // surface_gap's sample spacing (m)
 
 // The stable faces of a mesh's convex hull, once per file.
 const std::vector<RestingFace>& cached_resting_faces(const TriangleMesh& mesh) {
@@ -401,8 +408,9 @@ void lie_down(Object& o, ObjectKind kind, Rng& rng) {
       Part& part = o.parts[0];
       const std::vector<RestingFace>& faces = cached_resting_faces(*part.triangle_mesh);
       if (faces.empty()) break;
-      const RestingFace& upright = *std::min_element(
-          faces.begin(), faces.end(), [](const RestingFace& a, const RestingFace& b) { return a.down.z() < b.down.z(); });
+      const RestingFace& upright =
+          *std::min_element(faces.begin(), faces.end(),
+                            [](const RestingFace& a, const RestingFace& b) { return a.down.z() < b.down.z(); });
       // Faces within 20 deg of the upright one are the same way up.
       std::vector<const RestingFace*> sides;
       double total = 0.0;
@@ -534,9 +542,7 @@ std::vector<V3> surface_samples(const Object& o) {
   return pts;
 }
 
-double box_distance(const Aabb& b, const V3& p) {
-  return (b.lo - p).cwiseMax(p - b.hi).cwiseMax(0.0).norm();
-}
+double box_distance(const Aabb& b, const V3& p) { return (b.lo - p).cwiseMax(p - b.hi).cwiseMax(0.0).norm(); }
 
 // The smallest exact distance from the points to the object's parts. Unless with_meshes,
 // mesh parts are left to the other direction, from their vertices (a few mm apart on the
@@ -657,8 +663,8 @@ GeneratedScene make_cell_scene(ObjectKind kind, uint64_t seed, const SceneOption
       recentre(turned);
       const std::vector<V3> pts = surface_samples(turned);
       double achieved = 0.0;
-      const V3 shift = place_beside(target, target_pts, turned, pts, V3(std::cos(ang), std::sin(ang), 0.0), gap,
-                                    z0, achieved);
+      const V3 shift =
+          place_beside(target, target_pts, turned, pts, V3(std::cos(ang), std::sin(ang), 0.0), gap, z0, achieved);
       if (achieved < cell.others_gap_min || achieved > cell.others_gap_max) continue;
       if (std::hypot(shift.x() - opt.workspace_centre.x(), shift.y() - opt.workspace_centre.y()) <
           target_to_ws + cell.others_farther)
@@ -703,8 +709,7 @@ GeneratedScene make_cell_scene(ObjectKind kind, uint64_t seed, const SceneOption
     hand_eye = tc + dist * V3(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
     s.hand.world_T_sensor = look_at(hand_eye, tc);
     if (clearance_from_objects(s.world, hand_eye) >= cell.sensor_clearance &&
-        hand_eye.z() >= z0 + cell.sensor_clearance &&
-        (!wrist_reachable || wrist_reachable(s.hand.world_T_sensor)))
+        hand_eye.z() >= z0 + cell.sensor_clearance && (!wrist_reachable || wrist_reachable(s.hand.world_T_sensor)))
       break;
   }
   s.head_noise_seed = splitmix64(base + 1);
@@ -719,9 +724,12 @@ GeneratedScene make_cell_scene(ObjectKind kind, uint64_t seed, const SceneOption
 const char* distribution_name(Distribution d) { return d == Distribution::cell ? "cell" : "classic"; }
 
 bool distribution_from_name(const std::string& name, Distribution& out) {
-  if (name == "classic") out = Distribution::classic;
-  else if (name == "cell") out = Distribution::cell;
-  else return false;
+  if (name == "classic")
+    out = Distribution::classic;
+  else if (name == "cell")
+    out = Distribution::cell;
+  else
+    return false;
   return true;
 }
 
@@ -770,7 +778,8 @@ GeneratedScene make_scene(ObjectKind kind, uint64_t seed, const SceneOptions& op
 
   // Target.
   Object target = make_object(kind, rng.bits(), opt.mesh_dir);
-  const double tx = rng.uniform(opt.target_x_min, opt.target_x_max), ty = rng.uniform(-opt.target_y_half, opt.target_y_half);
+  const double tx = rng.uniform(opt.target_x_min, opt.target_x_max),
+               ty = rng.uniform(-opt.target_y_half, opt.target_y_half);
   const double yaw = rng.uniform(0.0, 2.0 * kPi);
   transform(target, Rigid::translation(V3(tx, ty, z0)) * Rigid::rot_z(yaw));
   {
@@ -802,8 +811,7 @@ GeneratedScene make_scene(ObjectKind kind, uint64_t seed, const SceneOptions& op
           cb.hi.y() > tb.y_max - 0.05)
         continue;
       if (xy_gap(cb, tbox) < 0.03) continue;
-      if (std::hypot(px - opt.workspace_centre.x(), py - opt.workspace_centre.y()) < target_to_ws + 0.05)
-        continue;
+      if (std::hypot(px - opt.workspace_centre.x(), py - opt.workspace_centre.y()) < target_to_ws + 0.05) continue;
       s.world.objects.push_back(cand);
       break;
     }

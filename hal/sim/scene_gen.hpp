@@ -103,10 +103,10 @@ struct SceneOptions {
   static SceneOptions of(Distribution d);
 
   Distribution distribution = Distribution::classic;
-  CellOptions cell;                   //!< used by Distribution::cell only
-  double second_object_rate = 0.3;    //!< classic: probability of a second, smaller object
-  fg::GripperGeometry gripper;        //!< the 2F-85 defaults
-  Intrinsics intrinsics;              //!< both cameras
+  CellOptions cell;                 //!< used by Distribution::cell only
+  double second_object_rate = 0.3;  //!< classic: probability of a second, smaller object
+  fg::GripperGeometry gripper;      //!< the 2F-85 defaults
+  Intrinsics intrinsics;            //!< both cameras
   NoiseModel noise;
   Table table;
   //! "fits" means min width <= max_opening - margin. cell: a target of a kind that fits
@@ -131,9 +131,9 @@ struct SceneOptions {
 //! Facts about the target that a judge needs.
 struct GroundTruth {
   bool target_fits = false;
-  double target_min_width = 0.0;      //!< smallest horizontal width of a graspable part
-  double fit_margin = 0.005;          //!< fits = target_min_width <= max_opening - fit_margin
-  V3 target_centre = V3::Zero();      //!< centre of its bounding box (the cameras look here)
+  double target_min_width = 0.0;  //!< smallest horizontal width of a graspable part
+  double fit_margin = 0.005;      //!< fits = target_min_width <= max_opening - fit_margin
+  V3 target_centre = V3::Zero();  //!< centre of its bounding box (the cameras look here)
   Aabb target_box;
 };
 
@@ -179,8 +179,7 @@ double surface_gap(const Object& a, const Object& b);
 Object make_object(ObjectKind kind, uint64_t rng_seed, const std::string& mesh_dir = default_mesh_dir());
 
 //! Recomputes the ground-truth facts of scene.world.objects[scene.target].
-GroundTruth compute_truth(const World& world, int target, const fg::GripperGeometry& gripper,
-                          double fit_margin);
+GroundTruth compute_truth(const World& world, int target, const fg::GripperGeometry& gripper, double fit_margin);
 
 struct SceneImages {
   DepthImage head;

@@ -48,8 +48,7 @@ Status SimArm::do_move_joints(const double q[6], double speed_fraction) {
   // The slowest joint sets the duration; the others are scaled to arrive with it.
   double duration_s = 0.0;
   for (int i = 0; i < 6; ++i)
-    duration_s = std::max(duration_s,
-                          std::abs(q[i] - q_[i]) / (speed_fraction * config_.max_speed_rad_s[i]));
+    duration_s = std::max(duration_s, std::abs(q[i] - q_[i]) / (speed_fraction * config_.max_speed_rad_s[i]));
   for (int i = 0; i < 6; ++i) {
     start_[i] = q_[i];
     target_[i] = q[i];
@@ -108,8 +107,7 @@ std::function<Rigid()> mounted_on_tool0(const SimArm& arm, const Rigid& tool0_T_
 // SdfContactModel
 
 SdfContactModel::SdfContactModel(const World& world, std::function<Rigid()> world_T_grasp,
-                                 const fg::GripperGeometry& geometry, double sample_spacing_m,
-                                 double step_m)
+                                 const fg::GripperGeometry& geometry, double sample_spacing_m, double step_m)
     : world_(world),
       world_T_grasp_(std::move(world_T_grasp)),
       geometry_(geometry),
@@ -138,8 +136,7 @@ bool SdfContactModel::pad_touches(const Rigid& G, double face_x_m) const {
   return false;
 }
 
-double SdfContactModel::pad_travel(const Rigid& G, double opening_m, int side,
-                                   double max_travel_m) const {
+double SdfContactModel::pad_travel(const Rigid& G, double opening_m, int side, double max_travel_m) const {
   const double sx = side == 0 ? -1.0 : 1.0;  // face at sx * opening / 2, moving towards -sx
   auto face_x = [&](double travel) { return sx * (0.5 * opening_m - travel); };
   if (!(max_travel_m > 0.0)) return 0.0;
@@ -186,8 +183,7 @@ SimGripper::SimGripper(const SimGripperConfig& config, const ContactModel* conta
 
 Status SimGripper::do_open_to(float width_m) {
   if (fault_) return Status::invalid_sequence;
-  target_m_ = std::clamp(static_cast<double>(width_m), 0.0,
-                         static_cast<double>(config_.geometry.max_opening_m));
+  target_m_ = std::clamp(static_cast<double>(width_m), 0.0, static_cast<double>(config_.geometry.max_opening_m));
   closing_to_contact_ = false;
   contact_now_ = false;
   moving_ = target_m_ != width_m_;
@@ -237,8 +233,7 @@ Status SimGripper::do_read_state(fg::hal::GripperState& out) {
 // ---------------------------------------------------------------------------------------
 // SimDepthSensor
 
-SimDepthSensor::SimDepthSensor(const World& world, const SimClock& clock,
-                               std::function<Rigid()> world_T_sensor,
+SimDepthSensor::SimDepthSensor(const World& world, const SimClock& clock, std::function<Rigid()> world_T_sensor,
                                const SimDepthSensorConfig& config)
     : world_(world), clock_(clock), world_T_sensor_(std::move(world_T_sensor)), config_(config) {
   camera_.K = config_.K;

@@ -128,15 +128,14 @@ class SdfContactModel final : public ContactModel {
   //! (grasp frame: origin at the pads' centre, +x closing from the left pad to the right
   //! one, +z approach, +y = z x x).
   SdfContactModel(const World& world, std::function<Rigid()> world_T_grasp,
-                  const fg::GripperGeometry& geometry = fg::GripperGeometry{},
-                  double sample_spacing_m = 2.5e-3, double step_m = 0.5e-3);
+                  const fg::GripperGeometry& geometry = fg::GripperGeometry{}, double sample_spacing_m = 2.5e-3,
+                  double step_m = 0.5e-3);
 
   double contact_width(double opening_m) const override;
 
   //! How far the pad (side 0 = left at x = -opening/2, side 1 = right at +opening/2) moves
   //! inwards, at most max_travel_m, before it touches; max_travel_m when it touches nothing.
-  double pad_travel(const Rigid& world_T_grasp, double opening_m, int side,
-                    double max_travel_m) const;
+  double pad_travel(const Rigid& world_T_grasp, double opening_m, int side, double max_travel_m) const;
 
  private:
   bool pad_touches(const Rigid& world_T_grasp, double face_x_m) const;
@@ -161,8 +160,7 @@ struct SimGripperConfig {
 class SimGripper final : public fg::hal::Gripper {
  public:
   //! contact: may be null (closing then never touches anything); must outlive the gripper.
-  explicit SimGripper(const SimGripperConfig& config = SimGripperConfig{},
-                      const ContactModel* contact = nullptr);
+  explicit SimGripper(const SimGripperConfig& config = SimGripperConfig{}, const ContactModel* contact = nullptr);
 
   void set_contact_model(const ContactModel* contact) { contact_ = contact; }
   void tick(double dt_s);
@@ -209,8 +207,7 @@ struct SimDepthSensorConfig {
 class SimDepthSensor final : public fg::hal::DepthSensor {
  public:
   //! world and clock must outlive the sensor.
-  SimDepthSensor(const World& world, const SimClock& clock,
-                 std::function<Rigid()> world_T_sensor,
+  SimDepthSensor(const World& world, const SimClock& clock, std::function<Rigid()> world_T_sensor,
                  const SimDepthSensorConfig& config = SimDepthSensorConfig{});
 
   //! The next capture fails (poll says failed after the latency, no frame).
@@ -233,8 +230,8 @@ class SimDepthSensor final : public fg::hal::DepthSensor {
   DepthImage image_;
   uint64_t captures_ = 0;
   uint64_t requested_at_us_ = 0;
-  bool pending_ = false;   // a request was made
-  bool failing_ = false;   // the current request fails
+  bool pending_ = false;  // a request was made
+  bool failing_ = false;  // the current request fails
   bool fail_next_ = false;
 };
 

@@ -1,12 +1,11 @@
 #include "sim/sim_world.hpp"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
 #include <utility>
-
-#include <Eigen/Geometry>
 
 #include "sim/obj_mesh.hpp"
 
@@ -150,11 +149,16 @@ bool Aabb::ray_overlap(const V3& o, const V3& inv_d, double& t0, double& t1) con
 
 const char* shape_name(Shape s) {
   switch (s) {
-    case Shape::box: return "box";
-    case Shape::cylinder: return "cylinder";
-    case Shape::sphere: return "sphere";
-    case Shape::ellipsoid: return "ellipsoid";
-    case Shape::mesh: return "mesh";
+    case Shape::box:
+      return "box";
+    case Shape::cylinder:
+      return "cylinder";
+    case Shape::sphere:
+      return "sphere";
+    case Shape::ellipsoid:
+      return "ellipsoid";
+    case Shape::mesh:
+      return "mesh";
   }
   return "box";
 }
@@ -222,8 +226,7 @@ double Part::width_along(const V3& u) const {
   const V3 l = world_T_shape.R.transpose() * u;
   switch (shape) {
     case Shape::box:
-      return 2.0 * (size.x() * std::abs(l.x()) + size.y() * std::abs(l.y()) +
-                    size.z() * std::abs(l.z()));
+      return 2.0 * (size.x() * std::abs(l.x()) + size.y() * std::abs(l.y()) + size.z() * std::abs(l.z()));
     case Shape::cylinder: {
       const double n2 = l.squaredNorm();
       const double axial = std::abs(l.z());
@@ -442,8 +445,7 @@ V3 Object::normal(const V3& p, double h) const {
   return n > 0.0 ? V3(g / n) : V3(V3::Zero());
 }
 
-bool Object::intersect(const V3& o, const V3& d, double tmin, double tmax, double& t, V3& normal,
-                       int* part) const {
+bool Object::intersect(const V3& o, const V3& d, double tmin, double tmax, double& t, V3& normal, int* part) const {
   bool found = false;
   double best = tmax;
   for (size_t i = 0; i < parts.size(); ++i) {
@@ -504,8 +506,7 @@ Raycaster::Raycaster(const World& world) : world_(world), table_part_(world.tabl
   }
 }
 
-bool Raycaster::cast(const V3& o, const V3& d, double tmin, double tmax, RayHit& hit,
-                     int only_object) const {
+bool Raycaster::cast(const V3& o, const V3& d, double tmin, double tmax, RayHit& hit, int only_object) const {
   const V3 inv_d(1.0 / d.x(), 1.0 / d.y(), 1.0 / d.z());
   bool found = false;
   double best = tmax;

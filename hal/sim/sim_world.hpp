@@ -2,12 +2,11 @@
 // of analytic primitives and triangle meshes). Used to render depth images and to judge grasps.
 // Internally double precision; fg::Pose / fg::Vec3 (float) convert at the interfaces.
 #pragma once
+#include <Eigen/Core>
 #include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "fg/core/types.hpp"
 
@@ -107,13 +106,12 @@ struct Object {
   double albedo = 1.0;
 
   Aabb aabb() const;
-  double sdf(const V3& p) const;                            //!< min over parts
-  double distance(const V3& p) const;                       //!< exact, 0 inside (Part::distance)
-  V3 sdf_gradient(const V3& p, double h = 1e-4) const;      //!< central differences (unnormalized)
-  V3 normal(const V3& p, double h = 1e-4) const;            //!< normalized gradient
-  bool intersect(const V3& o, const V3& d, double tmin, double tmax, double& t, V3& normal,
-                 int* part = nullptr) const;
-  double width_along(const V3& u) const;                    //!< extent of the union along u
+  double sdf(const V3& p) const;                        //!< min over parts
+  double distance(const V3& p) const;                   //!< exact, 0 inside (Part::distance)
+  V3 sdf_gradient(const V3& p, double h = 1e-4) const;  //!< central differences (unnormalized)
+  V3 normal(const V3& p, double h = 1e-4) const;        //!< normalized gradient
+  bool intersect(const V3& o, const V3& d, double tmin, double tmax, double& t, V3& normal, int* part = nullptr) const;
+  double width_along(const V3& u) const;  //!< extent of the union along u
 };
 
 //! The table: a box whose top face is z = height, finite in x and y (legs not modelled).
@@ -152,8 +150,7 @@ class Raycaster {
   explicit Raycaster(const World& world);
   //! First hit along o + t d, t in [tmin, tmax]. only_object >= 0 restricts to one object
   //! (table excluded); -1 = everything.
-  bool cast(const V3& o, const V3& d, double tmin, double tmax, RayHit& hit,
-            int only_object = -1) const;
+  bool cast(const V3& o, const V3& d, double tmin, double tmax, RayHit& hit, int only_object = -1) const;
 
  private:
   const World& world_;

@@ -1,8 +1,8 @@
 // Weak default board hooks (fg/platform/board.h): a firmware replaces them by
 // defining its own. Heap-free, exception-free.
-#include "fg/platform/board.h"
-
 #include <cstdint>
+
+#include "fg/platform/board.h"
 
 #ifdef FG_SEMIHOSTING
 #include "semihosting.hpp"

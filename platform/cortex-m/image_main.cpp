@@ -8,10 +8,10 @@
 #include <cstdint>
 
 #include "fg/core/planner.hpp"
-#include "forcegrasp/forcegrasp.h"
 #include "fg/core/prng.hpp"
 #include "fg/platform/platform.hpp"
 #include "fg/robot/ur5.hpp"
+#include "forcegrasp/forcegrasp.h"
 #include "text_line.hpp"
 
 namespace {
@@ -103,8 +103,8 @@ void report(fg_status status, const fg_grasp& g, const char* message, uint64_t c
     say(line);
   }
   TextLine pts;
-  pts << "points: input " << g.points_input << " voxels " << g.voxels << " plane " << g.plane_voxels
-      << " object " << g.object_voxels << " viewpoints " << g.viewpoints << " candidates " << g.candidates;
+  pts << "points: input " << g.points_input << " voxels " << g.voxels << " plane " << g.plane_voxels << " object "
+      << g.object_voxels << " viewpoints " << g.viewpoints << " candidates " << g.candidates;
   say(pts);
   TextLine t;
   t << "stage_us:";
@@ -132,8 +132,8 @@ int main() {
   {
     TextLine line;
     line << "fg_m7_image: forcegrasp " << (fg_version() >> 16) << "." << ((fg_version() >> 8) & 0xFFu) << "."
-         << (fg_version() & 0xFFu) << ", workspace " << static_cast<uint32_t>(fg_workspace_size())
-         << " bytes (budget " << static_cast<uint32_t>(FG_WORKSPACE_SIZE) << ")";
+         << (fg_version() & 0xFFu) << ", workspace " << static_cast<uint32_t>(fg_workspace_size()) << " bytes (budget "
+         << static_cast<uint32_t>(FG_WORKSPACE_SIZE) << ")";
     say(line);
   }
   // The robot layer links too: the nominal UR5 at its zero pose.

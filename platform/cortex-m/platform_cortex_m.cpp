@@ -2,9 +2,8 @@
 // cycle counter, log and fault through the board hooks (fg/platform/board.h).
 // No heap, no exceptions, no stdio. Not reentrant: call from one context (the
 // planner's task), not from interrupts.
-#include "fg/platform/platform.hpp"
-
 #include "fg/platform/board.h"
+#include "fg/platform/platform.hpp"
 
 #ifndef FG_CORE_CLOCK_HZ
 #error "FG_CORE_CLOCK_HZ (core clock in Hz) must be defined: the cache variable of platform/CMakeLists.txt"
@@ -16,10 +15,10 @@ namespace {
 
 // Data Watchpoint and Trace unit and its enable bit in the debug monitor register.
 volatile uint32_t& reg(uintptr_t address) { return *reinterpret_cast<volatile uint32_t*>(address); }
-constexpr uintptr_t kDemcr = 0xE000EDFCu;      // CoreDebug->DEMCR, TRCENA = bit 24
-constexpr uintptr_t kDwtCtrl = 0xE0001000u;    // CYCCNTENA = bit 0
+constexpr uintptr_t kDemcr = 0xE000EDFCu;    // CoreDebug->DEMCR, TRCENA = bit 24
+constexpr uintptr_t kDwtCtrl = 0xE0001000u;  // CYCCNTENA = bit 0
 constexpr uintptr_t kDwtCyccnt = 0xE0001004u;
-constexpr uintptr_t kDwtLar = 0xE0001FB0u;     // lock access (Cortex-M7 parts that lock the DWT)
+constexpr uintptr_t kDwtLar = 0xE0001FB0u;  // lock access (Cortex-M7 parts that lock the DWT)
 
 bool g_started = false;
 uint32_t g_last = 0;    // CYCCNT at the previous reading

@@ -1,12 +1,13 @@
 // aarch64 Linux implementation of the platform services (an onboard controller
 // running Linux). Heap-free: the log writes with write(2) from the caller's string,
 // no stdio buffers.
-#include "fg/platform/platform.hpp"
+#include <unistd.h>
 
 #include <cstdlib>
 #include <cstring>
 #include <ctime>
-#include <unistd.h>
+
+#include "fg/platform/platform.hpp"
 
 namespace fg::platform {
 

@@ -32,8 +32,7 @@ PoseD inverse(const PoseD& a) {
   return c;
 }
 
-PoseD tool0_pose(const MotionConfig& cfg, const Vec3& centre, const Vec3& approach, const Vec3& closing,
-                 bool turned) {
+PoseD tool0_pose(const MotionConfig& cfg, const Vec3& centre, const Vec3& approach, const Vec3& closing, bool turned) {
   PoseD w;
   const Eigen::Vector3d z = approach.cast<double>().normalized();
   Eigen::Vector3d x = (turned ? -1.0 : 1.0) * closing.cast<double>();
@@ -56,9 +55,8 @@ bool solve(const MotionConfig& cfg, const PoseD& base_T_tool0, const double* nea
 }
 }  // namespace
 
-IkStatus plan_grasp_motion(const MotionConfig& cfg, const Vec3& position, const Vec3& approach,
-                           const Vec3& closing, const Vec3& pregrasp, const double q_now[6],
-                           bool turned, GraspMotion& out) {
+IkStatus plan_grasp_motion(const MotionConfig& cfg, const Vec3& position, const Vec3& approach, const Vec3& closing,
+                           const Vec3& pregrasp, const double q_now[6], bool turned, GraspMotion& out) {
   if (!position.allFinite() || !approach.allFinite() || !closing.allFinite() || !pregrasp.allFinite())
     return IkStatus::invalid_argument;
   for (int i = 0; i < 6; ++i)
@@ -85,9 +83,8 @@ IkStatus plan_grasp_motion(const MotionConfig& cfg, const Vec3& position, const 
   return IkStatus::ok;
 }
 
-IkStatus plan_grasp_motion(const MotionConfig& cfg, const Vec3& position, const Vec3& approach,
-                           const Vec3& closing, const Vec3& pregrasp, const double q_now[6],
-                           GraspMotion& out) {
+IkStatus plan_grasp_motion(const MotionConfig& cfg, const Vec3& position, const Vec3& approach, const Vec3& closing,
+                           const Vec3& pregrasp, const double q_now[6], GraspMotion& out) {
   for (int turn = 0; turn < 2; ++turn) {
     const IkStatus s = plan_grasp_motion(cfg, position, approach, closing, pregrasp, q_now, turn == 1, out);
     if (s != IkStatus::unreachable) return s;

@@ -2,10 +2,10 @@
 // points (path_check.hpp).
 #include "fg/robot/path_check.hpp"
 
-#include "fg/core/byte_flags.hpp"
-
 #include <algorithm>
 #include <cmath>
+
+#include "fg/core/byte_flags.hpp"
 
 namespace fg::robot {
 namespace {
@@ -63,9 +63,8 @@ void for_each_kept(const GraspQuery& q, F&& f) {
 // `budget` (optional) pays one sample, and the points scanned: a pose it cannot pay
 // for in full is not tested (PathHit::budget), so the answer never depends on where in
 // a scan the budget ran out.
-PathHit pose_hit(const MotionConfig& motion, const PathCheckConfig& cfg,
-                 const ToolBox* boxes, uint32_t n_boxes, const PathScene& scene, const GraspQuery& q,
-                 const double qs[6], PathBudget* budget) {
+PathHit pose_hit(const MotionConfig& motion, const PathCheckConfig& cfg, const ToolBox* boxes, uint32_t n_boxes,
+                 const PathScene& scene, const GraspQuery& q, const double qs[6], PathBudget* budget) {
   if (budget != nullptr) {
     if (budget->samples == 0) return PathHit::budget;
     --budget->samples;
@@ -76,7 +75,7 @@ PathHit pose_hit(const MotionConfig& motion, const PathCheckConfig& cfg,
   const Eigen::Matrix3d& R = w.R;
   const V3d origin = w.t + R.col(2) * static_cast<double>(motion.tcp_offset_m);
   V3d lo = V3d::Constant(1e30), hi = V3d::Constant(-1e30);  // the whole tool's bounds
-  V3d box_lo[4], box_hi[4];                                   // each box's
+  V3d box_lo[4], box_hi[4];                                 // each box's
   for (uint32_t b = 0; b < n_boxes; ++b) {
     const ToolBox& box = boxes[b];
     double h_min = 1e30;
@@ -112,8 +111,8 @@ PathHit pose_hit(const MotionConfig& motion, const PathCheckConfig& cfg,
     const V3d l = Rt * (p - origin);
     const ToolBox& box = boxes[b];
     const double sh = box.point_shrink;
-    return l.x() > box.lo.x() + sh && l.x() < box.hi.x() - sh && l.y() > box.lo.y() + sh &&
-           l.y() < box.hi.y() - sh && l.z() > box.lo.z() + sh && l.z() < box.hi.z() - sh;
+    return l.x() > box.lo.x() + sh && l.x() < box.hi.x() - sh && l.y() > box.lo.y() + sh && l.y() < box.hi.y() - sh &&
+           l.z() > box.lo.z() + sh && l.z() < box.hi.z() - sh;
   };
   if (scene.idx == nullptr) {  // not gathered: every point of the scene, against every box
     if (budget != nullptr) {
@@ -165,10 +164,9 @@ PathHit pose_hit(const MotionConfig& motion, const PathCheckConfig& cfg,
   return PathHit::none;
 }
 
-PathHit segment_hit(const MotionConfig& motion, const PathCheckConfig& cfg,
-                    const ToolBox* boxes, uint32_t n_boxes, const PathScene& scene, const GraspQuery& q,
-                    const double q_from[6], const double q_to[6], double* at, bool leaving_contact,
-                    PathBudget* budget) {
+PathHit segment_hit(const MotionConfig& motion, const PathCheckConfig& cfg, const ToolBox* boxes, uint32_t n_boxes,
+                    const PathScene& scene, const GraspQuery& q, const double q_from[6], const double q_to[6],
+                    double* at, bool leaving_contact, PathBudget* budget) {
   double span = 0.0;
   for (int j = 0; j < 6; ++j) {
     if (!std::isfinite(q_from[j]) || !std::isfinite(q_to[j])) return PathHit::invalid;
@@ -206,19 +204,23 @@ PathHit segment_hit(const MotionConfig& motion, const PathCheckConfig& cfg,
 
 const char* to_string(PathHit h) {
   switch (h) {
-    case PathHit::none: return "none";
-    case PathHit::support_plane: return "support_plane";
-    case PathHit::scene: return "scene";
-    case PathHit::invalid: return "invalid";
-    case PathHit::budget: return "budget";
+    case PathHit::none:
+      return "none";
+    case PathHit::support_plane:
+      return "support_plane";
+    case PathHit::scene:
+      return "scene";
+    case PathHit::invalid:
+      return "invalid";
+    case PathHit::budget:
+      return "budget";
   }
   return "unknown";
 }
 
 PathScene prepare_path_scene(const GraspQuery& q, PathSceneScratch* scratch) {
   PathScene s;
-  if (q.support != nullptr && q.support->n.allFinite() && std::isfinite(q.support->d) &&
-      q.support->n.norm() > 0.5f) {
+  if (q.support != nullptr && q.support->n.allFinite() && std::isfinite(q.support->d) && q.support->n.norm() > 0.5f) {
     s.has_plane = true;
     const double len = q.support->n.cast<double>().norm();
     s.n = q.support->n.cast<double>() / len;

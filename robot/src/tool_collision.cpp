@@ -87,10 +87,14 @@ bool box_intersects_point_hull(const Vec3& centre, const Mat3& axes, const Vec3&
 
 const char* to_string(ToolHit h) {
   switch (h) {
-    case ToolHit::none: return "none";
-    case ToolHit::support_plane: return "support_plane";
-    case ToolHit::object: return "object";
-    case ToolHit::invalid: return "invalid";
+    case ToolHit::none:
+      return "none";
+    case ToolHit::support_plane:
+      return "support_plane";
+    case ToolHit::object:
+      return "object";
+    case ToolHit::invalid:
+      return "invalid";
   }
   return "unknown";
 }
@@ -122,7 +126,8 @@ ToolHit ToolCollision::check(const ToolGeometry& tool, const GraspQuery& q) {
       {{ho, -0.5f * g.finger_width_m, -hfd - back}, {ho + t, 0.5f * g.finger_width_m, hfd}, 0},
       {{-ho - t, -0.5f * g.palm_width_m, palm_back - back}, {ho + t, 0.5f * g.palm_width_m, -hfd}, 1},
       {{-tool.body_half_width_m, -tool.body_half_width_m, -tool.tcp_offset_m - back},
-       {tool.body_half_width_m, tool.body_half_width_m, palm_back}, 1},
+       {tool.body_half_width_m, tool.body_half_width_m, palm_back},
+       1},
   };
   const uint32_t n_boxes = tool.tcp_offset_m > -palm_back ? 4u : 3u;  // no body if the palm is the flange
   BoxShape world_box[4];
@@ -151,8 +156,7 @@ ToolHit ToolCollision::check(const ToolGeometry& tool, const GraspQuery& q) {
     const BoxShape slab{top - n * kHalfThickness, P, V3d(kHalfSize, kHalfSize, kHalfThickness)};
     for (uint32_t b = 0; b < n_boxes; ++b) {
       ++gjk_calls_;
-      if (intersect(&world_box[b], box_support, &slab, box_support, tool.max_iterations))
-        return ToolHit::support_plane;
+      if (intersect(&world_box[b], box_support, &slab, box_support, tool.max_iterations)) return ToolHit::support_plane;
     }
   }
   if (q.object_points == nullptr || q.n_object_points == 0) return ToolHit::none;
@@ -222,8 +226,7 @@ ToolHit ToolCollision::check(const ToolGeometry& tool, const GraspQuery& q) {
       if (apart) continue;
       const PieceShape piece{q.object_points, index_ + begin_[p], begin_[p + 1] - begin_[p]};
       ++gjk_calls_;
-      if (intersect(&world_box[b], box_support, &piece, piece_support, tool.max_iterations))
-        return ToolHit::object;
+      if (intersect(&world_box[b], box_support, &piece, piece_support, tool.max_iterations)) return ToolHit::object;
     }
   }
   return ToolHit::none;

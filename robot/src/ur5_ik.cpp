@@ -12,8 +12,8 @@
 // forward kinematics, so no answer is returned that FK does not confirm.
 #include "fg/robot/ur5_ik.hpp"
 
-#include <cmath>
 #include <Eigen/Cholesky>
+#include <cmath>
 
 namespace fg::robot {
 
@@ -56,8 +56,7 @@ double max_abs_off_identity(const Eigen::Matrix3d& R) {
 //! Two Bjorck steps R <- R (3 I - R^T R) / 2: the nearest rotation for a matrix that is
 //! already orthonormal to ~1e-5 (quadratic convergence).
 Eigen::Matrix3d orthonormalize(Eigen::Matrix3d R) {
-  for (int k = 0; k < 2; ++k)
-    R = R * (1.5 * Eigen::Matrix3d::Identity() - 0.5 * (R.transpose() * R));
+  for (int k = 0; k < 2; ++k) R = R * (1.5 * Eigen::Matrix3d::Identity() - 0.5 * (R.transpose() * R));
   return R;
 }
 
@@ -98,14 +97,12 @@ bool limits_ok(const JointLimits& L) {
 bool nonneg_finite(double v) { return std::isfinite(v) && v >= 0.0; }
 
 bool options_ok(const IkOptions& o) {
-  return limits_ok(o.limits) && nonneg_finite(o.reach_tol) && o.reach_tol < 0.1 &&
-         nonneg_finite(o.singular_tol) && nonneg_finite(o.wrist_singular_tol) &&
-         std::isfinite(o.wrist_free_q6) && std::fabs(o.wrist_free_q6) <= kLimitAbsMax &&
-         nonneg_finite(o.duplicate_tol) && nonneg_finite(o.orthonormal_tol) &&
-         o.orthonormal_tol < 0.1 && nonneg_finite(o.refine_above_m) &&
-         nonneg_finite(o.refine_above_rad) && nonneg_finite(o.refine_stop_m) &&
-         nonneg_finite(o.refine_stop_rad) && nonneg_finite(o.accept_m) &&
-         nonneg_finite(o.accept_rad);
+  return limits_ok(o.limits) && nonneg_finite(o.reach_tol) && o.reach_tol < 0.1 && nonneg_finite(o.singular_tol) &&
+         nonneg_finite(o.wrist_singular_tol) && std::isfinite(o.wrist_free_q6) &&
+         std::fabs(o.wrist_free_q6) <= kLimitAbsMax && nonneg_finite(o.duplicate_tol) &&
+         nonneg_finite(o.orthonormal_tol) && o.orthonormal_tol < 0.1 && nonneg_finite(o.refine_above_m) &&
+         nonneg_finite(o.refine_above_rad) && nonneg_finite(o.refine_stop_m) && nonneg_finite(o.refine_stop_rad) &&
+         nonneg_finite(o.accept_m) && nonneg_finite(o.accept_rad);
 }
 
 //! Ur5Params read as double. A twist within kSnapRad of a multiple of pi/2 is taken as
@@ -145,12 +142,10 @@ bool ur_structure_ok(const Model& m, double& deviation_m) {
   const double nominal_alpha[6] = {kHalfPi, 0.0, 0.0, kHalfPi, -kHalfPi, 0.0};
   double reach = 0.0;
   for (int i = 0; i < 6; ++i) {
-    if (!std::isfinite(m.d[i]) || !std::isfinite(m.a[i]) || !std::isfinite(m.alpha[i]) ||
-        !std::isfinite(m.off[i]))
+    if (!std::isfinite(m.d[i]) || !std::isfinite(m.a[i]) || !std::isfinite(m.alpha[i]) || !std::isfinite(m.off[i]))
       return false;
     if (std::fabs(m.alpha[i] - nominal_alpha[i]) > 0.1) return false;
-    if (std::fabs(m.off[i]) > 10.0 || std::fabs(m.d[i]) > 10.0 || std::fabs(m.a[i]) > 10.0)
-      return false;
+    if (std::fabs(m.off[i]) > 10.0 || std::fabs(m.d[i]) > 10.0 || std::fabs(m.a[i]) > 10.0) return false;
     reach += std::fabs(m.a[i]) + std::fabs(m.d[i]);
   }
   const int offset_free[4] = {0, 3, 4, 5};
@@ -278,8 +273,7 @@ struct Candidate {
 //! it; else the nearest t6 that it reaches with, kept 10% of the reachable range inside
 //! (away from the elbow fold). False if no t6 reaches.
 template <typename Planar>
-bool free_q6(Planar& planar, const Nominal& nm, const IkOptions& opt, double ra, double rb,
-             double& t6) {
+bool free_q6(Planar& planar, const Nominal& nm, const IkOptions& opt, double ra, double rb, double& t6) {
   double r2s[3];
   for (int k = 0; k < 3; ++k) {
     double x = 0.0, y = 0.0, t234 = 0.0;
@@ -315,8 +309,8 @@ bool free_q6(Planar& planar, const Nominal& nm, const IkOptions& opt, double ra,
 //! Shoulder root ib, wrist root jb: both elbow roots (out[0], out[1]). Returns false
 //! when the arm cannot reach with this pair (out[*].valid false). wrist_sing tells
 //! whether sin q5 = 0 here (then jb = 1 repeats jb = 0).
-bool solve_pair(const Nominal& nm, const Tf& T06, const Shoulder& sh, int ib, int jb,
-                const IkOptions& opt, Candidate out[2], bool& wrist_sing) {
+bool solve_pair(const Nominal& nm, const Tf& T06, const Shoulder& sh, int ib, int jb, const IkOptions& opt,
+                Candidate out[2], bool& wrist_sing) {
   out[0].valid = out[1].valid = false;
   const double t1 = sh.phi + std::atan2(sh.s, ib == 0 ? sh.h : -sh.h);
   const double s1 = std::sin(t1), c1 = std::cos(t1);
@@ -390,8 +384,8 @@ constexpr int kLineSearch = 6;    // trials per Newton step (full, 1/2, ..., 1/3
 //!     has no component along the fold, so damping (which turns a step toward the
 //!     gradient) stalls there, while the Newton direction, shortened, crosses it.
 //! Worst case per branch: 2 + kLineSearch * refine_iterations FK (+ Jacobian) evaluations.
-void refine(const Model& m, const Nominal& nm, const Tf& target, int ib, int jb, int kb,
-            const IkOptions& opt, Tf T, Vec6 e, double q[6], double& err_m, double& err_rad) {
+void refine(const Model& m, const Nominal& nm, const Tf& target, int ib, int jb, int kb, const IkOptions& opt, Tf T,
+            Vec6 e, double q[6], double& err_m, double& err_rad) {
   const int iterations = opt.refine_iterations;
   const double stop_m = opt.refine_stop_m, stop_rad = opt.refine_stop_rad;
   double cost = e.squaredNorm();
@@ -403,8 +397,7 @@ void refine(const Model& m, const Nominal& nm, const Tf& target, int ib, int jb,
     Shoulder sh;
     Candidate c[2];
     bool ws = false;
-    if (shoulder_roots(nm, T06v, opt, sh) && solve_pair(nm, T06v, sh, ib, jb, opt, c, ws) &&
-        c[kb].valid) {
+    if (shoulder_roots(nm, T06v, opt, sh) && solve_pair(nm, T06v, sh, ib, jb, opt, c, ws) && c[kb].valid) {
       Tf Tn;
       Vec6 en;
       double em = 0.0, er = 0.0;
@@ -482,10 +475,14 @@ IkStatus finish(IkSolutions& out, IkStatus s) {
 
 const char* to_string(IkStatus s) {
   switch (s) {
-    case IkStatus::ok: return "ok";
-    case IkStatus::singular: return "singular";
-    case IkStatus::unreachable: return "unreachable";
-    case IkStatus::invalid_argument: return "invalid_argument";
+    case IkStatus::ok:
+      return "ok";
+    case IkStatus::singular:
+      return "singular";
+    case IkStatus::unreachable:
+      return "unreachable";
+    case IkStatus::invalid_argument:
+      return "invalid_argument";
   }
   return "unknown";
 }
@@ -504,23 +501,19 @@ bool ur5_forward_d(const Ur5Params& p, const double q[6], PoseD& world_T_tool0) 
   return true;
 }
 
-IkStatus ur5_inverse(const Ur5Params& p, const Pose& world_T_tool0, IkSolutions& out,
-                     const IkOptions& opt) {
+IkStatus ur5_inverse(const Ur5Params& p, const Pose& world_T_tool0, IkSolutions& out, const IkOptions& opt) {
   PoseD T;
   T.R = world_T_tool0.R.cast<double>();
   T.t = world_T_tool0.t.cast<double>();
   return ur5_inverse(p, T, out, opt);
 }
 
-
-IkStatus ur5_inverse(const Ur5Params& p, const PoseD& world_T_tool0, IkSolutions& out,
-                     const IkOptions& opt) {
+IkStatus ur5_inverse(const Ur5Params& p, const PoseD& world_T_tool0, IkSolutions& out, const IkOptions& opt) {
   clear(out);
   Model m;
   load_model(p, m);
   double deviation_m = 0.0;
-  if (!options_ok(opt) || !ur_structure_ok(m, deviation_m))
-    return finish(out, IkStatus::invalid_argument);
+  if (!options_ok(opt) || !ur_structure_ok(m, deviation_m)) return finish(out, IkStatus::invalid_argument);
   if (!world_T_tool0.t.allFinite() || !rotation_ok(world_T_tool0.R, opt.orthonormal_tol))
     return finish(out, IkStatus::invalid_argument);
 
@@ -587,8 +580,8 @@ IkStatus ur5_inverse(const Ur5Params& p, const PoseD& world_T_tool0, IkSolutions
   return finish(out, out.singular != 0 ? IkStatus::singular : IkStatus::ok);
 }
 
-IkChoice choose_nearest(const double current[6], const IkSolutions& solutions,
-                        const JointLimits& limits, const double* weights) {
+IkChoice choose_nearest(const double current[6], const IkSolutions& solutions, const JointLimits& limits,
+                        const double* weights) {
   IkChoice best{};
   best.status = IkStatus::invalid_argument;
   best.index = 0;

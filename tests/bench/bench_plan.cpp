@@ -72,8 +72,7 @@ void ingest(fg::Planner& p) {
   p.reset();
   for (size_t i = 0; i < g_data->clouds.size(); ++i) {
     const auto& c = g_data->clouds[i];
-    (void)p.add_points(g_data->roles[i], c.xyz.data(), static_cast<uint32_t>(c.size()), 12,
-                       g_data->poses[i]);
+    (void)p.add_points(g_data->roles[i], c.xyz.data(), static_cast<uint32_t>(c.size()), 12, g_data->poses[i]);
   }
 }
 
@@ -254,9 +253,9 @@ void BM_Cluster(benchmark::State& st) {
     std::memcpy(state.data(), base.data(), n);
     fg::CellBitmap cells;
     dense = fg::build_cell_bitmap(p.voxels(), state.data(), fg::kVoxelFree, queue.data(), words.data(),
-                                             static_cast<uint32_t>(words.size()), cells);
-    benchmark::DoNotOptimize(fg::cluster_and_pick(p.voxels(), state.data(), queue.data(), cp,
-                                                  target.data(), fg::kMaxObjectPoints, dense ? &cells : nullptr));
+                                  static_cast<uint32_t>(words.size()), cells);
+    benchmark::DoNotOptimize(fg::cluster_and_pick(p.voxels(), state.data(), queue.data(), cp, target.data(),
+                                                  fg::kMaxObjectPoints, dense ? &cells : nullptr));
   }
   st.counters["bitmap"] = dense ? 1 : 0;  // 0: the cells span more than the bitmap holds
 }
@@ -270,8 +269,7 @@ Silhouette silhouette() {
   Silhouette s;
   auto d = std::make_unique<fg::ViewDetail>();
   const uint32_t v = p.chosen_view() >= 0 ? static_cast<uint32_t>(p.chosen_view()) : 0u;
-  if (p.view_count() > 0 && p.analyze_view(v, *d) == fg::Status::ok)
-    s.pts.assign(d->points, d->points + d->n_points);
+  if (p.view_count() > 0 && p.analyze_view(v, *d) == fg::Status::ok) s.pts.assign(d->points, d->points + d->n_points);
   return s;
 }
 
@@ -284,8 +282,8 @@ void BM_ConcaveHull(benchmark::State& st) {
     uint32_t n = 0;
     float cell = 0;
     bool inside = false;
-    benchmark::DoNotOptimize(fg::concave_hull_2d(s.pts.data(), static_cast<uint32_t>(s.pts.size()), hp,
-                                                 *scratch, out.data(), fg::kMaxContourVertices, n, cell, inside));
+    benchmark::DoNotOptimize(fg::concave_hull_2d(s.pts.data(), static_cast<uint32_t>(s.pts.size()), hp, *scratch,
+                                                 out.data(), fg::kMaxContourVertices, n, cell, inside));
   }
   st.counters["points"] = static_cast<double>(s.pts.size());
 }
@@ -317,8 +315,8 @@ void BM_ScanLinesAndWindows(benchmark::State& st) {
   fg::SideFit best[3];
   for (auto _ : st) {
     float delta = 0;
-    const uint32_t n = fg::build_scan_lines(d->contour, d->n_contour, ymin, ymax, 0.002f, lines.data(),
-                                            fg::kMaxScanLines, delta);
+    const uint32_t n =
+        fg::build_scan_lines(d->contour, d->n_contour, ymin, ymax, 0.002f, lines.data(), fg::kMaxScanLines, delta);
     fg::mark_graspable(lines.data(), n, 0.f, 0.081f);
     benchmark::DoNotOptimize(fg::best_windows(lines.data(), n, 0.004f, 11, 0.f, 0.5f, best, 3));
   }
@@ -447,8 +445,8 @@ int main(int argc, char** argv) {
   }
   static Loaded data;
   if (!load(g_scene, data)) return 2;
-  std::printf("scene %s: %u raw points; planner workspace sizeof(fg::Planner) = %zu bytes\n",
-              g_scene.c_str(), data.raw_points, sizeof(fg::Planner));
+  std::printf("scene %s: %u raw points; planner workspace sizeof(fg::Planner) = %zu bytes\n", g_scene.c_str(),
+              data.raw_points, sizeof(fg::Planner));
   g_data = &data;
   g_planner = std::make_unique<fg::Planner>();
   if (g_planner->configure(data.cfg) != fg::Status::ok) return 2;

@@ -10,21 +10,21 @@
 #include "forcegrasp/forcegrasp.h"
 
 static int g_failures = 0;
-#define CHECK(cond)                                                   \
-  do {                                                                \
-    if (!(cond)) {                                                    \
-      ++g_failures;                                                   \
+#define CHECK(cond)                                                            \
+  do {                                                                         \
+    if (!(cond)) {                                                             \
+      ++g_failures;                                                            \
       fprintf(stderr, "%s:%d: check failed: %s\n", __FILE__, __LINE__, #cond); \
-    }                                                                 \
+    }                                                                          \
   } while (0)
-#define CHECK_STATUS(call, expected)                                                     \
-  do {                                                                                   \
-    const fg_status got_ = (call);                                                       \
-    if (got_ != (expected)) {                                                            \
-      ++g_failures;                                                                      \
-      fprintf(stderr, "%s:%d: %s returned %s, expected %s\n", __FILE__, __LINE__, #call, \
-              fg_status_str(got_), fg_status_str(expected));                            \
-    }                                                                                    \
+#define CHECK_STATUS(call, expected)                                                                          \
+  do {                                                                                                        \
+    const fg_status got_ = (call);                                                                            \
+    if (got_ != (expected)) {                                                                                 \
+      ++g_failures;                                                                                           \
+      fprintf(stderr, "%s:%d: %s returned %s, expected %s\n", __FILE__, __LINE__, #call, fg_status_str(got_), \
+              fg_status_str(expected));                                                                       \
+    }                                                                                                         \
   } while (0)
 
 static FG_WORKSPACE_STORAGE(g_mem_a);
@@ -53,7 +53,7 @@ static float cast(const camera *c, const box3 *b, int u, int v) {
     w[i] = c->pose.r[3 * i] * d[0] + c->pose.r[3 * i + 1] * d[1] + c->pose.r[3 * i + 2] * d[2];
   }
   if (w[2] < -1e-6f) best = -o[2] / w[2]; /* table */
-  for (i = 0; i < 3 && hit_box; ++i) {  /* slab test */
+  for (i = 0; i < 3 && hit_box; ++i) {    /* slab test */
     if (fabsf(w[i]) < 1e-9f) {
       if (o[i] < b->lo[i] || o[i] > b->hi[i]) hit_box = 0;
     } else {
@@ -174,17 +174,28 @@ static void test_versions_and_sizes(void) {
   CHECK(fg_workspace_align() == FG_WORKSPACE_ALIGN);
   CHECK(((uintptr_t)g_mem_a) % FG_WORKSPACE_ALIGN == 0);
   printf("workspace: %lu bytes (budget FG_WORKSPACE_SIZE %lu), align %lu, version 0x%06lx\n",
-         (unsigned long)fg_workspace_size(), (unsigned long)FG_WORKSPACE_SIZE,
-         (unsigned long)fg_workspace_align(), (unsigned long)fg_version());
+         (unsigned long)fg_workspace_size(), (unsigned long)FG_WORKSPACE_SIZE, (unsigned long)fg_workspace_align(),
+         (unsigned long)fg_version());
 }
 
 static void test_status_strings(void) {
-  static const fg_status all[] = {
-      FG_OK, FG_NO_GRASP, FG_ERR_INVALID_ARGUMENT, FG_ERR_NON_FINITE, FG_ERR_INVALID_POSE,
-      FG_ERR_INVALID_CONFIG, FG_ERR_NO_INPUT, FG_ERR_INVALID_SENSOR, FG_ERR_INVALID_SEQUENCE,
-      FG_ERR_WORKSPACE_TOO_SMALL, FG_ERR_WORKSPACE_MISALIGNED, FG_ERR_ABI_MISMATCH,
-      FG_ERR_CONFIG_SIZE, FG_ERR_NOT_A_WORKSPACE, FG_ERR_CAPACITY_EXCEEDED,
-      FG_ERR_NUMERIC_FAILURE, FG_ERR_INTERNAL};
+  static const fg_status all[] = {FG_OK,
+                                  FG_NO_GRASP,
+                                  FG_ERR_INVALID_ARGUMENT,
+                                  FG_ERR_NON_FINITE,
+                                  FG_ERR_INVALID_POSE,
+                                  FG_ERR_INVALID_CONFIG,
+                                  FG_ERR_NO_INPUT,
+                                  FG_ERR_INVALID_SENSOR,
+                                  FG_ERR_INVALID_SEQUENCE,
+                                  FG_ERR_WORKSPACE_TOO_SMALL,
+                                  FG_ERR_WORKSPACE_MISALIGNED,
+                                  FG_ERR_ABI_MISMATCH,
+                                  FG_ERR_CONFIG_SIZE,
+                                  FG_ERR_NOT_A_WORKSPACE,
+                                  FG_ERR_CAPACITY_EXCEEDED,
+                                  FG_ERR_NUMERIC_FAILURE,
+                                  FG_ERR_INTERNAL};
   size_t i, j;
   for (i = 0; i < sizeof all / sizeof all[0]; ++i) {
     const char *s = fg_status_str(all[i]);
@@ -346,12 +357,12 @@ static void test_plan_two_sensors(void) {
   CHECK_STATUS(fg_init(g_mem_a, sizeof g_mem_a, &cfg, &ws), FG_OK);
   s = capture_and_plan(ws, &narrow_x, &g);
   CHECK_STATUS(s, FG_OK);
-  printf("box 5x12x10 cm: %s, width %.4f m at (%.3f %.3f %.3f), closing (%.2f %.2f %.2f), "
-         "approach (%.2f %.2f %.2f), %u voxels, %u us\n",
-         fg_status_str(s), g.width_m, g.position[0], g.position[1], g.position[2], g.closing[0],
-         g.closing[1], g.closing[2], g.approach[0], g.approach[1], g.approach[2], g.voxels,
-         g.stage_us[FG_STAGE_TOTAL]);
-  CHECK(fabsf(g.closing[0]) > 0.9f);                     /* across the 5 cm side */
+  printf(
+      "box 5x12x10 cm: %s, width %.4f m at (%.3f %.3f %.3f), closing (%.2f %.2f %.2f), "
+      "approach (%.2f %.2f %.2f), %u voxels, %u us\n",
+      fg_status_str(s), g.width_m, g.position[0], g.position[1], g.position[2], g.closing[0], g.closing[1],
+      g.closing[2], g.approach[0], g.approach[1], g.approach[2], g.voxels, g.stage_us[FG_STAGE_TOTAL]);
+  CHECK(fabsf(g.closing[0]) > 0.9f); /* across the 5 cm side */
   CHECK(g.width_m > 0.04f && g.width_m < 0.06f);
   CHECK(fabsf(g.position[0] - 0.5f) < 0.02f && fabsf(g.position[1]) < 0.05f);
   CHECK(g.position[2] > 0.f && g.position[2] < 0.11f);
@@ -367,8 +378,7 @@ static void test_plan_two_sensors(void) {
   CHECK_STATUS(fg_reset(ws), FG_OK);
   CHECK_STATUS(capture_and_plan(ws, &too_wide, &again), FG_NO_GRASP);
   CHECK(again.reason == FG_REASON_TOO_WIDE || again.reason == FG_REASON_NO_CANDIDATE);
-  printf("box 20x20x10 cm: FG_NO_GRASP, reason %s: %s\n",
-         fg_reason_str(again.reason), fg_last_message(ws));
+  printf("box 20x20x10 cm: FG_NO_GRASP, reason %s: %s\n", fg_reason_str(again.reason), fg_last_message(ws));
 }
 
 /* Two workspaces interleaved give what each gives alone: nothing is shared. */

@@ -32,9 +32,9 @@
 
 #include "fg/core/planner.hpp"
 #include "io/config_options.hpp"
+#include "sim/grasp_judge.hpp"
 #include "sim/pinhole.hpp"
 #include "sim/scene_export.hpp"
-#include "sim/grasp_judge.hpp"
 #include "sim/scene_gen.hpp"
 
 namespace {
@@ -82,24 +82,33 @@ int main(int argc, char** argv) {
       }
       return argv[++i];
     };
-    if (a == "--count") count = std::atoi(next().c_str());
-    else if (a == "--seed") seed = std::strtoull(next().c_str(), nullptr, 10);
-    else if (a == "--min-rate") min_rate = std::atof(next().c_str());
-    else if (a == "--verbose") verbose = true;
-    else if (a == "--set") sets.push_back(next());
+    if (a == "--count")
+      count = std::atoi(next().c_str());
+    else if (a == "--seed")
+      seed = std::strtoull(next().c_str(), nullptr, 10);
+    else if (a == "--min-rate")
+      min_rate = std::atof(next().c_str());
+    else if (a == "--verbose")
+      verbose = true;
+    else if (a == "--set")
+      sets.push_back(next());
     else if (a == "--spread") {
       scene_opt.target_x_min = 0.3;
       scene_opt.target_x_max = 0.7;
       scene_opt.target_y_half = 0.35;
-    } else if (a == "--head-at-workspace") scene_opt.head_at_workspace = true;
+    } else if (a == "--head-at-workspace")
+      scene_opt.head_at_workspace = true;
     else if (a == "--noise-scale") {
       const double k = std::atof(next().c_str());
       scene_opt.noise.sigma_a *= k;
       scene_opt.noise.sigma_b *= k;
       scene_opt.noise.gaussian = k > 0;
-    } else if (a == "--table-height") scene_opt.table.height = std::atof(next().c_str());
-    else if (a == "--export") export_dir = next();
-    else if (a == "--distribution") next();  // read above
+    } else if (a == "--table-height")
+      scene_opt.table.height = std::atof(next().c_str());
+    else if (a == "--export")
+      export_dir = next();
+    else if (a == "--distribution")
+      next();  // read above
     else if (a == "--head-height" || a == "--hand-distance" || a == "--hand-elevation") {
       // A range LO,HI for the cameras' placement (scene_gen.hpp SceneOptions).
       double lo = 0, hi = 0;
@@ -107,11 +116,13 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "%s: expected LO,HI with LO <= HI\n", a.c_str());
         return 2;
       }
-      if (a == "--head-height") scene_opt.head_height_min = lo, scene_opt.head_height_max = hi;
-      else if (a == "--hand-distance") scene_opt.hand_distance_min = lo, scene_opt.hand_distance_max = hi;
-      else scene_opt.hand_elevation_min_deg = lo, scene_opt.hand_elevation_max_deg = hi;
-    }
-    else if (a == "--gripper") {
+      if (a == "--head-height")
+        scene_opt.head_height_min = lo, scene_opt.head_height_max = hi;
+      else if (a == "--hand-distance")
+        scene_opt.hand_distance_min = lo, scene_opt.hand_distance_max = hi;
+      else
+        scene_opt.hand_elevation_min_deg = lo, scene_opt.hand_elevation_max_deg = hi;
+    } else if (a == "--gripper") {
       // Another gripper for both the planner and the judge (the scene contract's
       // gripper block): max opening, finger width, finger depth in metres.
       double m = 0, w = 0, d = 0;
@@ -122,8 +133,7 @@ int main(int argc, char** argv) {
       scene_opt.gripper.max_opening_m = static_cast<float>(m);
       scene_opt.gripper.finger_width_m = static_cast<float>(w);
       scene_opt.gripper.finger_depth_m = static_cast<float>(d);
-    }
-    else if (a == "--sensors") {
+    } else if (a == "--sensors") {
       const std::string v = next();
       use_head = v == "both" || v == "head";
       use_hand = v == "both" || v == "hand";
@@ -131,8 +141,7 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "--sensors %s: expected both, head or hand\n", v.c_str());
         return 2;
       }
-    }
-    else if (a == "--kinds") {
+    } else if (a == "--kinds") {
       kinds.clear();
       std::stringstream ss(next());
       std::string k;
@@ -145,7 +154,12 @@ int main(int argc, char** argv) {
         kinds.push_back(kind);
       }
     } else {
-      std::fprintf(stderr, "usage: fg_quality [--count N] [--seed S] [--kinds a,b] [--min-rate R] [--verbose] [--set name=value] [--sensors both|head|hand] [--spread] [--head-at-workspace] [--noise-scale F] [--table-height H] [--gripper OPENING,FINGER_WIDTH,FINGER_DEPTH] [--head-height LO,HI] [--hand-distance LO,HI] [--hand-elevation LO_DEG,HI_DEG] [--export DIR] [--distribution classic|cell]\n");
+      std::fprintf(
+          stderr,
+          "usage: fg_quality [--count N] [--seed S] [--kinds a,b] [--min-rate R] [--verbose] [--set name=value] "
+          "[--sensors both|head|hand] [--spread] [--head-at-workspace] [--noise-scale F] [--table-height H] [--gripper "
+          "OPENING,FINGER_WIDTH,FINGER_DEPTH] [--head-height LO,HI] [--hand-distance LO,HI] [--hand-elevation "
+          "LO_DEG,HI_DEG] [--export DIR] [--distribution classic|cell]\n");
       return 2;
     }
   }
@@ -172,7 +186,8 @@ int main(int argc, char** argv) {
     planner->reset();
     fg::Status st = fg::Status::ok;
     if (use_head) st = fg::sim::add_rendered(*planner, fg::SensorRole::head, img.head, scene.head);
-    if (st == fg::Status::ok && use_hand) st = fg::sim::add_rendered(*planner, fg::SensorRole::hand, img.hand, scene.hand);
+    if (st == fg::Status::ok && use_hand)
+      st = fg::sim::add_rendered(*planner, fg::SensorRole::hand, img.hand, scene.hand);
     fg::PlanResult res;
     if (st == fg::Status::ok) st = planner->plan(res);
     bool right = false;
@@ -188,10 +203,11 @@ int main(int argc, char** argv) {
       why = j.reason;
       if (verbose) {
         const auto& gp = res.grasp;
-        std::printf("  grasp pos (%.3f %.3f %.3f) app (%.2f %.2f %.2f) clo (%.2f %.2f %.2f) w %.3f beta %.3f dz %.4f view %.2f\n",
-                    gp.position.x(), gp.position.y(), gp.position.z(), gp.approach.x(), gp.approach.y(),
-                    gp.approach.z(), gp.closing.x(), gp.closing.y(), gp.closing.z(), gp.width, gp.beta, gp.dz,
-                    gp.viewpoint);
+        std::printf(
+            "  grasp pos (%.3f %.3f %.3f) app (%.2f %.2f %.2f) clo (%.2f %.2f %.2f) w %.3f beta %.3f dz %.4f view "
+            "%.2f\n",
+            gp.position.x(), gp.position.y(), gp.position.z(), gp.approach.x(), gp.approach.y(), gp.approach.z(),
+            gp.closing.x(), gp.closing.y(), gp.closing.z(), gp.width, gp.beta, gp.dz, gp.viewpoint);
         std::printf("  truth centre (%.3f %.3f %.3f) min_width %.3f fits %d; true_width %.3f angles %.2f %.2f\n",
                     scene.truth.target_centre.x(), scene.truth.target_centre.y(), scene.truth.target_centre.z(),
                     scene.truth.target_min_width, scene.truth.target_fits ? 1 : 0, j.true_width, j.angle_left,
@@ -218,8 +234,8 @@ int main(int argc, char** argv) {
     }
     if (verbose || !right)
       std::printf("%-15s seed %-6llu %-5s %s (objpts %u, views %u, fam %d, width %.3f)\n", name.c_str(),
-                  static_cast<unsigned long long>(s), right ? "right" : "WRONG", why.c_str(),
-                  res.points.object, res.viewpoints, static_cast<int>(res.grasp.family), res.grasp.width);
+                  static_cast<unsigned long long>(s), right ? "right" : "WRONG", why.c_str(), res.points.object,
+                  res.viewpoints, static_cast<int>(res.grasp.family), res.grasp.width);
   }
   std::printf("\n%-15s %7s %7s %8s %12s  %s\n", "kind", "trials", "right", "rate", "median_us", "wrong answers");
   auto row = [](const std::string& n, const Tally& t) {

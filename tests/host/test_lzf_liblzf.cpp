@@ -3,7 +3,6 @@
 // liblzf's encoder writes, every binary_compressed capture in ../shared/data/clouds and
 // the example scene, and damaged streams, where both must agree on what decodes.
 #include <gtest/gtest.h>
-
 #include <liblzf/lzf.h>
 
 #include <algorithm>
@@ -27,8 +26,8 @@ namespace {
 bool liblzf_decode(const std::vector<uint8_t>& in, size_t expect, std::vector<uint8_t>& out) {
   // One spare byte: a stream longer than expected must show as a length, not fit.
   out.assign(expect + 1, 0);
-  const unsigned got = lzf_decompress(in.data(), static_cast<unsigned>(in.size()), out.data(),
-                                      static_cast<unsigned>(out.size()));
+  const unsigned got =
+      lzf_decompress(in.data(), static_cast<unsigned>(in.size()), out.data(), static_cast<unsigned>(out.size()));
   if (got != expect) return false;
   out.resize(expect);
   return true;
@@ -36,8 +35,8 @@ bool liblzf_decode(const std::vector<uint8_t>& in, size_t expect, std::vector<ui
 
 std::vector<uint8_t> liblzf_encode(const std::vector<uint8_t>& in) {
   std::vector<uint8_t> out(in.size() + in.size() / 16 + 64);
-  const unsigned n = lzf_compress(in.data(), static_cast<unsigned>(in.size()), out.data(),
-                                  static_cast<unsigned>(out.size()));
+  const unsigned n =
+      lzf_compress(in.data(), static_cast<unsigned>(in.size()), out.data(), static_cast<unsigned>(out.size()));
   out.resize(n);
   return out;
 }

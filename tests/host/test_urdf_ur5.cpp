@@ -3,14 +3,13 @@
 // chain composed from urdfdom's transforms (the oracle), and files that are missing,
 // malformed or of another layout are refused with a message naming the problem.
 #include <gtest/gtest.h>
+#include <urdf_parser/urdf_parser.h>
 
+#include <Eigen/Geometry>
 #include <cstdio>
 #include <fstream>
 #include <random>
 #include <string>
-
-#include <Eigen/Geometry>
-#include <urdf_parser/urdf_parser.h>
 
 #include "fg/robot/ur5.hpp"
 #include "urdf/urdf_ur5.hpp"

@@ -3,10 +3,10 @@
 #pragma once
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <memory>
 #include <sstream>
-#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -91,8 +91,10 @@ JudgedSeeds judge_seeds(uint64_t n, MakeScene make) {
       continue;
     }
     ++out.grasps;
-    if (jp.judge.success) ++out.held;
-    else failures << " seed " << seed << ": " << jp.judge.reason << ";";
+    if (jp.judge.success)
+      ++out.held;
+    else
+      failures << " seed " << seed << ": " << jp.judge.reason << ";";
     if (!jp.judge.success && jp.judge.reason.rfind("friction", 0) == 0)
       out.friction_deg.push_back(std::max(jp.judge.angle_left, jp.judge.angle_right) * 180.0 / 3.14159265358979);
   }

@@ -20,8 +20,8 @@ inline fg::Vec3 v3(double x, double y, double z) {
 
 // A 0.8 x 0.8 table top centred at (0.5, 0) at z = 0, sampled every `step` with a
 // small jitter, leaving out the footprint [x0, x1] x [y0, y1] (hidden under an object).
-inline void add_table(std::vector<fg::Vec3>& pts, std::mt19937& rng, float step, float x0 = 1, float x1 = 0, float y0 = 1,
-               float y1 = 0) {
+inline void add_table(std::vector<fg::Vec3>& pts, std::mt19937& rng, float step, float x0 = 1, float x1 = 0,
+                      float y0 = 1, float y1 = 0) {
   std::uniform_real_distribution<float> j(-0.3f * step, 0.3f * step);
   for (float x = 0.1f + 0.5f * step; x < 0.9f; x += step)
     for (float y = -0.4f + 0.5f * step; y < 0.4f; y += step) {
@@ -33,7 +33,8 @@ inline void add_table(std::vector<fg::Vec3>& pts, std::mt19937& rng, float step,
 
 // The five visible faces of an axis-aligned box standing on z = 0 (sizes sx, sy, sz),
 // centred at (cx, cy), sampled every `step`.
-inline void add_box(std::vector<fg::Vec3>& pts, std::mt19937& rng, float cx, float cy, float sx, float sy, float sz, float step) {
+inline void add_box(std::vector<fg::Vec3>& pts, std::mt19937& rng, float cx, float cy, float sx, float sy, float sz,
+                    float step) {
   std::uniform_real_distribution<float> u(0.f, 1.f);
   auto face = [&](const fg::Vec3& o, const fg::Vec3& a, const fg::Vec3& b) {
     const int na = static_cast<int>(std::ceil(a.norm() / step)), nb = static_cast<int>(std::ceil(b.norm() / step));
@@ -44,11 +45,11 @@ inline void add_box(std::vector<fg::Vec3>& pts, std::mt19937& rng, float cx, flo
   };
   const fg::Vec3 lo(cx - 0.5f * sx, cy - 0.5f * sy, 0.f);
   const fg::Vec3 X(sx, 0, 0), Y(0, sy, 0), Z(0, 0, sz);
-  face(lo + Z, X, Y);      // top
-  face(lo, X, Z);          // y = min
-  face(lo + Y, X, Z);      // y = max
-  face(lo, Y, Z);          // x = min
-  face(lo + X, Y, Z);      // x = max
+  face(lo + Z, X, Y);  // top
+  face(lo, X, Z);      // y = min
+  face(lo + Y, X, Z);  // y = max
+  face(lo, Y, Z);      // x = min
+  face(lo + X, Y, Z);  // x = max
 }
 
 // The wall of an upright can (radius r, height h, centre (cx, cy)) within `half` (rad)

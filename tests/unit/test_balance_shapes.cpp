@@ -134,9 +134,9 @@ std::unique_ptr<fg::Planner> plan_scene(const Scene& s, const Vec3& viewpoint, P
   auto pl = std::make_unique<fg::Planner>();
   const char* field = nullptr;
   EXPECT_EQ(pl->configure(cfg, &field), Status::ok) << (field ? field : "");
-  EXPECT_EQ(pl->add_points(SensorRole::head, s.all.front().data(), static_cast<uint32_t>(s.all.size()),
-                           sizeof(Vec3), Pose{}),
-            Status::ok);
+  EXPECT_EQ(
+      pl->add_points(SensorRole::head, s.all.front().data(), static_cast<uint32_t>(s.all.size()), sizeof(Vec3), Pose{}),
+      Status::ok);
   Pose hand;
   hand.t = viewpoint;
   EXPECT_EQ(pl->add_points(SensorRole::hand, nullptr, 0, 12, hand), Status::ok);
@@ -346,10 +346,10 @@ TEST(BalanceShapes, WedgeSilhouetteFollowsTheConstructedSides) {
       const ViewRecord& v = run.pl->view(static_cast<uint32_t>(run.top));
       ASSERT_TRUE(v.has_candidate);
       EXPECT_EQ(bits(v.beta), bits(d.best.beta));
-      std::printf("[ wedge    ] a=%.2f off=%.4f: 2a=%.4f, whole-side fit %.4f, best window beta %.4f "
-                  "(a_L %.4f a_R %.4f, expected %.4f %.4f)\n",
-                  a, off, 2 * a, fg::side_angle(al, ar), d.best.beta, d.best.a_left, d.best.a_right, run.left.a,
-                  run.right.a);
+      std::printf(
+          "[ wedge    ] a=%.2f off=%.4f: 2a=%.4f, whole-side fit %.4f, best window beta %.4f "
+          "(a_L %.4f a_R %.4f, expected %.4f %.4f)\n",
+          a, off, 2 * a, fg::side_angle(al, ar), d.best.beta, d.best.a_left, d.best.a_right, run.left.a, run.right.a);
     }
 }
 
@@ -451,8 +451,8 @@ TEST(BalanceShapes, BoxSeenFaceOnIsBalanced) {
       }
       // Elsewhere too (BoxDzAtAnyGridOffset).
       EXPECT_LT(v.dz, 0.002f);
-      std::printf("[ box      ] %s off=%.4f: face-on beta %.4f dz %.5f; grasp beta %.4f dz %.5f width %.4f\n",
-                  c.what, off, v.beta, v.dz, run.r.grasp.beta, run.r.grasp.dz, run.r.grasp.width);
+      std::printf("[ box      ] %s off=%.4f: face-on beta %.4f dz %.5f; grasp beta %.4f dz %.5f width %.4f\n", c.what,
+                  off, v.beta, v.dz, run.r.grasp.beta, run.r.grasp.dz, run.r.grasp.width);
     }
 }
 
@@ -533,9 +533,10 @@ TEST(BalanceShapes, StepObjectDzMatchesTheConstruction) {
       const Xoz ev = xoz_expect(pl->object_points().data(), pl->object_points().size(), v, c, d->best.y_centre,
                                 d->best.b_left, d->best.b_right, cfg);
       EXPECT_NEAR(v.dz, ev.d, 2e-5);
-      std::printf("[ step     ] %s xf=%.3f: expected d %.5f (left %.5f right %.5f), planner dz %.5f "
-                  "(same rules on its voxels %.5f), beta %.4f\n",
-                  deep_left ? "deep left " : "deep right", xf, e.d, e.ml, e.mr, v.dz, ev.d, v.beta);
+      std::printf(
+          "[ step     ] %s xf=%.3f: expected d %.5f (left %.5f right %.5f), planner dz %.5f "
+          "(same rules on its voxels %.5f), beta %.4f\n",
+          deep_left ? "deep left " : "deep right", xf, e.d, e.ml, e.mr, v.dz, ev.d, v.beta);
     }
 }
 
@@ -579,9 +580,10 @@ TEST(BalanceShapes, CylinderSideViewsAreBalanced) {
       worst_beta = std::max(worst_beta, vi.beta);
       worst_dz = std::max(worst_dz, vi.dz);
     }
-    std::printf("[ cylinder ] off=%.4f: side view beta %.4f dz %.5f; grasp beta %.4f dz %.5f; over %u views "
-                "beta <= %.4f dz <= %.5f\n",
-                off, v.beta, v.dz, r.grasp.beta, r.grasp.dz, pl->view_count(), worst_beta, worst_dz);
+    std::printf(
+        "[ cylinder ] off=%.4f: side view beta %.4f dz %.5f; grasp beta %.4f dz %.5f; over %u views "
+        "beta <= %.4f dz <= %.5f\n",
+        off, v.beta, v.dz, r.grasp.beta, r.grasp.dz, pl->view_count(), worst_beta, worst_dz);
   }
 }
 

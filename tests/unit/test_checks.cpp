@@ -26,7 +26,8 @@ struct CheckWorld {
   fg::PlannerConfig cfg;
   std::unique_ptr<fg::VoxelGrid> grid = std::make_unique<fg::VoxelGrid>();
   std::vector<uint8_t> state;
-  std::unique_ptr<fg::PointBuffer<fg::kMaxObjectPoints>> object = std::make_unique<fg::PointBuffer<fg::kMaxObjectPoints>>();
+  std::unique_ptr<fg::PointBuffer<fg::kMaxObjectPoints>> object =
+      std::make_unique<fg::PointBuffer<fg::kMaxObjectPoints>>();
   std::vector<uint32_t> object_voxel;
   fg::SupportPlane support;
   std::unique_ptr<fg::SensorViews> sensors = std::make_unique<fg::SensorViews>();
@@ -128,7 +129,8 @@ TEST(Checks, SweptCollisionMarginIsTheNearestVoxelsDistanceToTheSweptBoxes) {
   const float d = 0.004f;
   {
     CheckWorld w;
-    w.build(box_surface(kBoxX, 0.f, 2 * kBoxHalf, 2 * kBoxHalf, kBoxTop), {Vec3(kBoxX + half_open + t + d, 0.f, 0.07f)});
+    w.build(box_surface(kBoxX, 0.f, 2 * kBoxHalf, 2 * kBoxHalf, kBoxTop),
+            {Vec3(kBoxX + half_open + t + d, 0.f, 0.07f)});
     const fg::Candidate c = top_down(pos, Vec3::UnitX(), 2 * kBoxHalf);
     EXPECT_TRUE(w.checks->evaluate(c, true).passed());
     EXPECT_NEAR(margins_of(w, c)[CheckId::swept_collision], d + tol, 1e-5);

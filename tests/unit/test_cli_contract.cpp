@@ -5,9 +5,8 @@
 //    (with an "error" naming the file and the problem), 1 internal error;
 //  - no input crashes (signal), hangs (every invalid case ends in < 10 s) or exits 1.
 // Positive cases use the example scene examples/two-sensor-box (found from this file's path).
-#include <gtest/gtest.h>
-
 #include <fcntl.h>
+#include <gtest/gtest.h>
 #include <poll.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -20,11 +19,10 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "fg/core/byte_order.hpp"
 #include "fg/core/types.hpp"
@@ -50,19 +48,19 @@ namespace {
 // Running the program
 
 struct CliRun {
-  int exit_code = -1;     //!< the exit status when the program exited normally
-  int signal = 0;         //!< the signal that ended it (a crash), else 0
-  bool timed_out = false; //!< killed after the timeout
+  int exit_code = -1;      //!< the exit status when the program exited normally
+  int signal = 0;          //!< the signal that ended it (a crash), else 0
+  bool timed_out = false;  //!< killed after the timeout
   std::string out, err;
   double seconds = 0;
-  std::string command;    //!< for messages
+  std::string command;  //!< for messages
 };
 
 std::string describe(const CliRun& r) {
   std::ostringstream os;
   os << "command: " << r.command << "\nexit " << r.exit_code << " signal " << r.signal
-     << (r.timed_out ? " TIMED OUT" : "") << " after " << r.seconds << " s\nstdout: "
-     << r.out.substr(0, 2000) << "\nstderr: " << r.err.substr(0, 2000);
+     << (r.timed_out ? " TIMED OUT" : "") << " after " << r.seconds << " s\nstdout: " << r.out.substr(0, 2000)
+     << "\nstderr: " << r.err.substr(0, 2000);
   return os.str();
 }
 
@@ -212,7 +210,8 @@ std::string expect_invalid(const CliRun& r, const std::string& file, const std::
   const std::string e = j["error"].get<std::string>();
   EXPECT_NE(e.find(file), std::string::npos) << "the error does not name the file '" << file << "': " << e;
   if (!problem.empty()) {
-    EXPECT_TRUE(contains_any(without_paths(e, file), problem)) << "the error does not name the problem (" << join(problem) << "): " << e;
+    EXPECT_TRUE(contains_any(without_paths(e, file), problem))
+        << "the error does not name the problem (" << join(problem) << "): " << e;
   }
   return e;
 }
@@ -270,8 +269,8 @@ std::string pcd_header(const std::string& fields, const std::string& size, const
                        const std::string& count, uint64_t width, uint64_t height, uint64_t points,
                        const std::string& data) {
   std::ostringstream os;
-  os << "# .PCD v0.7 - Point Cloud Data file format\nVERSION 0.7\nFIELDS " << fields << "\nSIZE " << size
-     << "\nTYPE " << type << "\nCOUNT " << count << "\nWIDTH " << width << "\nHEIGHT " << height
+  os << "# .PCD v0.7 - Point Cloud Data file format\nVERSION 0.7\nFIELDS " << fields << "\nSIZE " << size << "\nTYPE "
+     << type << "\nCOUNT " << count << "\nWIDTH " << width << "\nHEIGHT " << height
      << "\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " << points << "\nDATA " << data << "\n";
   return os.str();
 }
@@ -284,9 +283,8 @@ class CliContract : public ::testing::Test {
  protected:
   void SetUp() override {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("fg_cli_" + std::to_string(::getpid()) + "_" + info->name() + "_" +
-            std::to_string(std::chrono::steady_clock::now().time_since_epoch().count()));
+    dir_ = fs::temp_directory_path() / ("fg_cli_" + std::to_string(::getpid()) + "_" + info->name() + "_" +
+                                        std::to_string(std::chrono::steady_clock::now().time_since_epoch().count()));
     fs::create_directories(dir_);
     current_dir() = dir_.string();
   }
@@ -377,7 +375,8 @@ TEST_F(CliContract, NonUtf8BytesInManifest) {
   expect_invalid(plan(p), "bytes.json", {"invalid JSON", "parse", "UTF-8", "syntax"});
   // Inside the sensor name.
   const std::string q = path("bytes_name.json");
-  write_file(q, std::string("{\"sensors\": [{\"name\": \"he\xc3\x28" "ad\", \"cloud\": \"a.pcd\", \"pose\": ") +
+  write_file(q, std::string("{\"sensors\": [{\"name\": \"he\xc3\x28"
+                            "ad\", \"cloud\": \"a.pcd\", \"pose\": ") +
                     down_pose().dump() + "}]}");
   expect_invalid(plan(q), "bytes_name.json", {"invalid JSON", "UTF-8", "parse"});
 }
@@ -390,7 +389,9 @@ TEST_F(CliContract, NonUtf8BytesInCloudFileName) {
   expect_invalid(plan(p), "cloudname.json", {"invalid JSON", "UTF-8", "parse"});
   // A manifest in a folder whose name is not UTF-8: the error names the (missing) cloud,
   // and the printed JSON must still be valid UTF-8.
-  const fs::path odd = dir_ / std::string("fold\xff\xfe" "er");
+  const fs::path odd = dir_ / std::string(
+                                  "fold\xff\xfe"
+                                  "er");
   fs::create_directories(odd);
   const std::string m = (odd / "scene.json").string();
   write_file(m, json{{"sensors", {sensor("head", "nope.pcd")}}}.dump());
@@ -399,8 +400,7 @@ TEST_F(CliContract, NonUtf8BytesInCloudFileName) {
 }
 
 TEST_F(CliContract, SensorsMissing) {
-  expect_invalid(plan(manifest(json{{"gripper", json::object()}}, "nosensors.json")), "nosensors.json",
-                 {"sensors"});
+  expect_invalid(plan(manifest(json{{"gripper", json::object()}}, "nosensors.json")), "nosensors.json", {"sensors"});
 }
 
 TEST_F(CliContract, SensorsEmpty) {
@@ -409,8 +409,7 @@ TEST_F(CliContract, SensorsEmpty) {
 }
 
 TEST_F(CliContract, SensorsNotAnArray) {
-  expect_invalid(plan(manifest(json{{"sensors", "head"}}, "sensorsstring.json")), "sensorsstring.json",
-                 {"sensors"});
+  expect_invalid(plan(manifest(json{{"sensors", "head"}}, "sensorsstring.json")), "sensorsstring.json", {"sensors"});
 }
 
 TEST_F(CliContract, FiftySensors) {
@@ -421,9 +420,9 @@ TEST_F(CliContract, FiftySensors) {
 }
 
 TEST_F(CliContract, UnknownSensorName) {
-  const std::string e = expect_invalid(
-      plan(manifest(json{{"sensors", {sensor("wrist", "a.pcd")}}}, "unknownname.json")), "unknownname.json",
-      {"head or hand", "unknown", "name"});
+  const std::string e =
+      expect_invalid(plan(manifest(json{{"sensors", {sensor("wrist", "a.pcd")}}}, "unknownname.json")),
+                     "unknownname.json", {"head or hand", "unknown", "name"});
   EXPECT_NE(e.find("wrist"), std::string::npos) << e;
 }
 
@@ -446,23 +445,27 @@ TEST_F(CliContract, PoseWithHugeNumber) {
   // JSON has no NaN or Inf: 1e400 is how a writer may spell an overflowed value.
   const std::string rot = "[[1,0,0],[0,-1,0],[0,0,-1]]";
   const std::string p = path("huge_position.json");
-  write_file(p, "{\"sensors\":[{\"name\":\"head\",\"cloud\":\"a.pcd\",\"pose\":{\"position\":[1e400,0,1],\"rotation\":" +
-                    rot + "}}]}");
+  write_file(
+      p, "{\"sensors\":[{\"name\":\"head\",\"cloud\":\"a.pcd\",\"pose\":{\"position\":[1e400,0,1],\"rotation\":" + rot +
+             "}}]}");
   expect_invalid(plan(p), "huge_position.json", {"overflow", "finite", "NaN", "Inf"});
   const std::string q = path("huge_rotation.json");
-  write_file(q, "{\"sensors\":[{\"name\":\"head\",\"cloud\":\"a.pcd\",\"pose\":{\"position\":[0.5,0,1],\"rotation\":"
-                "[[1,0,0],[0,-1e400,0],[0,0,-1]]}}]}");
+  write_file(q,
+             "{\"sensors\":[{\"name\":\"head\",\"cloud\":\"a.pcd\",\"pose\":{\"position\":[0.5,0,1],\"rotation\":"
+             "[[1,0,0],[0,-1e400,0],[0,0,-1]]}}]}");
   expect_invalid(plan(q), "huge_rotation.json", {"overflow", "finite", "NaN", "Inf"});
 }
 
 TEST_F(CliContract, PoseWithNaNToken) {
   const std::string p = path("nan_token.json");
-  write_file(p, "{\"sensors\":[{\"name\":\"head\",\"cloud\":\"a.pcd\",\"pose\":{\"position\":[NaN,0,1],"
-                "\"rotation\":[[1,0,0],[0,-1,0],[0,0,-1]]}}]}");
+  write_file(p,
+             "{\"sensors\":[{\"name\":\"head\",\"cloud\":\"a.pcd\",\"pose\":{\"position\":[NaN,0,1],"
+             "\"rotation\":[[1,0,0],[0,-1,0],[0,0,-1]]}}]}");
   expect_invalid(plan(p), "nan_token.json", {"invalid JSON", "parse", "syntax"});
   const std::string q = path("inf_token.json");
-  write_file(q, "{\"sensors\":[{\"name\":\"head\",\"cloud\":\"a.pcd\",\"pose\":{\"position\":[Infinity,0,1],"
-                "\"rotation\":[[1,0,0],[0,-1,0],[0,0,-1]]}}]}");
+  write_file(q,
+             "{\"sensors\":[{\"name\":\"head\",\"cloud\":\"a.pcd\",\"pose\":{\"position\":[Infinity,0,1],"
+             "\"rotation\":[[1,0,0],[0,-1,0],[0,0,-1]]}}]}");
   expect_invalid(plan(q), "inf_token.json", {"invalid JSON", "parse", "syntax"});
 }
 
@@ -472,8 +475,8 @@ TEST_F(CliContract, PoseNotOrthonormal) {
   expect_invalid(plan(manifest(json{{"sensors", {sensor("head", "a.pcd", pose)}}}, "scaled.json")), "scaled.json",
                  {"orthonormal"});
   pose["rotation"] = json::array({{1, 0.3, 0}, {0, -1, 0}, {0, 0, -1}});
-  expect_invalid(plan(manifest(json{{"sensors", {sensor("head", "a.pcd", pose)}}}, "sheared.json")),
-                 "sheared.json", {"orthonormal"});
+  expect_invalid(plan(manifest(json{{"sensors", {sensor("head", "a.pcd", pose)}}}, "sheared.json")), "sheared.json",
+                 {"orthonormal"});
 }
 
 TEST_F(CliContract, PoseIsReflection) {
@@ -652,21 +655,26 @@ TEST_F(CliContract, HugeCoordinatesAreValidButNoGrasp) {
 }
 
 TEST_F(CliContract, PlyWrongVertexCount) {
-  const std::string head = "ply\nformat ascii 1.0\nelement vertex 100\nproperty float x\nproperty float y\n"
-                           "property float z\nend_header\n";
+  const std::string head =
+      "ply\nformat ascii 1.0\nelement vertex 100\nproperty float x\nproperty float y\n"
+      "property float z\nend_header\n";
   expect_invalid(plan(cloud_scene("few_vertices.ply", head + "0 0 1\n0 0 1\n")), "few_vertices.ply",
                  {"truncated", "too short", "vertices"});
-  std::string bin = "ply\nformat binary_little_endian 1.0\nelement vertex 1000\nproperty float x\nproperty float y\n"
-                    "property float z\nend_header\n";
+  std::string bin =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 1000\nproperty float x\nproperty float y\n"
+      "property float z\nend_header\n";
   bin.append(24, '\0');
   expect_invalid(plan(cloud_scene("few_vertices_bin.ply", bin)), "few_vertices_bin.ply", {"truncated", "too short"});
-  const std::string ten_million = "ply\nformat binary_little_endian 1.0\nelement vertex 10000000\nproperty float x\n"
-                                  "property float y\nproperty float z\nend_header\n" + std::string(12, '\0');
+  const std::string ten_million =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 10000000\nproperty float x\n"
+      "property float y\nproperty float z\nend_header\n" +
+      std::string(12, '\0');
   const CliRun r = plan(cloud_scene("ten_million.ply", ten_million));
   expect_invalid(r, "ten_million.ply", {"truncated", "too short"});
   EXPECT_LT(r.seconds, 2.0) << describe(r);
-  const std::string neg = "ply\nformat ascii 1.0\nelement vertex -3\nproperty float x\nproperty float y\n"
-                          "property float z\nend_header\n0 0 1\n";
+  const std::string neg =
+      "ply\nformat ascii 1.0\nelement vertex -3\nproperty float x\nproperty float y\n"
+      "property float z\nend_header\n0 0 1\n";
   expect_invalid(plan(cloud_scene("neg_vertices.ply", neg)), "neg_vertices.ply", {"count", "integer"});
 }
 
@@ -679,7 +687,8 @@ TEST_F(CliContract, UnknownSetOption) {
 }
 
 TEST_F(CliContract, BadValueForKnownSetOption) {
-  expect_invalid(plan(manifest(example_manifest()), {"--set", "voxel_leaf=abc"}), "voxel_leaf", {"not a finite number"});
+  expect_invalid(plan(manifest(example_manifest()), {"--set", "voxel_leaf=abc"}), "voxel_leaf",
+                 {"not a finite number"});
   expect_invalid(plan(manifest(example_manifest()), {"--set", "voxel_leaf=nan"}), "voxel_leaf",
                  {"not a finite number", "out of range"});
   expect_invalid(plan(manifest(example_manifest()), {"--set", "voxel_leaf=-1"}), "voxel_leaf",
@@ -694,16 +703,15 @@ TEST_F(CliContract, ConfigFileNotJson) {
   write_file(cfg, "voxel_leaf: 0.005\n");
   expect_invalid(plan(manifest(example_manifest()), {"--config", cfg}), "planner_config.json", {"invalid JSON"});
   const std::string missing = path("missing_config.json");
-  expect_invalid(plan(manifest(example_manifest()), {"--config", missing}), "missing_config.json",
-                 {"cannot open"});
+  expect_invalid(plan(manifest(example_manifest()), {"--config", missing}), "missing_config.json", {"cannot open"});
   const std::string arr = path("array_config.json");
   write_file(arr, "[1,2]");
   expect_invalid(plan(manifest(example_manifest()), {"--config", arr}), "array_config.json", {"object"});
 }
 
 TEST_F(CliContract, CommandLineErrorsExitTwo) {
-  for (const std::vector<std::string>& args :
-       std::vector<std::vector<std::string>>{{"plan"}, {"bogus_command"}, {}, {"plan", example_scene(), "--json", "--bogus"}}) {
+  for (const std::vector<std::string>& args : std::vector<std::vector<std::string> >{
+           {"plan"}, {"bogus_command"}, {}, {"plan", example_scene(), "--json", "--bogus"}}) {
     const CliRun r = run_cli(args);
     expect_sane(r);
     EXPECT_EQ(r.exit_code, 2) << describe(r);

@@ -140,9 +140,9 @@ TEST(Cluster, TwoBlobsNearestAndLargest) {
 TEST(Cluster, ThreeBlobs) {
   const int cx = cell_at(0.5f), cy = 300;
   std::vector<Cell> cells;
-  const std::vector<Cell> a = box_cells(cx + 10, cy - 2, 5, 3, 3, 8);    // 72, 10 cells from centre
-  const std::vector<Cell> b = box_cells(cx - 2, cy + 4, 5, 5, 5, 5);     // 125, ~5 cells from centre
-  const std::vector<Cell> c = box_cells(cx - 40, cy - 40, 5, 7, 7, 7);   // 343, far
+  const std::vector<Cell> a = box_cells(cx + 10, cy - 2, 5, 3, 3, 8);   // 72, 10 cells from centre
+  const std::vector<Cell> b = box_cells(cx - 2, cy + 4, 5, 5, 5, 5);    // 125, ~5 cells from centre
+  const std::vector<Cell> c = box_cells(cx - 40, cy - 40, 5, 7, 7, 7);  // 343, far
   cells.insert(cells.end(), a.begin(), a.end());
   cells.insert(cells.end(), b.begin(), b.end());
   cells.insert(cells.end(), c.begin(), c.end());
@@ -219,7 +219,7 @@ TEST(Cluster, MinPointsFiltersNoiseSpecks) {
 TEST(Cluster, RemovedVoxelsAreIgnoredAndBlockConnections) {
   const int cx = cell_at(0.5f), cy = 300;
   // Two blobs joined by a one-cell bridge along x.
-  std::vector<Cell> cells = box_cells(cx - 5, cy, 10, 3, 3, 3);  // 27, indices 0..26
+  std::vector<Cell> cells = box_cells(cx - 5, cy, 10, 3, 3, 3);    // 27, indices 0..26
   const std::vector<Cell> b = box_cells(cx + 3, cy, 10, 3, 3, 3);  // 27, indices 27..53
   cells.insert(cells.end(), b.begin(), b.end());
   for (int x = cx - 2; x <= cx + 2; ++x) cells.push_back(Cell{x, cy + 1, 11});  // 54..58
@@ -668,7 +668,8 @@ TEST(Cluster, RetargetFromTheLabellingMatchesTheWalk) {
 // and the shifts' top counts included), every neighbour count 1-32.
 TEST(ClusterFilterMask, VectorLanesGiveMayHoldsVerdicts) {
   std::mt19937_64 rng(2026);
-  if (!fg::detail::filter_mask_vector_available()) GTEST_LOG_(INFO) << "no AVX2 here: the vector form is the scalar one";
+  if (!fg::detail::filter_mask_vector_available())
+    GTEST_LOG_(INFO) << "no AVX2 here: the vector form is the scalar one";
   uint32_t hits = 0, tests = 0;
   for (int trial = 0; trial < 400; ++trial) {
     const uint32_t word_bits = 1u + static_cast<uint32_t>(rng() % 20u);

@@ -68,9 +68,15 @@ const float kHuge = 1e30f;
 
 std::vector<FloatField> float_fields() {
   return {
-      {"gripper.max_opening", FF(gripper.max_opening_m), {kNaN, kInf, -kInf, -0.085f, 0.f, 0.001f, 0.6f, kHuge}, {0.02f, 0.2f}},
+      {"gripper.max_opening",
+       FF(gripper.max_opening_m),
+       {kNaN, kInf, -kInf, -0.085f, 0.f, 0.001f, 0.6f, kHuge},
+       {0.02f, 0.2f}},
       {"gripper.min_opening", FF(gripper.min_opening_m), {kNaN, kInf, -0.01f, 0.09f, kHuge}, {0.f, 0.03f}},
-      {"gripper.finger_width", FF(gripper.finger_width_m), {kNaN, kInf, -0.02f, 0.f, 0.001f, 0.3f, kHuge}, {0.01f, 0.05f}},
+      {"gripper.finger_width",
+       FF(gripper.finger_width_m),
+       {kNaN, kInf, -0.02f, 0.f, 0.001f, 0.3f, kHuge},
+       {0.01f, 0.05f}},
       {"gripper.finger_depth", FF(gripper.finger_depth_m), {kNaN, kInf, -0.04f, 0.f, 0.4f, kHuge}, {0.01f, 0.1f}},
       {"gripper.finger_thickness", FF(gripper.finger_thickness_m), {kNaN, kInf, -0.01f, 0.2f, kHuge}, {0.f, 0.02f}},
       {"gripper.palm_depth", FF(gripper.palm_depth_m), {kNaN, kInf, -0.04f, 0.6f, kHuge}, {0.f, 0.1f}},

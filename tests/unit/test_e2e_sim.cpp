@@ -15,8 +15,8 @@
 #include <vector>
 
 #include "fg/core/planner.hpp"
-#include "sim/pinhole.hpp"
 #include "sim/grasp_judge.hpp"
+#include "sim/pinhole.hpp"
 #include "sim/scene_gen.hpp"
 
 using namespace fg::sim;
@@ -139,7 +139,8 @@ Failures check_can(const Planned& p) {
   if (!body) return {"no body part"};
   const double d = 2.0 * body->radius();
   const fg::Grasp& g = p.result.grasp;
-  if (std::fabs(g.width - d) > 0.01) f.push_back("width " + std::to_string(g.width) + " vs diameter " + std::to_string(d));
+  if (std::fabs(g.width - d) > 0.01)
+    f.push_back("width " + std::to_string(g.width) + " vs diameter " + std::to_string(d));
   const V3 local = body->world_T_shape.inverse_apply(to_v3(g.position));
   const double r = std::hypot(local.x(), local.y());
   if (r > body->radius() + 0.01)
@@ -159,7 +160,8 @@ Failures check_lying_cylinder(const Planned& p) {
   const double off_perp = 90.0 - line_angle_deg(to_v3(g.closing), axis);
   if (off_perp > 25.0)
     f.push_back("closing " + std::to_string(off_perp) + " deg from perpendicular to the axis " + v3(axis));
-  if (std::fabs(g.width - d) > 0.01) f.push_back("width " + std::to_string(g.width) + " vs diameter " + std::to_string(d));
+  if (std::fabs(g.width - d) > 0.01)
+    f.push_back("width " + std::to_string(g.width) + " vs diameter " + std::to_string(d));
   return f;
 }
 
@@ -219,13 +221,19 @@ const Known* known(const Case& c) {
 
 Failures check(const Case& c, const Planned& p) {
   switch (c.kind) {
-    case ObjectKind::box: return check_box(p);
-    case ObjectKind::can: return check_can(p);
-    case ObjectKind::lying_cylinder: return check_lying_cylinder(p);
-    case ObjectKind::bottle: return check_judged(p);
+    case ObjectKind::box:
+      return check_box(p);
+    case ObjectKind::can:
+      return check_can(p);
+    case ObjectKind::lying_cylinder:
+      return check_lying_cylinder(p);
+    case ObjectKind::bottle:
+      return check_judged(p);
     case ObjectKind::big_sphere:
-    case ObjectKind::wide_box: return check_no_grasp(p);
-    default: return {"no check for this kind"};
+    case ObjectKind::wide_box:
+      return check_no_grasp(p);
+    default:
+      return {"no check for this kind"};
   }
 }
 

@@ -98,9 +98,8 @@ TEST(EigenSym3, MatchesEigenOnRotatedDiagonalsWithCloseEigenvalues) {
 
 TEST(EigenSym3, ReadsOnlyTheUpperTriangle) {
   Mat3 A;
-  A << 2.0f, 1.0f, 0.5f,
-       std::numeric_limits<float>::quiet_NaN(), 3.0f, -1.0f,
-       1e30f, std::numeric_limits<float>::infinity(), 4.0f;
+  A << 2.0f, 1.0f, 0.5f, std::numeric_limits<float>::quiet_NaN(), 3.0f, -1.0f, 1e30f,
+      std::numeric_limits<float>::infinity(), 4.0f;
   Vec3 evals;
   Mat3 V;
   ASSERT_TRUE(fg::eigen_sym3(A, evals, V));
@@ -133,8 +132,7 @@ TEST(EigenSym3, IdentityAndRepeatedEigenvalues) {
   expect_valid_decomposition(D, evals, V, 1e-6);
 
   // A rotated diag(1, 1, 2): the repeated eigenspace is the plane normal to the axis.
-  const Eigen::Matrix3f R =
-      Eigen::AngleAxisf(0.7f, Eigen::Vector3f(1.0f, 2.0f, -0.5f).normalized()).toRotationMatrix();
+  const Eigen::Matrix3f R = Eigen::AngleAxisf(0.7f, Eigen::Vector3f(1.0f, 2.0f, -0.5f).normalized()).toRotationMatrix();
   const Mat3 A = R * Eigen::Vector3f(1.0f, 1.0f, 2.0f).asDiagonal() * R.transpose();
   ASSERT_TRUE(fg::eigen_sym3(A, evals, V));
   EXPECT_NEAR(evals(0), 1.0f, 1e-5f);
@@ -256,8 +254,7 @@ TEST(Pca, PointsOnALine) {
 
 TEST(Pca, PointsOnAPlane) {
   // A 21 x 11 grid, 4 mm spacing, in a tilted plane far from the origin.
-  const Eigen::Matrix3f R =
-      Eigen::AngleAxisf(0.9f, Eigen::Vector3f(0.3f, -1.0f, 0.4f).normalized()).toRotationMatrix();
+  const Eigen::Matrix3f R = Eigen::AngleAxisf(0.9f, Eigen::Vector3f(0.3f, -1.0f, 0.4f).normalized()).toRotationMatrix();
   const Vec3 origin(100.0f, -50.0f, 20.0f);
   Vec3 pts[21 * 11];
   uint32_t n = 0;
@@ -280,11 +277,10 @@ TEST(Pca, PointsOnAPlane) {
 
 TEST(Pca, SymmetricPointSetHasItsClosedFormCovariance) {
   // +-a e1, +-b e2, +-c e3 in a rotated frame: covariance R diag(a^2, b^2, c^2)/3 R^T.
-  const Eigen::Matrix3f R =
-      Eigen::AngleAxisf(-1.3f, Eigen::Vector3f(2.0f, 1.0f, 0.5f).normalized()).toRotationMatrix();
+  const Eigen::Matrix3f R = Eigen::AngleAxisf(-1.3f, Eigen::Vector3f(2.0f, 1.0f, 0.5f).normalized()).toRotationMatrix();
   const Vec3 centre(0.5f, 0.25f, -0.75f);
   const float a = 0.3f, b = 0.2f, cc = 0.05f;
-  const Vec3 pts[6] = {centre + a * R.col(0), centre - a * R.col(0), centre + b * R.col(1),
+  const Vec3 pts[6] = {centre + a * R.col(0), centre - a * R.col(0),  centre + b * R.col(1),
                        centre - b * R.col(1), centre + cc * R.col(2), centre - cc * R.col(2)};
   Vec3 c, evals;
   Mat3 V;
@@ -302,8 +298,7 @@ TEST(Pca, SymmetricPointSetHasItsClosedFormCovariance) {
 TEST(Pca, RandomEllipsoidMatchesADoubleTwoPassOracle) {
   std::mt19937 rng(314u);
   std::normal_distribution<float> nd(0.0f, 1.0f);
-  const Eigen::Matrix3f R =
-      Eigen::AngleAxisf(0.4f, Eigen::Vector3f(-1.0f, 0.2f, 0.9f).normalized()).toRotationMatrix();
+  const Eigen::Matrix3f R = Eigen::AngleAxisf(0.4f, Eigen::Vector3f(-1.0f, 0.2f, 0.9f).normalized()).toRotationMatrix();
   const Vec3 sigma(0.10f, 0.03f, 0.01f);
   const Vec3 offset(2.0f, -3.0f, 1.0f);
   static Vec3 pts[5000];

@@ -59,8 +59,8 @@ TEST_P(FirmwareApiScenes, SameAnswerAsThePlanner) {
   auto oracle = std::make_unique<fg::Planner>();
   ASSERT_EQ(oracle->configure(fg::PlannerConfig{}), fg::Status::ok);
   for (size_t i = 0; i < d.clouds.size(); ++i)
-    ASSERT_EQ(oracle->add_points(d.roles[i], d.clouds[i].xyz.data(),
-                                 static_cast<uint32_t>(d.clouds[i].size()), 12, d.poses[i]),
+    ASSERT_EQ(oracle->add_points(d.roles[i], d.clouds[i].xyz.data(), static_cast<uint32_t>(d.clouds[i].size()), 12,
+                                 d.poses[i]),
               fg::Status::ok);
   fg::PlanResult want;
   oracle->plan(want);
@@ -72,9 +72,9 @@ TEST_P(FirmwareApiScenes, SameAnswerAsThePlanner) {
   ASSERT_EQ(fg_init(mem->bytes, sizeof mem->bytes, &cfg, &ws), FG_OK);
   for (size_t i = 0; i < d.clouds.size(); ++i) {
     const fg_pose pose = to_c(d.poses[i]);
-    ASSERT_EQ(fg_add_points(ws, static_cast<int32_t>(d.roles[i]), d.clouds[i].xyz.data(),
-                            d.clouds[i].size(), 12, &pose),
-              FG_OK);
+    ASSERT_EQ(
+        fg_add_points(ws, static_cast<int32_t>(d.roles[i]), d.clouds[i].xyz.data(), d.clouds[i].size(), 12, &pose),
+        FG_OK);
   }
   fg_grasp got;
   const fg_status s = fg_plan(ws, &got);
@@ -139,9 +139,12 @@ TEST(FirmwareApi, EveryConfigFieldIsChecked) {
     float* value;
     const char* name;
   };
-  const Case cases[] = {{&cfg.voxel_leaf_m, "voxel_leaf"},   {&cfg.range_max_m, "range_max"},
-                        {&cfg.dtheta_rad, "dtheta"},         {&cfg.beta_max_rad, "beta_max"},
-                        {&cfg.scan_delta_m, "scan_delta"},   {&cfg.friction_mu, "friction_mu"},
+  const Case cases[] = {{&cfg.voxel_leaf_m, "voxel_leaf"},
+                        {&cfg.range_max_m, "range_max"},
+                        {&cfg.dtheta_rad, "dtheta"},
+                        {&cfg.beta_max_rad, "beta_max"},
+                        {&cfg.scan_delta_m, "scan_delta"},
+                        {&cfg.friction_mu, "friction_mu"},
                         {&cfg.gripper.finger_depth_m, "gripper.finger_depth"}};
   for (const Case& c : cases) {
     const float keep = *c.value;

@@ -120,7 +120,8 @@ TEST(SideAngle, KnownSlopes) {
   EXPECT_LE(fg::side_angle(1e30f, -1e30f), static_cast<float>(pi) + 1e-6f);
   for (float a = -3.f; a <= 3.f; a += 0.37f)
     for (float b = -3.f; b <= 3.f; b += 0.41f)
-      EXPECT_NEAR(fg::side_angle(a, b), std::fabs(std::atan(static_cast<double>(a)) - std::atan(static_cast<double>(b))),
+      EXPECT_NEAR(fg::side_angle(a, b),
+                  std::fabs(std::atan(static_cast<double>(a)) - std::atan(static_cast<double>(b))),
                   5e-7);  // float atan: a few ulps at ~2.5 rad
 }
 

@@ -288,8 +288,8 @@ TEST(GraspTask, EachFailureEndsInItsOwnState) {
     GraspTask task;
     ASSERT_EQ(task.start(rig.cfg), Status::ok) << c.name;
     EXPECT_EQ(rig.run(task), TaskState::failed) << c.name;
-    EXPECT_EQ(task.failure(), c.expected) << c.name << ": got " << to_string(task.failure()) << " ("
-                                          << task.message() << ")";
+    EXPECT_EQ(task.failure(), c.expected)
+        << c.name << ": got " << to_string(task.failure()) << " (" << task.message() << ")";
     EXPECT_NE(task.message()[0], '\0') << c.name;
   }
 }

@@ -49,9 +49,9 @@ Planned plan(const std::vector<Vec3>& pts, bool round_flanks) {
   cfg.round_flanks = round_flanks;
   auto pl = std::make_unique<fg::Planner>();
   EXPECT_EQ(pl->configure(cfg), Status::ok);
-  EXPECT_EQ(pl->add_points(SensorRole::head, pts.front().data(), static_cast<uint32_t>(pts.size()), sizeof(Vec3),
-                           Pose{}),
-            Status::ok);
+  EXPECT_EQ(
+      pl->add_points(SensorRole::head, pts.front().data(), static_cast<uint32_t>(pts.size()), sizeof(Vec3), Pose{}),
+      Status::ok);
   PlanResult r;
   const Status st = pl->plan(r);
   EXPECT_TRUE(st == Status::ok || st == Status::no_grasp) << r.message;

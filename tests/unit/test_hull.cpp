@@ -189,7 +189,8 @@ TEST(ConvexHull, DegenerateInputs) {
   EXPECT_TRUE(same(out[1], Vec2{3.0f, 3.0f}));
 
   // A square with mid-edge points, a centre point and a NaN: 4 corners, CCW.
-  const Vec2 sq[10] = {{1, 1}, {0, 0}, {0.5f, 0}, {1, 0}, {kNaN, kNaN}, {0, 1}, {1, 0.5f}, {0.5f, 0.5f}, {0, 0.5f}, {0.5f, 1}};
+  const Vec2 sq[10] = {{1, 1}, {0, 0},    {0.5f, 0},    {1, 0},    {kNaN, kNaN},
+                       {0, 1}, {1, 0.5f}, {0.5f, 0.5f}, {0, 0.5f}, {0.5f, 1}};
   EXPECT_EQ(fg::convex_hull_2d(sq, 10, scratch, out, 8, out_n), Status::ok);
   ASSERT_EQ(out_n, 4u);
   const Vec2 expect[4] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
@@ -210,8 +211,8 @@ TEST(ConvexHull, DegenerateInputs) {
 
 TEST(ConvexHull, ExtremeMagnitudes) {
   const float big = 1e30f;
-  const std::vector<Vec2> pts = {{-big, -big}, {big, -big}, {big, big}, {-big, big}, {0.0f, 0.0f},
-                                 {1e-30f, 1e-30f}, {3e38f, 0.0f}, {-3e38f, 1.0f}};
+  const std::vector<Vec2> pts = {{-big, -big}, {big, -big},      {big, big},    {-big, big},
+                                 {0.0f, 0.0f}, {1e-30f, 1e-30f}, {3e38f, 0.0f}, {-3e38f, 1.0f}};
   check_convex_hull(pts, "extreme");
 }
 
@@ -236,8 +237,8 @@ Concave concave(const std::vector<Vec2>& pts, float cell_m = 0.0025f, uint32_t c
   Concave r{};
   r.poly.resize(std::max<uint32_t>(capacity, 1u));
   uint32_t out_n = 777;
-  r.status = fg::concave_hull_2d(pts.data(), static_cast<uint32_t>(pts.size()), params, g_scratch,
-                                 r.poly.data(), capacity, out_n, r.cell, r.all_inside);
+  r.status = fg::concave_hull_2d(pts.data(), static_cast<uint32_t>(pts.size()), params, g_scratch, r.poly.data(),
+                                 capacity, out_n, r.cell, r.all_inside);
   r.poly.resize(out_n);
   return r;
 }
@@ -282,7 +283,8 @@ void check_contour_structure(const std::vector<Vec2>& poly, float cell) {
     const double kx = (static_cast<double>(a.x) - poly[0].x) / cell;
     const double ky = (static_cast<double>(a.y) - poly[0].y) / cell;
     // On the lattice up to the float rounding of the corner coordinates.
-    const double tol = 1e-3 + 1.2e-7 * (std::fabs(a.x) + std::fabs(a.y) + std::fabs(poly[0].x) + std::fabs(poly[0].y)) / cell;
+    const double tol =
+        1e-3 + 1.2e-7 * (std::fabs(a.x) + std::fabs(a.y) + std::fabs(poly[0].x) + std::fabs(poly[0].y)) / cell;
     EXPECT_NEAR(kx, std::round(kx), tol);
     EXPECT_NEAR(ky, std::round(ky), tol);
   }
@@ -315,7 +317,7 @@ std::vector<Vec2> sample_grid(float x0, float x1, float y0, float y1, float step
 
 // The shape tests below assume the host raster resolution (2.5 mm cells over the
 // shapes' extent); a small-raster preset coarsens the cell and skips them.
-#define FG_NEED_RASTER(dim)                                                        \
+#define FG_NEED_RASTER(dim) \
   if (fg::kHullGridDim < (dim)) GTEST_SKIP() << "needs kHullGridDim >= " << (dim)
 
 constexpr float kEps = 1e-6f;
@@ -510,7 +512,7 @@ TEST(ConcaveHull, FullCellsCountExactlyWithAndWithoutRoomInTheTable) {
       std::vector<Vec2> base, heavy, fillers;
       for (int j = 0; j < rows; ++j)
         for (int c = 0; c < cols; ++c) base.push_back(cell(c, j));
-      for (int k = 0; k < 10; ++k) base.push_back(cell(5, 10));      // R: 1 + 10 in its 11th cell
+      for (int k = 0; k < 10; ++k) base.push_back(cell(5, 10));  // R: 1 + 10 in its 11th cell
       for (int j = 0; j < 10; ++j) {
         for (int k = 0; k < 253; ++k) base.push_back(cell(5, j));    // R: 1 + 253 = 254 per cell
         for (int k = 0; k < 499; ++k) heavy.push_back(cell(15, j));  // H: 1 + 499 = 500 per cell
@@ -883,7 +885,8 @@ TEST(ConcaveHull, GivenBoundsGiveTheHullWithout) {
       b.ymax = std::max(b.ymax, pts[i].y);
     }
     const uint32_t closing = static_cast<uint32_t>(trial % 4);
-    const Concave own = concave(pts, 0.0025f, closing), given = concave(pts, 0.0025f, closing, fg::kMaxContourVertices, &b);
+    const Concave own = concave(pts, 0.0025f, closing),
+                  given = concave(pts, 0.0025f, closing, fg::kMaxContourVertices, &b);
     SCOPED_TRACE("trial " + std::to_string(trial));
     ASSERT_EQ(own.status, given.status);
     EXPECT_EQ(std::memcmp(&own.cell, &given.cell, sizeof own.cell), 0);
@@ -942,10 +945,10 @@ TEST(Polygon, ContainsTable) {
     bool in;
   };
   const Case cases[] = {
-      {{0.5f, 0.5f}, true},  {{1.5f, 0.5f}, true},  {{0.5f, 1.5f}, true},   {{1.5f, 1.5f}, false},
-      {{0, 0}, true},        {{2, 0}, true},        {{1, 1}, true},         {{1, 1.5f}, true},
-      {{1.5f, 1}, true},     {{0, 1}, true},        {{-0.01f, 1}, false},   {{2.01f, 0.5f}, false},
-      {{1, 2.0001f}, false}, {{0.5f, 2}, true},     {{1.0001f, 1.5f}, false}, {{3, 1}, false},
+      {{0.5f, 0.5f}, true},  {{1.5f, 0.5f}, true}, {{0.5f, 1.5f}, true},     {{1.5f, 1.5f}, false},
+      {{0, 0}, true},        {{2, 0}, true},       {{1, 1}, true},           {{1, 1.5f}, true},
+      {{1.5f, 1}, true},     {{0, 1}, true},       {{-0.01f, 1}, false},     {{2.01f, 0.5f}, false},
+      {{1, 2.0001f}, false}, {{0.5f, 2}, true},    {{1.0001f, 1.5f}, false}, {{3, 1}, false},
   };
   for (const auto* poly : {&l, &l_cw}) {
     for (const Case& c : cases) {
@@ -1036,9 +1039,9 @@ TEST(Polygon, SpanOnTheLShapeVerticesAndHorizontalEdges) {
     float xl, xr;
   };
   const Case cases[] = {
-      {0.02f, true, 0.0f, 0.1f},   {0.07f, true, 0.0f, 0.05f}, {0.05f, true, 0.0f, 0.1f},  // along the step
-      {0.0f, true, 0.0f, 0.1f},    {0.1f, true, 0.0f, 0.05f},  {0.1001f, false, 0, 0},
-      {-0.0001f, false, 0, 0},     {0.0499f, true, 0.0f, 0.1f}, {0.0501f, true, 0.0f, 0.05f},
+      {0.02f, true, 0.0f, 0.1f}, {0.07f, true, 0.0f, 0.05f},  {0.05f, true, 0.0f, 0.1f},  // along the step
+      {0.0f, true, 0.0f, 0.1f},  {0.1f, true, 0.0f, 0.05f},   {0.1001f, false, 0, 0},
+      {-0.0001f, false, 0, 0},   {0.0499f, true, 0.0f, 0.1f}, {0.0501f, true, 0.0f, 0.05f},
   };
   for (const auto* poly : {&l, &l_cw}) {
     for (const Case& c : cases) {

@@ -12,6 +12,7 @@
 // Under AddressSanitizer the allocator belongs to ASan: the replacements are compiled
 // out and the tests skip.
 #include <gtest/gtest.h>
+#include <string.h>
 
 #include <algorithm>
 #include <atomic>
@@ -20,7 +21,6 @@
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
-#include <string.h>
 #include <limits>
 #include <memory>
 #include <new>
@@ -43,10 +43,10 @@ namespace {
 
 // Single-threaded test: plain volatile counters are enough (and allocate nothing).
 volatile bool g_armed = false;
-volatile uint64_t g_new = 0;      // operator new / new[] (all variants)
-volatile uint64_t g_delete = 0;   // operator delete / delete[] of a non-null pointer
-volatile uint64_t g_malloc = 0;   // malloc, calloc, realloc, memalign family
-volatile uint64_t g_free = 0;     // free of a non-null pointer
+volatile uint64_t g_new = 0;     // operator new / new[] (all variants)
+volatile uint64_t g_delete = 0;  // operator delete / delete[] of a non-null pointer
+volatile uint64_t g_malloc = 0;  // malloc, calloc, realloc, memalign family
+volatile uint64_t g_free = 0;    // free of a non-null pointer
 
 void* volatile g_sink = nullptr;  // keeps the positive control's allocations observable
 
@@ -136,12 +136,8 @@ void* operator new[](size_t n, std::align_val_t a) {
   if (p == nullptr) throw std::bad_alloc();
   return p;
 }
-void* operator new(size_t n, std::align_val_t a, const std::nothrow_t&) noexcept {
-  return counted_new_aligned(n, a);
-}
-void* operator new[](size_t n, std::align_val_t a, const std::nothrow_t&) noexcept {
-  return counted_new_aligned(n, a);
-}
+void* operator new(size_t n, std::align_val_t a, const std::nothrow_t&) noexcept { return counted_new_aligned(n, a); }
+void* operator new[](size_t n, std::align_val_t a, const std::nothrow_t&) noexcept { return counted_new_aligned(n, a); }
 
 void operator delete(void* p) noexcept { counted_delete(p); }
 void operator delete[](void* p) noexcept { counted_delete(p); }
@@ -194,8 +190,8 @@ Counts disarm() {
   return c;
 }
 
-#define SKIP_UNDER_ASAN()                                                                   \
-  do {                                                                                      \
+#define SKIP_UNDER_ASAN()                                                                     \
+  do {                                                                                        \
     if (FG_TEST_UNDER_ASAN) GTEST_SKIP() << "the allocator belongs to AddressSanitizer here"; \
   } while (0)
 
@@ -337,7 +333,7 @@ struct CycleResult {
 
 // One armed cycle: reset, both sensors, plan. Nothing here allocates by itself.
 CycleResult armed_cycle(fg::Planner& pl, const Camera& head, const std::vector<float>& cloud, const Camera& hand,
-                const std::vector<uint16_t>& depth, PlanResult& out) {
+                        const std::vector<uint16_t>& depth, PlanResult& out) {
   CycleResult r;
   arm();
   pl.reset();

@@ -98,8 +98,8 @@ TEST(PathCheck, APointOnThePathIsFoundAndOneAwayFromItIsNot) {
   double qm[6];
   for (int i = 0; i < 6; ++i) qm[i] = 0.5 * (kQa[i] + kQb[i]);
   const Pads mid = pads_at(mc, qm);
-  const Vec3 palm = (mid.centre - mid.R.col(2) * (0.5 * tool.gripper.finger_depth_m + 0.5 * tool.gripper.palm_depth_m))
-                        .cast<float>();
+  const Vec3 palm =
+      (mid.centre - mid.R.col(2) * (0.5 * tool.gripper.finger_depth_m + 0.5 * tool.gripper.palm_depth_m)).cast<float>();
   std::vector<Vec3> pts{Vec3(2.f, 2.f, 2.f), palm};
   uint8_t keep[2] = {1, 1};
   GraspQuery q{};

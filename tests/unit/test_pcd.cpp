@@ -58,8 +58,7 @@ struct RemoveTempDir : ::testing::Environment {
     if (temp_created()) std::filesystem::remove_all(temp_dir(), ec);
   }
 };
-[[maybe_unused]] ::testing::Environment* const kRemoveTempDir =
-    ::testing::AddGlobalTestEnvironment(new RemoveTempDir);
+[[maybe_unused]] ::testing::Environment* const kRemoveTempDir = ::testing::AddGlobalTestEnvironment(new RemoveTempDir);
 
 std::vector<uint8_t> bytes_of(const std::string& s) { return std::vector<uint8_t>(s.begin(), s.end()); }
 
@@ -94,8 +93,7 @@ void expect_same_points(const PointCloud& a, const PointCloud& b) {
   }
 }
 
-const std::string kXyzHeader =
-    "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n";
+const std::string kXyzHeader = "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n";
 
 }  // namespace
 
@@ -182,8 +180,7 @@ TEST(PcdRealFiles, ReadCloudByExtension) {
   EXPECT_EQ(c.size(), 13704u);
   // Upper-case extension.
   const std::string upper = (temp_dir() / "MILK.PCD").string();
-  std::filesystem::copy_file(kClouds + "pcl/milk_color.pcd", upper,
-                             std::filesystem::copy_options::overwrite_existing);
+  std::filesystem::copy_file(kClouds + "pcl/milk_color.pcd", upper, std::filesystem::copy_options::overwrite_existing);
   PointCloud d;
   r = fg::host::read_cloud(upper, d);
   ASSERT_TRUE(r.ok) << r.error;
@@ -243,12 +240,12 @@ TEST(Lzf, RejectsCorruptStreams) {
 
 TEST(Lzf, CompressDecompressRoundTrip) {
   std::mt19937 rng(1234);
-  for (size_t n : {size_t{0}, size_t{1}, size_t{2}, size_t{3}, size_t{31}, size_t{32}, size_t{33},
-                   size_t{1000}, size_t{100000}}) {
+  for (size_t n :
+       {size_t{0}, size_t{1}, size_t{2}, size_t{3}, size_t{31}, size_t{32}, size_t{33}, size_t{1000}, size_t{100000}}) {
     for (int mode = 0; mode < 3; ++mode) {
       std::vector<uint8_t> in(n);
       for (size_t i = 0; i < n; ++i) {
-        in[i] = mode == 0 ? static_cast<uint8_t>(rng())               // incompressible
+        in[i] = mode == 0   ? static_cast<uint8_t>(rng())              // incompressible
                 : mode == 1 ? static_cast<uint8_t>(i % 7)              // periodic
                             : static_cast<uint8_t>((rng() % 4) == 0);  // low entropy
       }
@@ -338,8 +335,8 @@ TEST(PcdRoundTrip, AllEncodingsOrganizedAndNot) {
   for (auto enc : {PcdEncoding::ascii, PcdEncoding::binary, PcdEncoding::binary_compressed}) {
     for (auto [w, h] : {std::pair<uint32_t, uint32_t>{40, 30}, {1000, 1}, {0, 1}, {1, 1}}) {
       const PointCloud c = sample_cloud(w, h, w * 7 + h);
-      const std::string path = (temp_dir() / ("rt_" + std::to_string(static_cast<int>(enc)) + "_" +
-                                              std::to_string(w) + "x" + std::to_string(h) + ".pcd"))
+      const std::string path = (temp_dir() / ("rt_" + std::to_string(static_cast<int>(enc)) + "_" + std::to_string(w) +
+                                              "x" + std::to_string(h) + ".pcd"))
                                    .string();
       ReadResult r = fg::host::write_pcd(path, c, enc);
       ASSERT_TRUE(r.ok) << r.error;
@@ -467,8 +464,9 @@ std::vector<uint8_t> compressed_pcd(uint32_t n, std::vector<float>& xyz_out) {
   const auto packed = fg::host::lzf::compress(soa.data(), soa.size());
   std::vector<uint8_t> b = bytes_of(
       "# .PCD v0.7 - Point Cloud Data file format\nVERSION 0.7\nFIELDS label x y z rgba\n"
-      "SIZE 4 4 4 4 4\nTYPE U F F F U\nCOUNT 1 1 1 1 1\nWIDTH " + std::to_string(n) +
-      "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " + std::to_string(n) + "\nDATA binary_compressed\n");
+      "SIZE 4 4 4 4 4\nTYPE U F F F U\nCOUNT 1 1 1 1 1\nWIDTH " +
+      std::to_string(n) + "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " + std::to_string(n) +
+      "\nDATA binary_compressed\n");
   put<uint32_t>(b, static_cast<uint32_t>(packed.size()));
   put<uint32_t>(b, static_cast<uint32_t>(soa.size()));
   b.insert(b.end(), packed.begin(), packed.end());
@@ -576,8 +574,7 @@ TEST(PcdMalformed, HeaderProblems) {
   expect_bad(kXyzHeader + "WIDTH abc\nHEIGHT 1\nPOINTS 1\nDATA ascii\n1 2 3\n", "WIDTH value 'abc'");
   expect_bad(kXyzHeader + "WIDTH -1\nHEIGHT 1\nPOINTS 1\nDATA ascii\n1 2 3\n", "non-numeric");
   expect_bad(kXyzHeader + "WIDTH 1\nHEIGHT 1\nPOINTS 99999999999999999999999\nDATA ascii\n", "POINTS value");
-  expect_bad("VERSION 0.7\nFIELDS x y z\nSIZE 4 4 x\nTYPE F F F\nWIDTH 1\nPOINTS 1\nDATA ascii\n1 2 3\n",
-             "SIZE 'x'");
+  expect_bad("VERSION 0.7\nFIELDS x y z\nSIZE 4 4 x\nTYPE F F F\nWIDTH 1\nPOINTS 1\nDATA ascii\n1 2 3\n", "SIZE 'x'");
   expect_bad("VERSION 0.7\nFIELDS x y z\nSIZE 4 4 3\nTYPE F F F\nWIDTH 1\nPOINTS 1\nDATA ascii\n1 2 3\n",
              "not 1, 2, 4 or 8");
   expect_bad("VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F Q\nWIDTH 1\nPOINTS 1\nDATA ascii\n1 2 3\n",
@@ -613,9 +610,8 @@ TEST(PcdMalformed, TooManyPointsForTheLimit) {
 
 TEST(PcdMalformed, TenMillionPointsInATinyFileFailFast) {
   for (const std::string kind : {"binary", "ascii", "binary_compressed"}) {
-    std::vector<uint8_t> b =
-        bytes_of("FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 10000\nHEIGHT 1000\nPOINTS 10000000\nDATA " +
-                 kind + "\n");
+    std::vector<uint8_t> b = bytes_of(
+        "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 10000\nHEIGHT 1000\nPOINTS 10000000\nDATA " + kind + "\n");
     if (kind == "binary_compressed") {
       put<uint32_t>(b, static_cast<uint32_t>(200 - b.size() - 8));
       put<uint32_t>(b, 120000000u);  // what 10^7 points of 12 bytes need
@@ -633,8 +629,7 @@ TEST(PcdMalformed, TenMillionPointsInATinyFileFailFast) {
   std::string s = kXyzHeader + "WIDTH 640\nHEIGHT 480\nPOINTS 307200\nDATA binary\n" + std::string(1200, '\0');
   PointCloud c;
   const ReadResult r = parse(s, c, "head.pcd");
-  EXPECT_EQ(r.error.rfind("head.pcd: DATA binary holds 1200 bytes but 640x480 points need 3686400", 0), 0u)
-      << r.error;
+  EXPECT_EQ(r.error.rfind("head.pcd: DATA binary holds 1200 bytes but 640x480 points need 3686400", 0), 0u) << r.error;
 }
 
 TEST(PcdMalformed, BinaryData) {
@@ -773,24 +768,33 @@ TEST(PcdFuzz, MutatedValidFiles) {
     seeds.push_back(b);
   }
   std::mt19937 rng(77);
-  const std::string hdr_words[] = {"FIELDS", "SIZE", "TYPE", "COUNT", "WIDTH", "HEIGHT", "POINTS", "DATA",
-                                   "VIEWPOINT", "\n", " ", "0", "4", "8", "F", "U", "binary", "ascii",
-                                   "binary_compressed", "4294967295", "-1", "nan"};
+  const std::string hdr_words[] = {
+      "FIELDS", "SIZE", "TYPE", "COUNT", "WIDTH", "HEIGHT", "POINTS", "DATA",  "VIEWPOINT",         "\n",
+      " ",      "0",    "4",    "8",     "F",     "U",      "binary", "ascii", "binary_compressed", "4294967295",
+      "-1",     "nan"};
   for (int it = 0; it < 6000; ++it) {
     std::vector<uint8_t> b = seeds[static_cast<size_t>(it) % seeds.size()];
     const int edits = 1 + static_cast<int>(rng() % 4);
     for (int e = 0; e < edits && !b.empty(); ++e) {
       const size_t p = rng() % b.size();
       switch (rng() % 5) {
-        case 0: b[p] = static_cast<uint8_t>(rng()); break;
-        case 1: b.resize(p); break;
-        case 2: b.erase(b.begin() + static_cast<std::ptrdiff_t>(p)); break;
+        case 0:
+          b[p] = static_cast<uint8_t>(rng());
+          break;
+        case 1:
+          b.resize(p);
+          break;
+        case 2:
+          b.erase(b.begin() + static_cast<std::ptrdiff_t>(p));
+          break;
         case 3: {
           const std::string& w = hdr_words[rng() % std::size(hdr_words)];
           b.insert(b.begin() + static_cast<std::ptrdiff_t>(p), w.begin(), w.end());
           break;
         }
-        default: b[p] ^= static_cast<uint8_t>(1u << (rng() % 8)); break;
+        default:
+          b[p] ^= static_cast<uint8_t>(1u << (rng() % 8));
+          break;
       }
     }
     PointCloud c;

@@ -6,6 +6,7 @@
 // in double with Eigen's solver, for every count around the steps.
 #include <gtest/gtest.h>
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -13,8 +14,6 @@
 #include <limits>
 #include <random>
 #include <vector>
-
-#include <Eigen/Eigenvalues>
 
 #include "fg/core/plane.hpp"
 
@@ -29,8 +28,8 @@ constexpr double kDeg = kPi / 180.0;
 
 struct Scene {
   std::vector<Vec3> pts;
-  Eigen::Vector3d n;  // true unit normal, n.z > 0
-  double d = 0;       // n . p + d = 0
+  Eigen::Vector3d n;          // true unit normal, n.z > 0
+  double d = 0;               // n . p + d = 0
   uint32_t true_inliers = 0;  // points within distance_m of the true plane
 };
 
@@ -38,8 +37,7 @@ struct Scene {
 // (cos az, sin az, 0); noise sigma along the normal; `outliers` points uniform in
 // a box from 2 cm to 30 cm above the patch (along world z).
 Scene make_scene(uint32_t seed, uint32_t n_plane, uint32_t n_out, double tilt, double az, double sigma,
-                 const Eigen::Vector3d& c = Eigen::Vector3d(0.5, 0.0, 0.7), double side = 0.6,
-                 double thr = 0.01) {
+                 const Eigen::Vector3d& c = Eigen::Vector3d(0.5, 0.0, 0.7), double side = 0.6, double thr = 0.01) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(-0.5, 0.5);
   std::normal_distribution<double> nd(0.0, sigma > 0 ? sigma : 1.0);
@@ -280,10 +278,10 @@ TEST(Plane, NaNAndInfPointsMixedIn) {
   for (int i = 0; i < 300; ++i) {
     const size_t at = rng() % s.pts.size();
     const int kind = i % 4;
-    const Vec3 bad = kind == 0 ? Vec3(nan, nan, nan)
-                   : kind == 1 ? Vec3(0.5f, nan, 0.7f)
-                   : kind == 2 ? Vec3(inf, 0.f, 0.7f)
-                               : Vec3(0.5f, 0.f, -inf);
+    const Vec3 bad = kind == 0   ? Vec3(nan, nan, nan)
+                     : kind == 1 ? Vec3(0.5f, nan, 0.7f)
+                     : kind == 2 ? Vec3(inf, 0.f, 0.7f)
+                                 : Vec3(0.5f, 0.f, -inf);
     s.pts.insert(s.pts.begin() + static_cast<long>(at), bad);
   }
   Plane p;
@@ -343,8 +341,8 @@ TEST(Plane, TooFewInliersIsFalse) {
 // from the plane (the sums are taken relative to it) or not finite.
 TEST(Plane, RefitAndCountMatchABruteForceForEveryCount) {
   const float thr = 0.01f;
-  for (uint32_t n : {0u, 1u, 2u, 3u, 4u, 5u, 6u, 7u, 8u, 9u, 63u, 64u, 65u, 255u, 256u, 257u, 259u, 1023u, 1025u,
-                     5001u, 40003u}) {
+  for (uint32_t n :
+       {0u, 1u, 2u, 3u, 4u, 5u, 6u, 7u, 8u, 9u, 63u, 64u, 65u, 255u, 256u, 257u, 259u, 1023u, 1025u, 5001u, 40003u}) {
     for (int variant = 0; variant < 3; ++variant) {
       SCOPED_TRACE(testing::Message() << "n " << n << " variant " << variant);
       Scene s = make_scene(100 + n, n - n / 4, n / 4, 0.15, 0.4, 0.002);
@@ -354,8 +352,7 @@ TEST(Plane, RefitAndCountMatchABruteForceForEveryCount) {
         for (uint32_t i = 3; i < n; i += 11) s.pts[i].z() = std::numeric_limits<float>::infinity();
       }
       // The hypothesis: the true plane turned 2 deg and lifted 3 mm.
-      const Eigen::Vector3d turned =
-          (Eigen::AngleAxisd(2.0 * kDeg, Eigen::Vector3d(0.6, 0.8, 0.0)) * s.n).normalized();
+      const Eigen::Vector3d turned = (Eigen::AngleAxisd(2.0 * kDeg, Eigen::Vector3d(0.6, 0.8, 0.0)) * s.n).normalized();
       const Vec3 n0 = turned.cast<float>();
       const float d0 = static_cast<float>(s.d + 0.003);
       std::vector<Eigen::Vector3d> in;

@@ -197,8 +197,8 @@ TEST(PlannerInput, PlanarArraysArgumentsAndCounts) {
   const float x[2] = {0.f, kNaN}, y[2] = {0.f, 0.f}, z[2] = {1.f, 1.f};
   for (int k = 0; k < 3; ++k) {
     pl->reset();
-    EXPECT_EQ(pl->add_points_planar(SensorRole::head, k == 0 ? nullptr : x, k == 1 ? nullptr : y,
-                                    k == 2 ? nullptr : z, 2, Pose{}),
+    EXPECT_EQ(pl->add_points_planar(SensorRole::head, k == 0 ? nullptr : x, k == 1 ? nullptr : y, k == 2 ? nullptr : z,
+                                    2, Pose{}),
               Status::invalid_argument)
         << k;
     EXPECT_TRUE(nonempty(pl->last_message())) << k;
@@ -226,9 +226,9 @@ TEST(PlannerInput, PlanarArraysPlanLikeTriples) {
   auto a = make_planner();
   auto b = make_planner();
   ASSERT_EQ(add(*a, pts, pose), Status::ok);
-  ASSERT_EQ(b->add_points_planar(SensorRole::head, xs.data(), ys.data(), zs.data(),
-                                 static_cast<uint32_t>(pts.size()), pose),
-            Status::ok);
+  ASSERT_EQ(
+      b->add_points_planar(SensorRole::head, xs.data(), ys.data(), zs.data(), static_cast<uint32_t>(pts.size()), pose),
+      Status::ok);
   PlanResult ra, rb;
   a->plan(ra);
   b->plan(rb);
@@ -255,117 +255,116 @@ TEST(PlannerInput, PlanarArraysPlanLikeTriples) {
 TEST(PlannerInput, IngestMatchesABruteForceForEveryCountAndInputKind) {
   // Both vector widths where the CPU has the wide one.
   for (const uint32_t lanes : {4u, 0u}) {
-  fg::Planner::set_ingest_lanes(lanes);
-  SCOPED_TRACE(testing::Message() << fg::Planner::ingest_lanes() << " lanes");
-  const Pose pose = look_at(Vec3(0.05f, -0.35f, 0.75f), Vec3(0.5f, 0.02f, 0.0f));
-  const float inf = std::numeric_limits<float>::infinity();
-  // The default range, and one from 0: the sensor's own position is then a point that
-  // passes both filters.
-  for (const float range_min : {PlannerConfig{}.range_min_m, 0.f}) {
-    PlannerConfig cfg;
-    cfg.range_min_m = range_min;
-    const double leaf = cfg.voxel_leaf_m;
-    const Eigen::Vector3d crop_lo(cfg.workspace_centre_x_m - cfg.crop_half_x_m,
-                                  cfg.workspace_centre_y_m - cfg.crop_half_y_m, cfg.crop_min_z_m);
-    const Eigen::Vector3d crop_hi(cfg.workspace_centre_x_m + cfg.crop_half_x_m,
-                                  cfg.workspace_centre_y_m + cfg.crop_half_y_m, cfg.crop_max_z_m);
-    const Eigen::Vector3d origin = crop_lo - Eigen::Vector3d::Constant(2.5 * leaf);
-    std::mt19937 rng(77);
-    std::uniform_real_distribution<double> u(0.0, 1.0);
-    for (uint32_t n : {0u, 1u, 2u, 3u, 4u, 5u, 7u, 63u, 64u, 65u, 127u, 128u, 129u, 250u, 3001u}) {
-      std::vector<Vec3> sensor;
-      Eigen::Vector3d cell_w(0, 0, 0);
-      while (sensor.size() < n) {
-        const double kind = u(rng);
-        if (kind < 0.07) {
-          sensor.push_back(Vec3(kNaN, 0.1f, 0.8f));
-        } else if (kind < 0.1) {
-          sensor.push_back(Vec3(0.f, u(rng) < 0.5 ? inf : -inf, 0.8f));
-        } else if (kind < 0.14) {
-          sensor.push_back(Vec3(0.01f, 0.02f, u(rng) < 0.5 ? 0.1f : 2.5f));  // out of range
-        } else if (kind < 0.18) {
-          sensor.push_back(Vec3(1.2f, 0.f, 1.2f));  // in range, out of the crop box
-        } else if (kind < 0.2) {
-          sensor.push_back(Vec3(0.f, 0.f, 0.f));  // the sensor itself
-        } else {
-          // Near the centre of a cell in a 20 cm cube before the sensor: a new cell, or
-          // the last one again.
-          if (kind < 0.6) {
-            const Eigen::Vector3d w(0.42 + 0.2 * u(rng), -0.08 + 0.2 * u(rng), 0.01 + 0.2 * u(rng));
-            cell_w = origin + ((w - origin) / leaf).array().floor().matrix() * leaf;
+    fg::Planner::set_ingest_lanes(lanes);
+    SCOPED_TRACE(testing::Message() << fg::Planner::ingest_lanes() << " lanes");
+    const Pose pose = look_at(Vec3(0.05f, -0.35f, 0.75f), Vec3(0.5f, 0.02f, 0.0f));
+    const float inf = std::numeric_limits<float>::infinity();
+    // The default range, and one from 0: the sensor's own position is then a point that
+    // passes both filters.
+    for (const float range_min : {PlannerConfig{}.range_min_m, 0.f}) {
+      PlannerConfig cfg;
+      cfg.range_min_m = range_min;
+      const double leaf = cfg.voxel_leaf_m;
+      const Eigen::Vector3d crop_lo(cfg.workspace_centre_x_m - cfg.crop_half_x_m,
+                                    cfg.workspace_centre_y_m - cfg.crop_half_y_m, cfg.crop_min_z_m);
+      const Eigen::Vector3d crop_hi(cfg.workspace_centre_x_m + cfg.crop_half_x_m,
+                                    cfg.workspace_centre_y_m + cfg.crop_half_y_m, cfg.crop_max_z_m);
+      const Eigen::Vector3d origin = crop_lo - Eigen::Vector3d::Constant(2.5 * leaf);
+      std::mt19937 rng(77);
+      std::uniform_real_distribution<double> u(0.0, 1.0);
+      for (uint32_t n : {0u, 1u, 2u, 3u, 4u, 5u, 7u, 63u, 64u, 65u, 127u, 128u, 129u, 250u, 3001u}) {
+        std::vector<Vec3> sensor;
+        Eigen::Vector3d cell_w(0, 0, 0);
+        while (sensor.size() < n) {
+          const double kind = u(rng);
+          if (kind < 0.07) {
+            sensor.push_back(Vec3(kNaN, 0.1f, 0.8f));
+          } else if (kind < 0.1) {
+            sensor.push_back(Vec3(0.f, u(rng) < 0.5 ? inf : -inf, 0.8f));
+          } else if (kind < 0.14) {
+            sensor.push_back(Vec3(0.01f, 0.02f, u(rng) < 0.5 ? 0.1f : 2.5f));  // out of range
+          } else if (kind < 0.18) {
+            sensor.push_back(Vec3(1.2f, 0.f, 1.2f));  // in range, out of the crop box
+          } else if (kind < 0.2) {
+            sensor.push_back(Vec3(0.f, 0.f, 0.f));  // the sensor itself
+          } else {
+            // Near the centre of a cell in a 20 cm cube before the sensor: a new cell, or
+            // the last one again.
+            if (kind < 0.6) {
+              const Eigen::Vector3d w(0.42 + 0.2 * u(rng), -0.08 + 0.2 * u(rng), 0.01 + 0.2 * u(rng));
+              cell_w = origin + ((w - origin) / leaf).array().floor().matrix() * leaf;
+            }
+            const Eigen::Vector3d w =
+                cell_w + Eigen::Vector3d(0.2 + 0.6 * u(rng), 0.2 + 0.6 * u(rng), 0.2 + 0.6 * u(rng)) * leaf;
+            const Eigen::Vector3d s = pose.R.cast<double>().transpose() * (w - pose.t.cast<double>());
+            sensor.push_back(s.cast<float>());
           }
-          const Eigen::Vector3d w =
-              cell_w + Eigen::Vector3d(0.2 + 0.6 * u(rng), 0.2 + 0.6 * u(rng), 0.2 + 0.6 * u(rng)) * leaf;
-          const Eigen::Vector3d s = pose.R.cast<double>().transpose() * (w - pose.t.cast<double>());
-          sensor.push_back(s.cast<float>());
         }
-      }
-      // The brute force, from the float points the planner gets.
-      std::map<std::tuple<int64_t, int64_t, int64_t>, std::pair<Eigen::Vector3d, int>> cells;
-      uint32_t finite = 0, kept = 0;
-      for (const Vec3& s : sensor) {
-        if (!s.allFinite()) continue;
-        ++finite;
-        if (!(s.z() >= cfg.range_min_m && s.z() <= cfg.range_max_m)) continue;
-        const Eigen::Vector3d w = pose.R.cast<double>() * s.cast<double>() + pose.t.cast<double>();
-        if ((w.array() < crop_lo.array()).any() || (w.array() > crop_hi.array()).any()) continue;
-        ++kept;
-        const Eigen::Vector3d c = ((w - origin) / leaf).array().floor();
-        auto& e = cells
-                      .try_emplace({static_cast<int64_t>(c.x()), static_cast<int64_t>(c.y()),
-                                    static_cast<int64_t>(c.z())},
-                                   Eigen::Vector3d::Zero(), 0)
-                      .first->second;
-        e.first += w;
-        e.second += 1;
-      }
-      std::vector<float> xs, ys, zs, padded;
-      planar(sensor, xs, ys, zs);
-      for (const Vec3& s : sensor) padded.insert(padded.end(), {s.x(), s.y(), s.z(), -7.f});
-      if (!padded.empty()) padded.pop_back();  // the last point ends at its z (ASan sees a read past it)
-      for (int input_kind = 0; input_kind < 3; ++input_kind) {
-        SCOPED_TRACE(testing::Message() << n << " points, input kind " << input_kind << ", range from "
-                                        << range_min);
-        auto pl = make_planner(cfg);
-        const Status st = input_kind == 0   ? add(*pl, sensor, pose)
-                          : input_kind == 1 ? pl->add_points(SensorRole::head, padded.data(), n, 16, pose)
-                                            : pl->add_points_planar(SensorRole::head, xs.data(), ys.data(),
-                                                                    zs.data(), n, pose);
-        ASSERT_EQ(st, Status::ok);
-        const fg::VoxelGrid& g = pl->voxels();
-        ASSERT_EQ(g.size(), cells.size());
-        for (uint32_t i = 0; i < g.size(); ++i) {
-          const Eigen::Vector3d c = g.centroid(i).cast<double>();
-          const Eigen::Vector3d k = ((c - origin) / leaf).array().floor();
-          const auto it = cells.find(
-              {static_cast<int64_t>(k.x()), static_cast<int64_t>(k.y()), static_cast<int64_t>(k.z())});
-          ASSERT_NE(it, cells.end()) << "voxel " << i << " lies in a cell the brute force has no point in";
-          const Eigen::Vector3d expect = it->second.first / it->second.second;
-          EXPECT_LT((c - expect).norm(), 2e-6) << "voxel " << i << " of " << it->second.second << " points";
+        // The brute force, from the float points the planner gets.
+        std::map<std::tuple<int64_t, int64_t, int64_t>, std::pair<Eigen::Vector3d, int>> cells;
+        uint32_t finite = 0, kept = 0;
+        for (const Vec3& s : sensor) {
+          if (!s.allFinite()) continue;
+          ++finite;
+          if (!(s.z() >= cfg.range_min_m && s.z() <= cfg.range_max_m)) continue;
+          const Eigen::Vector3d w = pose.R.cast<double>() * s.cast<double>() + pose.t.cast<double>();
+          if ((w.array() < crop_lo.array()).any() || (w.array() > crop_hi.array()).any()) continue;
+          ++kept;
+          const Eigen::Vector3d c = ((w - origin) / leaf).array().floor();
+          auto& e =
+              cells
+                  .try_emplace({static_cast<int64_t>(c.x()), static_cast<int64_t>(c.y()), static_cast<int64_t>(c.z())},
+                               Eigen::Vector3d::Zero(), 0)
+                  .first->second;
+          e.first += w;
+          e.second += 1;
         }
-        // The direction bins: every other point with a positive finite depth, the
-        // nearest per bin.
-        std::vector<uint16_t> sight(fg::kSightBins * fg::kSightBins, 0xFFFFu);
-        uint32_t valid = 0;
-        for (const Vec3& p : sensor) {
-          if (!(p.z() > 0.f && p.z() <= 3.0e38f) || (++valid & 1u) == 0u) continue;
-          const float half = 0.5f * static_cast<float>(fg::kSightBins);
-          const float bu = (p.x() * (1.f / p.z()) + 1.f) * half, bv = (p.y() * (1.f / p.z()) + 1.f) * half;
-          if (!(bu >= 0.f && bv >= 0.f && bu < 2.f * half && bv < 2.f * half)) continue;
-          const float mm = p.z() * 1000.f;
-          const uint16_t d = static_cast<uint16_t>(mm < 65534.f ? static_cast<uint32_t>(mm) : 65534u);
-          uint16_t& b = sight[static_cast<uint32_t>(bv) * fg::kSightBins + static_cast<uint32_t>(bu)];
-          b = std::min(b, d);
+        std::vector<float> xs, ys, zs, padded;
+        planar(sensor, xs, ys, zs);
+        for (const Vec3& s : sensor) padded.insert(padded.end(), {s.x(), s.y(), s.z(), -7.f});
+        if (!padded.empty()) padded.pop_back();  // the last point ends at its z (ASan sees a read past it)
+        for (int input_kind = 0; input_kind < 3; ++input_kind) {
+          SCOPED_TRACE(testing::Message() << n << " points, input kind " << input_kind << ", range from " << range_min);
+          auto pl = make_planner(cfg);
+          const Status st = input_kind == 0 ? add(*pl, sensor, pose)
+                            : input_kind == 1
+                                ? pl->add_points(SensorRole::head, padded.data(), n, 16, pose)
+                                : pl->add_points_planar(SensorRole::head, xs.data(), ys.data(), zs.data(), n, pose);
+          ASSERT_EQ(st, Status::ok);
+          const fg::VoxelGrid& g = pl->voxels();
+          ASSERT_EQ(g.size(), cells.size());
+          for (uint32_t i = 0; i < g.size(); ++i) {
+            const Eigen::Vector3d c = g.centroid(i).cast<double>();
+            const Eigen::Vector3d k = ((c - origin) / leaf).array().floor();
+            const auto it =
+                cells.find({static_cast<int64_t>(k.x()), static_cast<int64_t>(k.y()), static_cast<int64_t>(k.z())});
+            ASSERT_NE(it, cells.end()) << "voxel " << i << " lies in a cell the brute force has no point in";
+            const Eigen::Vector3d expect = it->second.first / it->second.second;
+            EXPECT_LT((c - expect).norm(), 2e-6) << "voxel " << i << " of " << it->second.second << " points";
+          }
+          // The direction bins: every other point with a positive finite depth, the
+          // nearest per bin.
+          std::vector<uint16_t> sight(fg::kSightBins * fg::kSightBins, 0xFFFFu);
+          uint32_t valid = 0;
+          for (const Vec3& p : sensor) {
+            if (!(p.z() > 0.f && p.z() <= 3.0e38f) || (++valid & 1u) == 0u) continue;
+            const float half = 0.5f * static_cast<float>(fg::kSightBins);
+            const float bu = (p.x() * (1.f / p.z()) + 1.f) * half, bv = (p.y() * (1.f / p.z()) + 1.f) * half;
+            if (!(bu >= 0.f && bv >= 0.f && bu < 2.f * half && bv < 2.f * half)) continue;
+            const float mm = p.z() * 1000.f;
+            const uint16_t d = static_cast<uint16_t>(mm < 65534.f ? static_cast<uint32_t>(mm) : 65534u);
+            uint16_t& b = sight[static_cast<uint32_t>(bv) * fg::kSightBins + static_cast<uint32_t>(bu)];
+            b = std::min(b, d);
+          }
+          EXPECT_EQ(std::memcmp(sight.data(), pl->sight_map(SensorRole::head), sight.size() * 2), 0);
+          PlanResult r;
+          pl->plan(r);
+          EXPECT_EQ(r.points.input, n);
+          EXPECT_EQ(r.points.finite, finite);
+          EXPECT_EQ(r.points.after_filter, kept);
         }
-        EXPECT_EQ(std::memcmp(sight.data(), pl->sight_map(SensorRole::head), sight.size() * 2), 0);
-        PlanResult r;
-        pl->plan(r);
-        EXPECT_EQ(r.points.input, n);
-        EXPECT_EQ(r.points.finite, finite);
-        EXPECT_EQ(r.points.after_filter, kept);
       }
     }
-  }
   }
   fg::Planner::set_ingest_lanes(0);
 }
@@ -448,8 +447,8 @@ TEST(PlannerInput, CropShrinksWhenTheCloudNeedsMoreVoxelsThanTheGrid) {
     if (!(w.x() >= c.min_x && w.x() < c.max_x && w.y() >= c.min_y && w.y() < c.max_y)) continue;
     ++kept;
     const Eigen::Vector3d cell = ((w - origin) / leaf).array().floor();
-    const auto key = std::make_tuple(static_cast<int64_t>(cell.x()), static_cast<int64_t>(cell.y()),
-                                     static_cast<int64_t>(cell.z()));
+    const auto key =
+        std::make_tuple(static_cast<int64_t>(cell.x()), static_cast<int64_t>(cell.y()), static_cast<int64_t>(cell.z()));
     const auto it = index.try_emplace(key, sums.size()).first;
     if (it->second == sums.size()) {
       sums.emplace_back(Eigen::Vector3d::Zero(), 0);
@@ -461,7 +460,8 @@ TEST(PlannerInput, CropShrinksWhenTheCloudNeedsMoreVoxelsThanTheGrid) {
   ASSERT_EQ(keys.size(), order.size());
   for (size_t i = 0; i < keys.size(); ++i) {
     const auto& [x, y, z] = order[i];
-    ASSERT_EQ(keys[i], fg::VoxelGrid::pack(static_cast<uint32_t>(x), static_cast<uint32_t>(y), static_cast<uint32_t>(z)))
+    ASSERT_EQ(keys[i],
+              fg::VoxelGrid::pack(static_cast<uint32_t>(x), static_cast<uint32_t>(y), static_cast<uint32_t>(z)))
         << "voxel " << i;
     EXPECT_LT((means[i] - sums[i].first / sums[i].second).norm(), 2e-6) << "voxel " << i;
   }
@@ -545,9 +545,9 @@ void expect_depth_matches_its_points(const std::vector<uint16_t>& depth, uint16_
   auto a = make_planner();
   auto b = make_planner();
   ASSERT_EQ(a->add_depth_image(SensorRole::hand, depth.data(), w, h, k, pose), expect);
-  ASSERT_EQ(b->add_points_planar(SensorRole::hand, xs.data(), ys.data(), zs.data(),
-                                 static_cast<uint32_t>(xs.size()), pose),
-            expect);
+  ASSERT_EQ(
+      b->add_points_planar(SensorRole::hand, xs.data(), ys.data(), zs.data(), static_cast<uint32_t>(xs.size()), pose),
+      expect);
   ASSERT_EQ(a->voxels().size(), b->voxels().size());
   for (uint32_t i = 0; i < a->voxels().size(); ++i) {
     ASSERT_EQ(a->voxels().key(i), b->voxels().key(i)) << i;
@@ -583,9 +583,8 @@ TEST(PlannerInput, DepthImageIsItsPixelsPointsForEveryWidth) {
                              : r == 4          ? 2000
                                                : static_cast<uint16_t>(550 + rng() % 200);
         }
-      expect_depth_matches_its_points(depth, w, h, fg::PinholeIntrinsics{0.8f * w + 1.5f, 0.8f * w + 1.5f,
-                                                                          0.5f * w, 0.5f * h},
-                                      pose, Status::ok);
+      expect_depth_matches_its_points(
+          depth, w, h, fg::PinholeIntrinsics{0.8f * w + 1.5f, 0.8f * w + 1.5f, 0.5f * w, 0.5f * h}, pose, Status::ok);
     }
   }
   // More cells than the grid holds: both refuse the same point and count up to it.
@@ -658,8 +657,7 @@ TEST(PlannerInput, BadPoses) {
     EXPECT_EQ(pl->add_points(SensorRole::head, xyz, 1, 12, c.pose), c.expect) << c.what;
     EXPECT_TRUE(nonempty(pl->last_message())) << c.what;
     const uint16_t depth[4] = {800, 800, 800, 800};
-    EXPECT_EQ(pl->add_depth_image(SensorRole::hand, depth, 2, 2, fg::PinholeIntrinsics{}, c.pose), c.expect)
-        << c.what;
+    EXPECT_EQ(pl->add_depth_image(SensorRole::hand, depth, 2, 2, fg::PinholeIntrinsics{}, c.pose), c.expect) << c.what;
     // A rejected pose does not use up the role.
     EXPECT_EQ(pl->add_points(SensorRole::head, xyz, 1, 12, Pose{}), Status::ok) << c.what;
   }
@@ -852,15 +850,15 @@ TEST(PlannerInput, RangeFilterAndCropBoxCounts) {
   // Identity pose, defaults: depth range [0.3, 1.5] on z, crop x in [-0.1, 1.1],
   // y in [-0.6, 0.6], z in [-0.5, 1.5]. Points well inside / outside each bound.
   std::vector<Vec3> pts = {
-      Vec3(0.5f, 0.f, 1.f),   // kept
+      Vec3(0.5f, 0.f, 1.f),    // kept
       Vec3(0.0f, 0.5f, 0.4f),  // kept
-      Vec3(0.5f, 0.f, 0.2f),  // too near
-      Vec3(0.5f, 0.f, 1.6f),  // too far
-      Vec3(-0.2f, 0.f, 1.f),  // crop x low
-      Vec3(1.2f, 0.f, 1.f),   // crop x high
-      Vec3(0.5f, 0.7f, 1.f),  // crop y high
+      Vec3(0.5f, 0.f, 0.2f),   // too near
+      Vec3(0.5f, 0.f, 1.6f),   // too far
+      Vec3(-0.2f, 0.f, 1.f),   // crop x low
+      Vec3(1.2f, 0.f, 1.f),    // crop x high
+      Vec3(0.5f, 0.7f, 1.f),   // crop y high
       Vec3(0.5f, -0.7f, 1.f),  // crop y low
-      Vec3(kNaN, 0.f, 1.f),   // non-finite
+      Vec3(kNaN, 0.f, 1.f),    // non-finite
   };
   auto pl = make_planner();
   ASSERT_EQ(add(*pl, pts), Status::ok);
@@ -1056,9 +1054,8 @@ TEST(PlannerScene, SphereWiderThanTheOpening) {
   auto pl = make_planner(world_frame_config());
   ASSERT_EQ(add(*pl, pts), Status::ok);
   PlanResult r;
-  EXPECT_EQ(pl->plan(r), Status::no_grasp)
-      << "width " << r.grasp.width << " at " << r.grasp.position.transpose() << " closing "
-      << r.grasp.closing.transpose();
+  EXPECT_EQ(pl->plan(r), Status::no_grasp) << "width " << r.grasp.width << " at " << r.grasp.position.transpose()
+                                           << " closing " << r.grasp.closing.transpose();
   EXPECT_NE(r.reason, NoGraspReason::none);
   EXPECT_TRUE(nonempty(r.message));
   EXPECT_GT(r.points.object, 100u);
@@ -1351,8 +1348,8 @@ TEST(PlannerFriction, RoundSideSeenAtAGrazeKeepsItsGrasp) {
     const float dist = std::fabs(n.dot(g.position - Vec3(0.5f, 0.f, 0.f)));
     const fg::GripperGeometry gg;
     const Vec3 across = g.approach.cross(g.closing);
-    const float reach = 0.5f * gg.finger_width_m * std::fabs(across.dot(n)) +
-                        0.5f * gg.finger_depth_m * std::fabs(g.approach.dot(n));
+    const float reach =
+        0.5f * gg.finger_width_m * std::fabs(across.dot(n)) + 0.5f * gg.finger_depth_m * std::fabs(g.approach.dot(n));
     EXPECT_LE(dist, reach) << "seed " << seed << " approach " << g.approach.transpose() << " closing "
                            << g.closing.transpose() << " at " << g.position.transpose() << " width " << g.width;
   }

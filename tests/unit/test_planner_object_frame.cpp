@@ -52,8 +52,8 @@ std::vector<Vec3> can_seen_from_above(double cx, double cy, double r, double h, 
 std::vector<Vec3> leaning_plate(double cx, double cy, double L, double w, double t, double lean) {
   std::vector<Vec3> pts;
   add_table(pts, cx, cy, 0.5 * w + L * std::sin(lean) + 0.01);
-  const double ax = std::sin(lean), az = std::cos(lean);  // the axis
-  const double nx = std::cos(lean), nz = -std::sin(lean); // the thickness direction
+  const double ax = std::sin(lean), az = std::cos(lean);   // the axis
+  const double nx = std::cos(lean), nz = -std::sin(lean);  // the thickness direction
   for (double s = 0.0; s <= L; s += kStep)
     for (double u = -0.5 * w; u <= 0.5 * w; u += kStep)
       for (double v : {-0.5 * t, 0.5 * t}) pts.push_back(v3(cx + s * ax + v * nx, cy + u, s * az + v * nz + 0.5 * t));
@@ -64,9 +64,9 @@ std::vector<Vec3> leaning_plate(double cx, double cy, double L, double w, double
 Vec3 planned_axis(const std::vector<Vec3>& pts, const PlannerConfig& cfg) {
   auto pl = std::make_unique<fg::Planner>();
   EXPECT_EQ(pl->configure(cfg), Status::ok);
-  EXPECT_EQ(pl->add_points(SensorRole::head, pts.front().data(), static_cast<uint32_t>(pts.size()), sizeof(Vec3),
-                           Pose{}),
-            Status::ok);
+  EXPECT_EQ(
+      pl->add_points(SensorRole::head, pts.front().data(), static_cast<uint32_t>(pts.size()), sizeof(Vec3), Pose{}),
+      Status::ok);
   Pose hand;
   hand.t = v3(0.5, 0.0, 0.7);
   EXPECT_EQ(pl->add_points(SensorRole::hand, nullptr, 0, 12, hand), Status::ok);

@@ -29,7 +29,8 @@ GeneratedScene lying_bat(uint64_t seed) {
 TEST(PlannerPadCorner, BatsWhoseBladeMetAFingerCornerGetGraspsThatHold) {
   const uint64_t seeds[] = {2009, 2047, 2294, 9237, 12142, 47085, 61275};
   // judge_seeds numbers the scenes 1..7; a failure names that number.
-  const JudgedSeeds r = judge_seeds(sizeof(seeds) / sizeof(seeds[0]), [&](uint64_t k) { return lying_bat(seeds[k - 1]); });
+  const JudgedSeeds r =
+      judge_seeds(sizeof(seeds) / sizeof(seeds[0]), [&](uint64_t k) { return lying_bat(seeds[k - 1]); });
   EXPECT_EQ(r.held, r.grasps) << "grasps that do not hold (scene k of the list):" << r.failures;
   EXPECT_GE(r.grasps, 6);
 }

@@ -30,9 +30,9 @@ std::unique_ptr<fg::Planner> planner_with(bool round_flanks, bool round_snap = t
 }
 
 struct Tally {
-  int right = 0;          // holds on the true geometry, width within 1 cm of the true one
-  int widths_short = 0;   // holds, reported width more than 1 cm under the true one
-  std::string answers;    // one line per scene, to compare two runs
+  int right = 0;         // holds on the true geometry, width within 1 cm of the true one
+  int widths_short = 0;  // holds, reported width more than 1 cm under the true one
+  std::string answers;   // one line per scene, to compare two runs
 };
 
 Tally head_alone(fg::Planner& planner, ObjectKind kind, uint64_t first, uint64_t count) {

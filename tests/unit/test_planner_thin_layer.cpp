@@ -30,8 +30,10 @@ struct WallCase {
   ObjectKind kind;
   uint64_t seed;
 };
-constexpr WallCase kWalls[] = {{ObjectKind::can, 60001},      {ObjectKind::can, 60012},
-                               {ObjectKind::wide_box, 60021}, {ObjectKind::wide_box, 60186},
+constexpr WallCase kWalls[] = {{ObjectKind::can, 60001},
+                               {ObjectKind::can, 60012},
+                               {ObjectKind::wide_box, 60021},
+                               {ObjectKind::wide_box, 60186},
                                {ObjectKind::can, 60232}};
 
 TEST(PlannerThinLayer, OneSensorsWallIsNoPlate) {

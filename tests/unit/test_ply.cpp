@@ -45,8 +45,7 @@ struct RemoveTempDir : ::testing::Environment {
     if (temp_created()) std::filesystem::remove_all(temp_dir(), ec);
   }
 };
-[[maybe_unused]] ::testing::Environment* const kRemoveTempDir =
-    ::testing::AddGlobalTestEnvironment(new RemoveTempDir);
+[[maybe_unused]] ::testing::Environment* const kRemoveTempDir = ::testing::AddGlobalTestEnvironment(new RemoveTempDir);
 
 std::vector<uint8_t> bytes_of(const std::string& s) { return std::vector<uint8_t>(s.begin(), s.end()); }
 
@@ -141,16 +140,22 @@ std::vector<uint8_t> binary_with_faces(uint32_t nv, uint32_t nf) {
   std::vector<uint8_t> b = bytes_of(
       "ply\r\nformat binary_little_endian 1.0\ncomment made by hand\nobj_info test\n"
       "element edge 2\nproperty list uint8 int32 idx\nproperty short weight\n"
-      "element vertex " + std::to_string(nv) +
+      "element vertex " +
+      std::to_string(nv) +
       "\nproperty uchar red\nproperty double z\nproperty float nx\nproperty int16 x\n"
       "property list uchar float extra\nproperty float32 y\nproperty uint alpha\n"
-      "element face " + std::to_string(nf) +
+      "element face " +
+      std::to_string(nf) +
       "\nproperty list uchar int vertex_indices\nproperty char flag\n"
       "element empty 1000000000\n"
       "end_header\n");
   // edges
-  put<uint8_t>(b, 2); put<int32_t>(b, 0); put<int32_t>(b, 1); put<int16_t>(b, 5);
-  put<uint8_t>(b, 0); put<int16_t>(b, -5);
+  put<uint8_t>(b, 2);
+  put<int32_t>(b, 0);
+  put<int32_t>(b, 1);
+  put<int16_t>(b, 5);
+  put<uint8_t>(b, 0);
+  put<int16_t>(b, -5);
   // vertices
   for (uint32_t i = 0; i < nv; ++i) {
     put<uint8_t>(b, 200);
@@ -282,8 +287,7 @@ TEST(PlyMalformed, Header) {
   expect_bad("PLY\nformat ascii 1.0\n", "not a PLY file");
   expect_bad("solid cube\nfacet normal 0 0 1\n", "not a PLY file");
   expect_bad("ply\nformat ascii 1.0\n" + kVertexXyz, "no end_header");
-  expect_bad("ply\nformat binary_big_endian 1.0\n" + kVertexXyz + "end_header\n" + std::string(24, '\0'),
-             "big-endian");
+  expect_bad("ply\nformat binary_big_endian 1.0\n" + kVertexXyz + "end_header\n" + std::string(24, '\0'), "big-endian");
   expect_bad("ply\nformat ascii 2.0\n" + kVertexXyz + "end_header\n1 2 3\n4 5 6\n", "version");
   expect_bad("ply\nformat utf8 1.0\n" + kVertexXyz + "end_header\n", "unknown PLY format");
   expect_bad("ply\n" + kVertexXyz + "end_header\n1 2 3\n4 5 6\n", "no format");
@@ -292,15 +296,18 @@ TEST(PlyMalformed, Header) {
              "no property 'z'");
   expect_bad("ply\nformat ascii 1.0\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0\n",
              "no 'vertex' element");
-  expect_bad("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
-             "property list uchar float z\nend_header\n1 2 1 3\n",
-             "is a list");
-  expect_bad("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty half z\n"
-             "end_header\n1 2 3\n",
-             "unknown property type 'half'");
-  expect_bad("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\n"
-             "element face 1\nproperty list float int vertex_indices\nend_header\n1 2 3\n0\n",
-             "integer type");
+  expect_bad(
+      "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+      "property list uchar float z\nend_header\n1 2 1 3\n",
+      "is a list");
+  expect_bad(
+      "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty half z\n"
+      "end_header\n1 2 3\n",
+      "unknown property type 'half'");
+  expect_bad(
+      "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\n"
+      "element face 1\nproperty list float int vertex_indices\nend_header\n1 2 3\n0\n",
+      "integer type");
   expect_bad("ply\nformat ascii 1.0\nelement vertex many\nproperty float x\nend_header\n", "non-numeric");
   expect_bad("ply\nformat ascii 1.0\nelement vertex -3\nproperty float x\nend_header\n", "count '-3'");
   expect_bad("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float x\nend_header\n",
@@ -319,7 +326,8 @@ TEST(PlyMalformed, VertexCountLargerThanData) {
   // ascii: 2 vertices declared, 1 present
   expect_bad("ply\nformat ascii 1.0\n" + kVertexXyz + "end_header\n1 2 3\n", "truncated");
   expect_bad("ply\nformat ascii 1.0\n" + kVertexXyz + "end_header\n1 2 3\n4 5\n", "truncated");
-  expect_bad("ply\nformat ascii 1.0\n" + kVertexXyz + "end_header\n1 2 3\n4 x 6\n", "'x' of property 'y' is not a number");
+  expect_bad("ply\nformat ascii 1.0\n" + kVertexXyz + "end_header\n1 2 3\n4 x 6\n",
+             "'x' of property 'y' is not a number");
   // ten million vertices declared in a 200-byte file: fails before allocating
   for (const char* fmt : {"ascii", "binary_little_endian"}) {
     std::string s = std::string("ply\nformat ") + fmt +
@@ -339,14 +347,18 @@ TEST(PlyMalformed, ListProblems) {
   std::vector<uint8_t> neg = bytes_of(
       "ply\nformat binary_little_endian 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
       "property float z\nelement face 1\nproperty list char int vertex_indices\nend_header\n");
-  put<float>(neg, 1.f); put<float>(neg, 2.f); put<float>(neg, 3.f);
+  put<float>(neg, 1.f);
+  put<float>(neg, 2.f);
+  put<float>(neg, 3.f);
   put<int8_t>(neg, -1);
   expect_bad(neg, "negative count");
   // a huge face count must not hang: it ends with the data
   std::vector<uint8_t> huge = bytes_of(
       "ply\nformat binary_little_endian 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
       "property float z\nelement face 4000000000\nproperty list uchar int vertex_indices\nend_header\n");
-  put<float>(huge, 1.f); put<float>(huge, 2.f); put<float>(huge, 3.f);
+  put<float>(huge, 1.f);
+  put<float>(huge, 2.f);
+  put<float>(huge, 3.f);
   for (int i = 0; i < 10; ++i) put<uint8_t>(huge, 0);
   expect_bad(huge, "'face' declares 4000000000 items");
   // cut each element of the mesh at every byte: always an error, never a crash
@@ -358,12 +370,14 @@ TEST(PlyMalformed, ListProblems) {
     ASSERT_EQ(r.error.rfind("bad.ply: ", 0), 0u) << r.error;
   }
   // ascii list with too few values
-  expect_bad("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\n"
-             "element face 1\nproperty list uchar int vertex_indices\nend_header\n1 2 3\n3 0 1\n",
-             "truncated");
-  expect_bad("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\n"
-             "element face 1\nproperty list uchar int vertex_indices\nend_header\n1 2 3\n-3 0 1\n",
-             "list count '-3'");
+  expect_bad(
+      "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\n"
+      "element face 1\nproperty list uchar int vertex_indices\nend_header\n1 2 3\n3 0 1\n",
+      "truncated");
+  expect_bad(
+      "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\n"
+      "element face 1\nproperty list uchar int vertex_indices\nend_header\n1 2 3\n-3 0 1\n",
+      "list count '-3'");
 }
 
 TEST(PlyMalformed, FilesOnDisk) {
@@ -386,11 +400,12 @@ TEST(PlyMalformed, FilesOnDisk) {
 TEST(PlyFuzz, RandomBytesAndMutations) {
   std::vector<std::vector<uint8_t>> seeds;
   seeds.push_back(binary_with_faces(6, 3));
-  seeds.push_back(bytes_of("ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty uchar q\n"
-                           "property float y\nproperty float z\nelement face 1\n"
-                           "property list uchar int vertex_indices\nend_header\n1 2 3 4\n5 6 7 8\n3 0 1 1\n"));
-  const std::string words[] = {"element", "property", "list", "uchar", "int", "float", "double", "vertex",
-                               "face", "\n", " ", "0", "255", "4294967295", "-1", "end_header\n"};
+  seeds.push_back(
+      bytes_of("ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty uchar q\n"
+               "property float y\nproperty float z\nelement face 1\n"
+               "property list uchar int vertex_indices\nend_header\n1 2 3 4\n5 6 7 8\n3 0 1 1\n"));
+  const std::string words[] = {"element", "property", "list", "uchar", "int", "float",      "double", "vertex",
+                               "face",    "\n",       " ",    "0",     "255", "4294967295", "-1",     "end_header\n"};
   std::mt19937 rng(99);
   for (int it = 0; it < 6000; ++it) {
     std::vector<uint8_t> b;
@@ -407,15 +422,23 @@ TEST(PlyFuzz, RandomBytesAndMutations) {
       for (int e = 0; e < edits && !b.empty(); ++e) {
         const size_t p = rng() % b.size();
         switch (rng() % 5) {
-          case 0: b[p] = static_cast<uint8_t>(rng()); break;
-          case 1: b.resize(p); break;
-          case 2: b.erase(b.begin() + static_cast<std::ptrdiff_t>(p)); break;
+          case 0:
+            b[p] = static_cast<uint8_t>(rng());
+            break;
+          case 1:
+            b.resize(p);
+            break;
+          case 2:
+            b.erase(b.begin() + static_cast<std::ptrdiff_t>(p));
+            break;
           case 3: {
             const std::string& w = words[rng() % std::size(words)];
             b.insert(b.begin() + static_cast<std::ptrdiff_t>(p), w.begin(), w.end());
             break;
           }
-          default: b[p] ^= static_cast<uint8_t>(1u << (rng() % 8)); break;
+          default:
+            b[p] ^= static_cast<uint8_t>(1u << (rng() % 8));
+            break;
         }
       }
     }

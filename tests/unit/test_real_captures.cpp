@@ -89,7 +89,7 @@ fg::Pose scene_pose(const Capture& cap, int object) {
 constexpr int kSceneVariants = 5;
 fg::Pose turned_or_shifted(fg::Pose pose, int variant) {
   const float yaw = variant == 1 ? 0.35f : variant == 2 ? -0.35f : 0.f;
-  const fg::Vec3 shift = variant == 3 ? fg::Vec3(0.04f, 0.03f, 0.f)
+  const fg::Vec3 shift = variant == 3   ? fg::Vec3(0.04f, 0.03f, 0.f)
                          : variant == 4 ? fg::Vec3(-0.03f, -0.04f, 0.f)
                                         : fg::Vec3::Zero();
   const Eigen::Matrix3f turn = Eigen::AngleAxisf(yaw, Eigen::Vector3f::UnitZ()).toRotationMatrix();
@@ -115,8 +115,8 @@ double lowest_finger_z(const fg::Grasp& g, float opening) {
     for (int k = 0; k < 16; ++k) {
       const float sx = (k & 1) ? 1.f : -1.f;
       const float x = sx * (half_x + ((k & 8) ? t : 0.f));
-      const fg::Vec3 c = g.position + g.closing * x + Y * ((k & 2) ? hy : -hy) +
-                         g.approach * ((k & 4) ? half_fd : -half_fd);
+      const fg::Vec3 c =
+          g.position + g.closing * x + Y * ((k & 2) ? hy : -hy) + g.approach * ((k & 4) ? half_fd : -half_fd);
       lowest = std::min(lowest, static_cast<double>(c.z()));
     }
   return lowest;
@@ -137,8 +137,8 @@ Outcome plan_on(const Capture& cap, const fg::Pose& pose, int object, float open
   fg::PlannerConfig cfg;
   cfg.gripper.max_opening_m = opening;
   EXPECT_EQ(planner->configure(cfg), fg::Status::ok);
-  EXPECT_EQ(planner->add_points(fg::SensorRole::head, cap.cloud.xyz.data(),
-                                static_cast<uint32_t>(cap.cloud.size()), 12, pose),
+  EXPECT_EQ(planner->add_points(fg::SensorRole::head, cap.cloud.xyz.data(), static_cast<uint32_t>(cap.cloud.size()), 12,
+                                pose),
             fg::Status::ok);
   Outcome o;
   o.status = planner->plan(o.result);
@@ -155,8 +155,10 @@ Outcome plan_on(const Capture& cap, const fg::Pose& pose, int object, float open
     if (is_table(cap.cloud.labels[i])) mean += w.cast<double>(), ++n;
     if (between_pads(g, w)) {
       const uint32_t label = cap.cloud.labels[i];
-      if (is_object(label, object)) ++o.target_points_between_pads;
-      else ++o.other_points_between_pads;
+      if (is_object(label, object))
+        ++o.target_points_between_pads;
+      else
+        ++o.other_points_between_pads;
       if (label >= 20) ++o.points_between_pads[static_cast<int>(label / 10)];
       if (is_table(label)) ++o.table_points_between_pads;
     }
@@ -261,7 +263,8 @@ TEST(RealCaptures, ObjectsWiderThanTheOpeningGetNoGrasp) {
     EXPECT_GT(width, opening + 0.01);
     EXPECT_LT(width, 0.3);  // one object, not the table
     const Outcome o = plan_on(cap, scene_pose(cap, object), object, opening);
-    EXPECT_EQ(o.status, fg::Status::no_grasp) << "object " << width << " m wide, a grasp of width " << o.result.grasp.width;
+    EXPECT_EQ(o.status, fg::Status::no_grasp)
+        << "object " << width << " m wide, a grasp of width " << o.result.grasp.width;
   }
 }
 // A small box behind a larger one: its top and the upper half of its front face are
@@ -340,8 +343,8 @@ TEST(RealCaptures, EveryLabelledObjectUnderTurnedAndShiftedScenes) {
       const int object = entry.first;
       for (const float opening : {0.085f, 0.14f})
         for (int variant = 0; variant < kSceneVariants; ++variant) {
-          SCOPED_TRACE(std::string(name) + " object " + std::to_string(object) + " opening " +
-                       std::to_string(opening) + " variant " + std::to_string(variant));
+          SCOPED_TRACE(std::string(name) + " object " + std::to_string(object) + " opening " + std::to_string(opening) +
+                       " variant " + std::to_string(variant));
           const fg::Pose pose = turned_or_shifted(scene_pose(cap, object), variant);
           const Outcome o = plan_on(cap, pose, object, opening);
           if (o.status == fg::Status::no_grasp) {
@@ -423,8 +426,9 @@ TEST(RealCaptures, MilkCartonOnTheFloor) {
       fg::PlannerConfig cfg;
       cfg.gripper.max_opening_m = opening;
       ASSERT_EQ(planner->configure(cfg), fg::Status::ok);
-      ASSERT_EQ(planner->add_points(fg::SensorRole::head, scene.xyz.data(), static_cast<uint32_t>(scene.size()), 12, pose),
-                fg::Status::ok);
+      ASSERT_EQ(
+          planner->add_points(fg::SensorRole::head, scene.xyz.data(), static_cast<uint32_t>(scene.size()), 12, pose),
+          fg::Status::ok);
       fg::PlanResult res;
       const fg::Status st = planner->plan(res);
       if (opening < 0.1f && st == fg::Status::no_grasp) {

@@ -3,14 +3,13 @@
 // poses, object boxes, surface points found by ray casting and exact distances), not on
 // what the generator reports; the same seed gives the same scene; classic stays the default.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <map>
 #include <vector>
-
-#include <unistd.h>
 
 #include "sim/grasp_judge.hpp"
 #include "sim/scene_export.hpp"
@@ -59,8 +58,8 @@ double min_distance(const std::vector<V3>& pts, const Object& o) {
 }
 
 struct Gap {
-  double distance = 0.0;    //!< from both sides' surface points: at most a few mm above the truth
-  bool overlap = false;     //!< a surface point of one inside the other (exact sign)
+  double distance = 0.0;  //!< from both sides' surface points: at most a few mm above the truth
+  bool overlap = false;   //!< a surface point of one inside the other (exact sign)
 };
 
 Gap measure_gap(const Object& a, const Object& b) {
@@ -88,8 +87,8 @@ std::vector<std::pair<ObjectKind, uint64_t>> sample_scenes() {
 }
 
 std::string temp_dir(const std::string& name) {
-  const auto d = std::filesystem::temp_directory_path() /
-                 ("fg_test_sim_cell_" + name + "_" + std::to_string(::getpid()));
+  const auto d =
+      std::filesystem::temp_directory_path() / ("fg_test_sim_cell_" + name + "_" + std::to_string(::getpid()));
   std::filesystem::remove_all(d);
   return d.string();
 }
@@ -290,7 +289,8 @@ TEST(SimCell, ExportedSceneReadsBackAndRendersTheSame) {
   EXPECT_EQ(back.distribution, Distribution::cell);
   EXPECT_EQ(back.world.table.albedo, s.world.table.albedo);
   ASSERT_EQ(back.world.objects.size(), s.world.objects.size());
-  for (size_t i = 0; i < s.world.objects.size(); ++i) EXPECT_EQ(back.world.objects[i].albedo, s.world.objects[i].albedo);
+  for (size_t i = 0; i < s.world.objects.size(); ++i)
+    EXPECT_EQ(back.world.objects[i].albedo, s.world.objects[i].albedo);
   EXPECT_TRUE(back.noise.projector_shadow);
   EXPECT_TRUE(back.noise.dark_dropout);
   EXPECT_TRUE(back.noise.steep_dropout);

@@ -17,8 +17,7 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 
 // Advances the clock and ticks the devices together, in steps of dt_us, for total_us.
-void run(SimClock& clock, SimArm* arm, SimGripper* gripper, uint64_t total_us,
-         uint64_t dt_us = 1000) {
+void run(SimClock& clock, SimArm* arm, SimGripper* gripper, uint64_t total_us, uint64_t dt_us = 1000) {
   for (uint64_t t = 0; t < total_us; t += dt_us) {
     clock.advance_us(dt_us);
     if (arm) arm->tick(dt_us * 1e-6);
@@ -333,8 +332,7 @@ TEST(SimGripper, OffCentreBoxStillGivesItsWidth) {
   EXPECT_NEAR(g.width_m(), 0.030, 1e-3);
 
   // Only partly between the pads (the pad edge overlaps it by 5 mm along y): still touched.
-  const World w2 = world_with_box(grasp_centre + V3(0.0, 0.011 + 0.02 - 0.005, 0.0),
-                                  V3(0.015, 0.02, 0.04));
+  const World w2 = world_with_box(grasp_centre + V3(0.0, 0.011 + 0.02 - 0.005, 0.0), V3(0.015, 0.02, 0.04));
   const SdfContactModel model2(w2, [&] { return G; });
   EXPECT_NEAR(model2.contact_width(0.085), 0.030, 1e-6);
 }
@@ -381,8 +379,7 @@ World table_with_box() {
   w.table.y_min = -1.5;
   w.table.y_max = 1.5;
   // 60 x 60 x 100 mm box standing at (0.5, 0): top at z = 0.1.
-  w.objects.push_back(
-      {"box", "box", {Part::box("box", V3(0.03, 0.03, 0.05), Rigid::translation(V3(0.5, 0, 0.05)))}});
+  w.objects.push_back({"box", "box", {Part::box("box", V3(0.03, 0.03, 0.05), Rigid::translation(V3(0.5, 0, 0.05)))}});
   return w;
 }
 
@@ -392,9 +389,7 @@ SimDepthSensorConfig noise_free() {
   return c;
 }
 
-uint16_t pixel(const fg::hal::DepthFrame& f, int u, int v) {
-  return f.depth_mm[static_cast<size_t>(v) * f.width + u];
-}
+uint16_t pixel(const fg::hal::DepthFrame& f, int u, int v) { return f.depth_mm[static_cast<size_t>(v) * f.width + u]; }
 
 }  // namespace
 
@@ -403,7 +398,8 @@ TEST(SimDepthSensor, ReadyOnlyAfterItsLatency) {
   SimClock clock;
   clock.advance_us(5000);
   const Rigid above = look_at(V3(0.5, 0, 1.0), V3(0.5, 0, 0), V3(1, 0, 0));
-  SimDepthSensor sensor(w, clock, [&] { return above; }, noise_free());
+  SimDepthSensor sensor(
+      w, clock, [&] { return above; }, noise_free());
   fg::hal::DepthSensor& s = sensor;
   fg::hal::DepthFrame f;
   EXPECT_EQ(s.poll(f), fg::hal::CaptureState::idle);
@@ -429,7 +425,8 @@ TEST(SimDepthSensor, FailedCaptureReportsFailed) {
   const World w = table_with_box();
   SimClock clock;
   const Rigid above = look_at(V3(0.5, 0, 1.0), V3(0.5, 0, 0), V3(1, 0, 0));
-  SimDepthSensor sensor(w, clock, [&] { return above; }, noise_free());
+  SimDepthSensor sensor(
+      w, clock, [&] { return above; }, noise_free());
   sensor.set_fail_next();
   fg::hal::DepthFrame f;
   ASSERT_EQ(sensor.request_capture(), Status::ok);
@@ -447,7 +444,8 @@ TEST(SimDepthSensor, NonFinitePoseIsAFailedCapture) {
   const World w = table_with_box();
   SimClock clock;
   Rigid pose = look_at(V3(0.5, 0, 1.0), V3(0.5, 0, 0), V3(1, 0, 0));
-  SimDepthSensor sensor(w, clock, [&] { return pose; }, noise_free());
+  SimDepthSensor sensor(
+      w, clock, [&] { return pose; }, noise_free());
   pose.t.x() = NAN;
   fg::hal::DepthFrame f;
   ASSERT_EQ(sensor.request_capture(), Status::ok);
@@ -459,7 +457,8 @@ TEST(SimDepthSensor, BoxSeenFromAboveHasItsTopAtTheRightDepth) {
   const World w = table_with_box();
   SimClock clock;
   const Rigid above = look_at(V3(0.5, 0, 1.0), V3(0.5, 0, 0), V3(1, 0, 0));
-  SimDepthSensor sensor(w, clock, [&] { return above; }, noise_free());
+  SimDepthSensor sensor(
+      w, clock, [&] { return above; }, noise_free());
   fg::hal::DepthFrame f;
   ASSERT_EQ(sensor.request_capture(), Status::ok);
   clock.advance_us(33000);
@@ -481,8 +480,10 @@ TEST(SimDepthSensor, NoisyCapturesAreSeededPerCapture) {
   const Rigid above = look_at(V3(0.5, 0, 1.0), V3(0.5, 0, 0), V3(1, 0, 0));
   SimDepthSensorConfig cfg;  // default noise
   cfg.seed = 7;
-  SimDepthSensor a(w, clock, [&] { return above; }, cfg);
-  SimDepthSensor b(w, clock, [&] { return above; }, cfg);
+  SimDepthSensor a(
+      w, clock, [&] { return above; }, cfg);
+  SimDepthSensor b(
+      w, clock, [&] { return above; }, cfg);
   ASSERT_EQ(a.request_capture(), Status::ok);
   ASSERT_EQ(b.request_capture(), Status::ok);
   EXPECT_EQ(a.last_image().mm, b.last_image().mm);  // same seed, same capture: same image
@@ -509,8 +510,7 @@ TEST(SimDepthSensor, WristSensorFollowsTheArm) {
   run(clock, &arm, nullptr, 33000);
   ASSERT_EQ(sensor.poll(f), fg::hal::CaptureState::ready);
   const std::vector<uint16_t> before(f.depth_mm, f.depth_mm + size_t(f.width) * f.height);
-  EXPECT_LT(max_abs_diff(sensor.last_camera().world_T_sensor, arm.world_T_tool0() * tool0_T_sensor),
-            1e-12);
+  EXPECT_LT(max_abs_diff(sensor.last_camera().world_T_sensor, arm.world_T_tool0() * tool0_T_sensor), 1e-12);
   EXPECT_NEAR(pixel(f, 320, 240), 600, 3);  // the box top, straight below
 
   // Swing the base (the camera moves ~0.15 m sideways); capture again.

@@ -116,8 +116,8 @@ TEST(SimJudge, RejectsPalmThroughTheTable) {
   EXPECT_NEAR(r.max_penetration, 0.01f, 1e-4f);
   // A grasp from below the table.
   const Grasp below = make_grasp(V3(0.5, 0, 0.01), V3(0, 0, 1), V3(1, 0, 0), 0.06);
-  EXPECT_TRUE(starts_with(judge_grasp(world_with(kBox), 0, below, fg::GripperGeometry{}).reason,
-                          "collision_open_pose:table"));
+  EXPECT_TRUE(
+      starts_with(judge_grasp(world_with(kBox), 0, below, fg::GripperGeometry{}).reason, "collision_open_pose:table"));
 }
 
 TEST(SimJudge, RejectsPalmInsideTheObject) {
@@ -161,15 +161,15 @@ TEST(SimJudge, RejectsAnotherObjectBetweenTheFingers) {
   EXPECT_FALSE(r.success);
   EXPECT_EQ(r.reason, "collision_closing:pebble left");
   // Target index 1 (the pebble) with a grasp that never reaches it: a miss.
-  EXPECT_TRUE(starts_with(judge_grasp(w, 1, make_grasp(V3(0.8, 0, 0.1), V3(0, 0, -1), V3(1, 0, 0), 0.02),
-                                      fg::GripperGeometry{}).reason,
-                          "miss"));
+  EXPECT_TRUE(starts_with(
+      judge_grasp(w, 1, make_grasp(V3(0.8, 0, 0.1), V3(0, 0, -1), V3(1, 0, 0), 0.02), fg::GripperGeometry{}).reason,
+      "miss"));
 }
 
 TEST(SimJudge, RejectsMalformedGrasps) {
   const fg::GripperGeometry g;
-  EXPECT_TRUE(starts_with(judge_grasp(world_with(kBox), 0, side_grasp_on_box(0.09), g).reason,
-                          "width_exceeds_opening"));
+  EXPECT_TRUE(
+      starts_with(judge_grasp(world_with(kBox), 0, side_grasp_on_box(0.09), g).reason, "width_exceeds_opening"));
   Grasp skew = side_grasp_on_box();
   skew.closing = fg::Vec3(1, 1, 0).normalized();
   EXPECT_TRUE(starts_with(judge_grasp(world_with(kBox), 0, skew, g).reason, "invalid_grasp"));

@@ -25,8 +25,8 @@ constexpr double kPi = 3.14159265358979323846;
 const std::string kYcbDir = std::string(FG_SHARED_DIR) + "/data/meshes/ycb/";
 
 Rigid random_pose(Rng& rng) {
-  Rigid p = Rigid::rot_z(rng.uniform(0, 2 * kPi)) * Rigid::rot_y(rng.uniform(0, kPi)) *
-            Rigid::rot_x(rng.uniform(0, 2 * kPi));
+  Rigid p =
+      Rigid::rot_z(rng.uniform(0, 2 * kPi)) * Rigid::rot_y(rng.uniform(0, kPi)) * Rigid::rot_x(rng.uniform(0, 2 * kPi));
   p.t = V3(rng.uniform(-0.05, 0.05), rng.uniform(-0.05, 0.05), rng.uniform(-0.05, 0.05));
   return p;
 }
@@ -50,7 +50,9 @@ std::string box_obj(const V3& h, const V3& c = V3::Zero(), const std::string& gr
     s << "v " << c.x() + ((i & 1) ? h.x() : -h.x()) << " " << c.y() + ((i & 2) ? h.y() : -h.y()) << " "
       << c.z() + ((i & 4) ? h.z() : -h.z()) << "\n";
   const int quads[6][4] = {{1, 3, 4, 2}, {5, 6, 8, 7}, {1, 2, 6, 5}, {3, 7, 8, 4}, {1, 5, 7, 3}, {2, 4, 8, 6}};
-  for (const auto& q : quads) s << "f " << q[0] + first - 1 << " " << q[1] + first - 1 << " " << q[2] + first - 1 << " " << q[3] + first - 1 << "\n";
+  for (const auto& q : quads)
+    s << "f " << q[0] + first - 1 << " " << q[1] + first - 1 << " " << q[2] + first - 1 << " " << q[3] + first - 1
+      << "\n";
   return s.str();
 }
 
@@ -218,8 +220,8 @@ TEST(SimMesh, ReadsEveryFaceForm) {
       "f 1/1 2/1 3/1\n"
       "f 1//1 2//1 3//1\n"
       "f 1/1/1 2/1/1 3/1/1\r\n"
-      "f -6 -5 -4\n"           // relative: vertices 1 2 3
-      "f 1 2 3 4\n"            // quad: 2 triangles
+      "f -6 -5 -4\n"                        // relative: vertices 1 2 3
+      "f 1 2 3 4\n"                         // quad: 2 triangles
       "f 1/1/1 2/1/1 3/1/1 4/1/1 5/1/1\n";  // pentagon: 3 triangles
   TriangleMesh m;
   std::string error;
@@ -239,11 +241,12 @@ TEST(SimMesh, ReadsEveryFaceForm) {
 }
 
 TEST(SimMesh, KeepsGroups) {
-  const std::string text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
-                           "o first\nf 1 2 3\n"
-                           "g empty group\n"
-                           "o second part\nf 1 2 4\nf 1 3 4\n"
-                           "o first\nf 2 3 4\n";
+  const std::string text =
+      "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
+      "o first\nf 1 2 3\n"
+      "g empty group\n"
+      "o second part\nf 1 2 4\nf 1 3 4\n"
+      "o first\nf 2 3 4\n";
   TriangleMesh m;
   std::string error;
   ASSERT_TRUE(load_obj_text(text, "groups.obj", m, error)) << error;
@@ -317,8 +320,7 @@ TEST(SimMesh, SurvivesMangledFiles) {
   for (int trial = 0; trial < 300; ++trial) {
     std::string text = original;
     const int edits = 1 + static_cast<int>(rng.index(8));
-    for (int e = 0; e < edits; ++e)
-      text[rng.index(text.size())] = alphabet[rng.index(alphabet.size())];
+    for (int e = 0; e < edits; ++e) text[rng.index(text.size())] = alphabet[rng.index(alphabet.size())];
     TriangleMesh m;
     std::string error;
     if (!load_obj_text(text, "mangled.obj", m, error)) {
@@ -424,7 +426,8 @@ TEST(SimMesh, RayCastsMatchBruteForce) {
       if (!hit) continue;
       ++hits;
       EXPECT_NEAR(t, tb, 1e-9) << file << " ray " << i;
-      const V3 geometric = (vertex(*mesh, tri, 1) - vertex(*mesh, tri, 0)).cross(vertex(*mesh, tri, 2) - vertex(*mesh, tri, 0));
+      const V3 geometric =
+          (vertex(*mesh, tri, 1) - vertex(*mesh, tri, 0)).cross(vertex(*mesh, tri, 2) - vertex(*mesh, tri, 0));
       EXPECT_NEAR(n.dot(geometric.normalized()), 1.0, 1e-9);  // YCB winding is outward
     }
     EXPECT_GT(hits, 60) << file;
@@ -509,8 +512,10 @@ TEST(SimMesh, KindNamesAndTheMeshFolder) {
   ::setenv("FG_MESH_DIR", "/somewhere/else", 1);
   EXPECT_EQ(default_mesh_dir(), "/somewhere/else");
   EXPECT_EQ(SceneOptions{}.mesh_dir, "/somewhere/else");
-  if (old) ::setenv("FG_MESH_DIR", saved.c_str(), 1);
-  else ::unsetenv("FG_MESH_DIR");
+  if (old)
+    ::setenv("FG_MESH_DIR", saved.c_str(), 1);
+  else
+    ::unsetenv("FG_MESH_DIR");
 
   SceneOptions opt;
   opt.mesh_dir = "/nonexistent/meshes";

@@ -1,12 +1,11 @@
 // hal/sim scene generation and export: determinism, the placement and camera rules of every
 // kind, the second object, and the scene folder round trip (scene.json, PCDs, truth.json).
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-
-#include <unistd.h>
 
 #include "io/pcd.hpp"
 #include "io/scene.hpp"
@@ -21,8 +20,7 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 
 std::string temp_dir(const std::string& name) {
-  const auto d = std::filesystem::temp_directory_path() /
-                 ("fg_test_sim_" + name + "_" + std::to_string(::getpid()));
+  const auto d = std::filesystem::temp_directory_path() / ("fg_test_sim_" + name + "_" + std::to_string(::getpid()));
   std::filesystem::remove_all(d);
   return d.string();
 }
@@ -99,7 +97,8 @@ TEST(SimScene, EveryKindFollowsThePlacementRules) {
         for (const Part& p : o2.parts) {
           for (int i = 0; i < 200; ++i) {
             const double th = 2 * kPi * i / 200;
-            const V3 q = p.world_T_shape.t + 0.5 * p.width_along(V3(std::cos(th), std::sin(th), 0)) * V3(std::cos(th), std::sin(th), 0);
+            const V3 q = p.world_T_shape.t +
+                         0.5 * p.width_along(V3(std::cos(th), std::sin(th), 0)) * V3(std::cos(th), std::sin(th), 0);
             EXPECT_GT(t.sdf(q), 0.02);
           }
         }
@@ -116,7 +115,8 @@ TEST(SimScene, SecondObjectRateIsRespected) {
   EXPECT_LT(with, 45);
   SceneOptions none;
   none.second_object_rate = 0.0;
-  for (uint64_t seed = 0; seed < 20; ++seed) EXPECT_EQ(make_scene(ObjectKind::can, seed, none).world.objects.size(), 1u);
+  for (uint64_t seed = 0; seed < 20; ++seed)
+    EXPECT_EQ(make_scene(ObjectKind::can, seed, none).world.objects.size(), 1u);
 }
 
 TEST(SimScene, TheTargetIsSeenByBothCameras) {

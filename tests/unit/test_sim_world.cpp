@@ -15,8 +15,8 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 
 Rigid random_pose(Rng& rng) {
-  Rigid p = Rigid::rot_z(rng.uniform(0, 2 * kPi)) * Rigid::rot_y(rng.uniform(0, kPi)) *
-            Rigid::rot_x(rng.uniform(0, 2 * kPi));
+  Rigid p =
+      Rigid::rot_z(rng.uniform(0, 2 * kPi)) * Rigid::rot_y(rng.uniform(0, kPi)) * Rigid::rot_x(rng.uniform(0, 2 * kPi));
   p.t = V3(rng.uniform(-0.1, 0.1), rng.uniform(-0.1, 0.1), rng.uniform(-0.1, 0.1));
   return p;
 }
@@ -64,7 +64,8 @@ TEST(SimWorld, RayIntersectionMatchesSphereTracing) {
       V3 dir(rng.normal(), rng.normal(), rng.normal());
       dir.normalize();
       const V3 o = part.world_T_shape.t + 0.5 * dir;
-      const V3 aim = part.world_T_shape.t + V3(rng.uniform(-0.08, 0.08), rng.uniform(-0.08, 0.08), rng.uniform(-0.08, 0.08));
+      const V3 aim =
+          part.world_T_shape.t + V3(rng.uniform(-0.08, 0.08), rng.uniform(-0.08, 0.08), rng.uniform(-0.08, 0.08));
       const V3 d = (aim - o).normalized();
       const double scale = rng.uniform(0.5, 3.0);  // non-unit directions must work too
       double ta = 0, tr = 0, closest = 0;

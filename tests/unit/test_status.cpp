@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
+
 #include <cstring>
+
 #include "fg/core/status.hpp"
 
 TEST(Status, EveryValueHasAName) {

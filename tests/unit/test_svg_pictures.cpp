@@ -2,7 +2,6 @@
 // table) is planned, the pictures are written into a temporary folder and checked for
 // well-formed XML and the expected elements; unwritable folders give false and a message.
 #include <gtest/gtest.h>
-
 #include <unistd.h>
 
 #include <cctype>
@@ -75,16 +74,20 @@ size_t count_of(const std::string& s, const std::string& what) {
     const bool closing = x.compare(i, 2, "</") == 0;
     size_t j = i + (closing ? 2 : 1);
     const size_t name_start = j;
-    while (j < x.size() && (std::isalnum(static_cast<unsigned char>(x[j])) || x[j] == '-' || x[j] == ':' || x[j] == '_'))
+    while (j < x.size() &&
+           (std::isalnum(static_cast<unsigned char>(x[j])) || x[j] == '-' || x[j] == ':' || x[j] == '_'))
       ++j;
     const std::string name = x.substr(name_start, j - name_start);
     if (name.empty()) return ::testing::AssertionFailure() << "tag without a name at " << i;
     // Attributes up to '>' (quotes respected).
     char quote = 0;
     while (j < x.size() && (quote != 0 || x[j] != '>')) {
-      if (quote == 0 && (x[j] == '"' || x[j] == '\'')) quote = x[j];
-      else if (quote != 0 && x[j] == quote) quote = 0;
-      else if (quote == 0 && x[j] == '<') return ::testing::AssertionFailure() << "'<' inside tag " << name;
+      if (quote == 0 && (x[j] == '"' || x[j] == '\''))
+        quote = x[j];
+      else if (quote != 0 && x[j] == quote)
+        quote = 0;
+      else if (quote == 0 && x[j] == '<')
+        return ::testing::AssertionFailure() << "'<' inside tag " << name;
       ++j;
     }
     if (j >= x.size()) return ::testing::AssertionFailure() << "unterminated tag " << name;

@@ -159,8 +159,8 @@ TEST(ToolCollision, TheSupportPlaneStopsLowGrasps) {
   EXPECT_EQ(scratch().check(tool, top_down(Vec3(0.5f, 0.f, 0.015f), &table, none)), ToolHit::support_plane);
   // A side grasp 0.02 above the table: the palm (0.025 half width) reaches below it.
   const Vec3 side_pos(0.5f, 0.f, 0.02f);
-  const fg::GraspQuery side{side_pos, Vec3(1.f, 0.f, 0.f), Vec3(0.f, 1.f, 0.f), side_pos - Vec3(0.05f, 0.f, 0.f),
-                            0.05f, &table, nullptr, 0};
+  const fg::GraspQuery side{
+      side_pos, Vec3(1.f, 0.f, 0.f), Vec3(0.f, 1.f, 0.f), side_pos - Vec3(0.05f, 0.f, 0.f), 0.05f, &table, nullptr, 0};
   EXPECT_EQ(scratch().check(tool, side), ToolHit::support_plane);
   // A tilted table (10 deg) is still a table.
   const Vec3 n = Vec3(std::sin(0.1745f), 0.f, std::cos(0.1745f));

@@ -1,8 +1,10 @@
 // UR5 forward kinematics against the URDF facts published in shared/data/README.md
 // (tool0 at q = 0) and against an independent chain built from the URDF joint origins.
 #include <gtest/gtest.h>
+
 #include <Eigen/Geometry>
 #include <random>
+
 #include "fg/robot/ur5.hpp"
 
 namespace {
@@ -12,9 +14,9 @@ Eigen::Isometry3d urdf_tool0(const double q[6]) {
   auto origin = [](double x, double y, double z, double r, double p, double yw) {
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
     T.translation() = Eigen::Vector3d(x, y, z);
-    T.linear() = (Eigen::AngleAxisd(yw, Eigen::Vector3d::UnitZ()) *
-                  Eigen::AngleAxisd(p, Eigen::Vector3d::UnitY()) *
-                  Eigen::AngleAxisd(r, Eigen::Vector3d::UnitX())).toRotationMatrix();
+    T.linear() = (Eigen::AngleAxisd(yw, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(p, Eigen::Vector3d::UnitY()) *
+                  Eigen::AngleAxisd(r, Eigen::Vector3d::UnitX()))
+                     .toRotationMatrix();
     return T;
   };
   auto rot = [](const Eigen::Vector3d& axis, double a) {
@@ -50,7 +52,10 @@ TEST(Ur5Forward, MatchesUrdfChainOnRandomJoints) {
   for (int k = 0; k < 500; ++k) {
     double qd[6];
     float qf[6];
-    for (int i = 0; i < 6; ++i) { qd[i] = U(rng); qf[i] = static_cast<float>(qd[i]); }
+    for (int i = 0; i < 6; ++i) {
+      qd[i] = U(rng);
+      qf[i] = static_cast<float>(qd[i]);
+    }
     fg::Pose T;
     ASSERT_TRUE(fg::robot::ur5_forward(fg::robot::ur5_nominal(), qf, T));
     // Compare with the URDF chain at the same (float-rounded) angles.

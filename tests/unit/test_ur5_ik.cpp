@@ -4,6 +4,7 @@
 // perturbed "calibrated" parameters, and constructed singular / invalid inputs.
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -11,7 +12,6 @@
 #include <sstream>
 #include <string>
 #include <vector>
-#include <Eigen/Geometry>
 
 #include "fg/core/prng.hpp"
 #include "fg/robot/ur5.hpp"
@@ -393,8 +393,7 @@ TEST(Ur5Ik, ChooseNearestPicksRepresentationNearCurrentAndHonoursLimits) {
   const double nan_cur[6] = {0, NAN, 0, 0, 0, 0};
   EXPECT_EQ(fg::robot::choose_nearest(nan_cur, s).status, IkStatus::invalid_argument);
   const double neg_w[6] = {1, 1, -1, 1, 1, 1};
-  EXPECT_EQ(fg::robot::choose_nearest(cur, s, JointLimits{}, neg_w).status,
-            IkStatus::invalid_argument);
+  EXPECT_EQ(fg::robot::choose_nearest(cur, s, JointLimits{}, neg_w).status, IkStatus::invalid_argument);
   JointLimits inverted;
   inverted.lower[2] = 1.0;
   inverted.upper[2] = -1.0;
@@ -615,8 +614,7 @@ TEST(Ur5Ik, StretchedArmGivesStatusNeverNaN) {
   const double zero[6] = {0, 0, 0, 0, 0, 0};
   IkSolutions s;
   ASSERT_EQ(fg::robot::ur5_inverse(p, fk(p, zero), s), IkStatus::singular);
-  EXPECT_EQ(s.singular & (fg::robot::kIkElbow | fg::robot::kIkWrist),
-            fg::robot::kIkElbow | fg::robot::kIkWrist);
+  EXPECT_EQ(s.singular & (fg::robot::kIkElbow | fg::robot::kIkWrist), fg::robot::kIkElbow | fg::robot::kIkWrist);
   EXPECT_TRUE(all_finite(s));
   EXPECT_LT(check_all(p, fk(p, zero), s).m, 1e-6);
   EXPECT_GE(find_solution(s, zero, 1e-5), 0);
@@ -786,10 +784,10 @@ TEST(Ur5Ik, PerturbedParametersAreRefinedOnTheFullForwardKinematics) {
       found += find_solution(s, q, 1e-6) >= 0;
     }
   }
-  std::printf("perturbed: %d poses, solved %d, generating q found %d; %d solutions (mean %.2f), "
-              "%d of them < 1e-9 m and rad; worst %.3g m %.3g rad\n",
-              poses, solved, found, sols, static_cast<double>(sols) / poses, sols_1e9, worst_m,
-              worst_rad);
+  std::printf(
+      "perturbed: %d poses, solved %d, generating q found %d; %d solutions (mean %.2f), "
+      "%d of them < 1e-9 m and rad; worst %.3g m %.3g rad\n",
+      poses, solved, found, sols, static_cast<double>(sols) / poses, sols_1e9, worst_m, worst_rad);
   EXPECT_GE(solved, poses * 995 / 1000);
   EXPECT_GE(found, poses * 95 / 100);
   EXPECT_GE(sols_1e9, sols * 998 / 1000);

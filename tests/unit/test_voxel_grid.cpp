@@ -383,7 +383,8 @@ std::unique_ptr<VoxelGrid> finalized_lattice(std::mt19937& rng, uint32_t want, s
   while (pts.size() < want) {
     const Cell c{4 + 2 * u(rng), 4 + 2 * u(rng), 4 + 2 * u(rng)};
     if (!cells.insert(c).second) continue;
-    pts.push_back(Vec3((static_cast<float>(std::get<0>(c)) + 0.5f) * leaf, (static_cast<float>(std::get<1>(c)) + 0.5f) * leaf,
+    pts.push_back(Vec3((static_cast<float>(std::get<0>(c)) + 0.5f) * leaf,
+                       (static_cast<float>(std::get<1>(c)) + 0.5f) * leaf,
                        (static_cast<float>(std::get<2>(c)) + 0.5f) * leaf));
   }
   auto g = make_grid(Vec3(0.f, 0.f, 0.f), leaf);
@@ -434,8 +435,8 @@ TEST(VoxelGrid, FindAfterFinalizeAndPruningAgreesWithBruteForce) {
   for (auto& k : keep) k = static_cast<uint8_t>(rng() % 16 != 0);
   g->keep_in_index_only(keep.data());
   g->prepare_lookups(keep.data());
-  EXPECT_EQ(g->lookup_filter_on(), 2u * (want - want / 16 - 64) > fg::kVoxelHashSlots ||
-                                       g->table_slots() > VoxelGrid::kSmallTableSlots);
+  EXPECT_EQ(g->lookup_filter_on(),
+            2u * (want - want / 16 - 64) > fg::kVoxelHashSlots || g->table_slots() > VoxelGrid::kSmallTableSlots);
   check_all(&keep);
 }
 
@@ -475,7 +476,7 @@ TEST(VoxelGrid, WideLookupFilterIsExactSettlesMoreAndIsReturned) {
   const double in_wide = check("wide filter");
   EXPECT_LT(in_wide, 0.5 * own) << own;
   EXPECT_LT(in_wide, 0.03) << own;
-  g->prepare_lookups(nullptr);  // back to the grid's own memory
+  g->prepare_lookups(nullptr);                       // back to the grid's own memory
   std::fill(wide.begin(), wide.end(), uint64_t{0});  // a wide filter read now would miss every key
   EXPECT_NE(g->lookup_filter().words, wide.data());
   EXPECT_NEAR(check("own filter again"), own, 1e-12);
@@ -546,8 +547,8 @@ TEST(VoxelGrid, CellsCraftedToCollideAreCapped) {
   const uint32_t slot_bits = static_cast<uint32_t>(std::log2(static_cast<double>(fg::kVoxelHashSlots)));
   // Home slots: one in the table, one whose walks wrap at once, and one whose walks
   // fill the last window of eight slots first (the vector walk then goes on at slot 0).
-  for (const uint32_t home : {fmix(VoxelGrid::pack(10, 10, 10)) >> (32 - slot_bits), fg::kVoxelHashSlots - 3,
-                              fg::kVoxelHashSlots - 8}) {
+  for (const uint32_t home :
+       {fmix(VoxelGrid::pack(10, 10, 10)) >> (32 - slot_bits), fg::kVoxelHashSlots - 3, fg::kVoxelHashSlots - 8}) {
     SCOPED_TRACE(testing::Message() << "home slot " << home);
     const uint32_t want = VoxelGrid::max_probe() + 100;
     std::vector<uint32_t> keys;
@@ -637,14 +638,23 @@ TEST(VoxelGrid, PointsOutsideTheKeyRangeAreInvalid) {
   };
   const float nan = std::numeric_limits<float>::quiet_NaN();
   const float inf = std::numeric_limits<float>::infinity();
-  const Vec3 bad[] = {
-      at(1.5, 100, 100),    at(100, 1.5, 100),    at(100, 100, 1.5),    // within 2 cells of 0
-      at(-10, 100, 100),    at(100, -1e6, 100),   at(100, 100, -3),     // below the origin
-      at(2045.5, 100, 100), at(100, 2045.5, 100), at(100, 100, 1021.5),  // within 2 cells of the top
-      at(4000, 100, 100),   at(100, 100, 1030),   at(1e9, 1e9, 1e9),
-      Vec3(nan, 0.f, 0.f),  Vec3(origin.x() + 0.5f, nan, origin.z() + 0.5f),
-      Vec3(origin.x() + 0.5f, origin.y() + 0.5f, nan), Vec3(inf, origin.y() + 0.5f, origin.z() + 0.5f),
-      Vec3(-inf, -inf, -inf)};
+  const Vec3 bad[] = {at(1.5, 100, 100),
+                      at(100, 1.5, 100),
+                      at(100, 100, 1.5),  // within 2 cells of 0
+                      at(-10, 100, 100),
+                      at(100, -1e6, 100),
+                      at(100, 100, -3),  // below the origin
+                      at(2045.5, 100, 100),
+                      at(100, 2045.5, 100),
+                      at(100, 100, 1021.5),  // within 2 cells of the top
+                      at(4000, 100, 100),
+                      at(100, 100, 1030),
+                      at(1e9, 1e9, 1e9),
+                      Vec3(nan, 0.f, 0.f),
+                      Vec3(origin.x() + 0.5f, nan, origin.z() + 0.5f),
+                      Vec3(origin.x() + 0.5f, origin.y() + 0.5f, nan),
+                      Vec3(inf, origin.y() + 0.5f, origin.z() + 0.5f),
+                      Vec3(-inf, -inf, -inf)};
   for (const Vec3& p : bad) EXPECT_EQ(g->insert(p), Status::invalid_argument) << p.transpose();
   EXPECT_EQ(g->size(), 0u);
   // The extreme cells that are allowed.
@@ -708,13 +718,9 @@ void repeated_point_case(int n) {
   for (int a = 0; a < 3; ++a) EXPECT_NEAR(c[a], p[a], tol) << "axis " << a << ", n = " << n;
 }
 
-TEST(VoxelGrid, MillionIdenticalPointsInOneCell) {
-  repeated_point_case(1000000);
-}
+TEST(VoxelGrid, MillionIdenticalPointsInOneCell) { repeated_point_case(1000000); }
 
-TEST(VoxelGrid, ThreeHundredThousandIdenticalPointsInOneCell) {
-  repeated_point_case(300000);
-}
+TEST(VoxelGrid, ThreeHundredThousandIdenticalPointsInOneCell) { repeated_point_case(300000); }
 
 TEST(VoxelGrid, TenThousandIdenticalPointsInOneCell) { repeated_point_case(10000); }
 

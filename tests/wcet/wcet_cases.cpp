@@ -42,7 +42,7 @@ struct Rng {
   }
   uint32_t below(uint32_t n) { return static_cast<uint32_t>(next() % n); }
   float unit() { return static_cast<float>(next() >> 40) / static_cast<float>(1ull << 24); }  // [0, 1)
-  float sym() { return 2.f * unit() - 1.f; }                                                   // [-1, 1)
+  float sym() { return 2.f * unit() - 1.f; }                                                  // [-1, 1)
 };
 
 // A sensor looking straight down from `pos` (optical z = world -z): its range filter
@@ -64,8 +64,8 @@ struct Grid {
   float leaf = 0.005f;
   int nx = 0, ny = 0, nz = 0;
   Vec3 centre(int i, int j, int k) const {
-    return origin + leaf * Vec3(static_cast<float>(i) + 0.5f, static_cast<float>(j) + 0.5f,
-                                static_cast<float>(k) + 0.5f);
+    return origin +
+           leaf * Vec3(static_cast<float>(i) + 0.5f, static_cast<float>(j) + 0.5f, static_cast<float>(k) + 0.5f);
   }
   int cell_x(float x) const { return static_cast<int>(std::floor((x - origin.x()) / leaf)); }
   int cell_y(float y) const { return static_cast<int>(std::floor((y - origin.y()) / leaf)); }
@@ -83,8 +83,7 @@ struct Grid {
 Grid grid_of(const PlannerConfig& c) {
   Grid g;
   g.leaf = c.voxel_leaf_m;
-  const Vec3 lo(c.workspace_centre_x_m - c.crop_half_x_m, c.workspace_centre_y_m - c.crop_half_y_m,
-                c.crop_min_z_m);
+  const Vec3 lo(c.workspace_centre_x_m - c.crop_half_x_m, c.workspace_centre_y_m - c.crop_half_y_m, c.crop_min_z_m);
   g.origin = lo - Vec3::Constant(2.5f * c.voxel_leaf_m);
   g.nx = static_cast<int>(std::floor(2.f * c.crop_half_x_m / c.voxel_leaf_m + 1e-3f));
   g.ny = static_cast<int>(std::floor(2.f * c.crop_half_y_m / c.voxel_leaf_m + 1e-3f));
@@ -419,7 +418,8 @@ bool all_plane(CaseInput& out, uint32_t points, std::string& err) {
   const Grid& g = b.grid();
   const int avail = std::min(g.x_hi() - g.x_lo(), g.y_hi() - g.y_lo());
   const int layers = static_cast<uint64_t>(2) * avail * avail >= kMaxVoxels ? 2 : 3;
-  const uint32_t cells = static_cast<uint32_t>(std::min<uint64_t>(kMaxVoxels, static_cast<uint64_t>(layers) * avail * avail));
+  const uint32_t cells =
+      static_cast<uint32_t>(std::min<uint64_t>(kMaxVoxels, static_cast<uint64_t>(layers) * avail * avail));
   const int per_layer = static_cast<int>((cells + layers - 1) / layers);
   const int side = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(per_layer))));
   if (side > avail) {
@@ -702,8 +702,8 @@ bool hash_collide(CaseInput& out, uint32_t points, uint32_t cells, std::string& 
     for (int k = b.k_lo(); k <= b.k_hi() && n < cells; ++k)
       for (int j = g.y_lo(); j < g.y_hi() && n < cells; ++j)
         for (int i = g.x_lo(); i < g.x_hi() && n < cells; ++i) {
-          const uint32_t key = VoxelGrid::pack(static_cast<uint32_t>(i), static_cast<uint32_t>(j),
-                                               static_cast<uint32_t>(k));
+          const uint32_t key =
+              VoxelGrid::pack(static_cast<uint32_t>(i), static_cast<uint32_t>(j), static_cast<uint32_t>(k));
           if (slot_of(key) >= window || !t.isolated(i, j, k)) continue;
           if (t.add(static_cast<int>(n & 1u), i, j, k)) ++n;
         }
@@ -730,26 +730,33 @@ const std::vector<CaseInfo>& case_list() {
   static const std::vector<CaseInfo> list = {
       {"typical_example", "all", "the shipped two-sensor example (real capture)", true, false},
       {"typical_box", "all", "hal/sim box on a table, two rendered depth images", true, true},
-      {"own_voxel", "ingest, plane, cluster", "every point in its own voxel: kMaxVoxels cells, cache-missing order", false, true},
+      {"own_voxel", "ingest, plane, cluster", "every point in its own voxel: kMaxVoxels cells, cache-missing order",
+       false, true},
       {"voxel_overflow", "ingest", "kMaxVoxels + 1 distinct cells: the capacity is exceeded", false, true},
       {"one_voxel", "ingest", "every point in one voxel", false, true},
       {"no_plane", "plane, cluster", "no support plane: an object and isolated voxels up to kMaxVoxels", false, true},
       {"all_plane", "plane", "kMaxVoxels voxels, all on the support plane", false, true},
-      {"ransac_max", "plane", "11 near-horizontal layers, no plane accepted, ransac_iterations = kRansacMaxIters", false, true},
+      {"ransac_max", "plane", "11 near-horizontal layers, no plane accepted, ransac_iterations = kRansacMaxIters",
+       false, true},
       {"ransac_default", "plane", "the same layers with the default ransac_iterations", false, true},
       {"hull_degenerate", "xoy", "collinear and duplicate projections: an upright plate one voxel thick", false, true},
       {"object_overflow", "cluster", "a target of kMaxObjectPoints + 1 voxels: the capacity is exceeded", false, true},
       {"views_max", "frame, xoy", "the most viewpoints and scan lines (smallest steps, sphere too wide)", false, false},
-      {"candidates_max", "xoz, select", "kMaxCandidates candidates, each rejected late by the collision scan", false, false},
-      {"fallback_views_max", "cluster, frame, xoy", "views_max's sphere under a fragment target: the fall-back searches both", false, false},
+      {"candidates_max", "xoz, select", "kMaxCandidates candidates, each rejected late by the collision scan", false,
+       false},
+      {"fallback_views_max", "cluster, frame, xoy",
+       "views_max's sphere under a fragment target: the fall-back searches both", false, false},
       {"hash_collide", "ingest, reset", "kMaxVoxels cells colliding in the voxel hash (pathological)", false, false},
       // The reference typical input planned with the options an adversarial case
       // changes: the ratio of that case at the same configuration.
       {"typical_at_ransac_max", "(reference)", "the reference typical input with ransac_max's options", true, false},
-      {"typical_at_hull_degenerate", "(reference)", "the reference typical input with hull_degenerate's options", true, false},
+      {"typical_at_hull_degenerate", "(reference)", "the reference typical input with hull_degenerate's options", true,
+       false},
       {"typical_at_views_max", "(reference)", "the reference typical input with views_max's options", true, false},
-      {"typical_at_candidates_max", "(reference)", "the reference typical input with candidates_max's options", true, false},
-      {"typical_at_fallback_views_max", "(reference)", "the reference typical input with fallback_views_max's options", true, false},
+      {"typical_at_candidates_max", "(reference)", "the reference typical input with candidates_max's options", true,
+       false},
+      {"typical_at_fallback_views_max", "(reference)", "the reference typical input with fallback_views_max's options",
+       true, false},
   };
   return list;
 }
@@ -791,7 +798,8 @@ bool make_case(const std::string& name, uint32_t points, CaseInput& out, std::st
   if (name == "object_overflow") return sphere_case(out, points, true, error);
   if (name == "candidates_max") return candidates_max(out, points, error);
   if (name == "fallback_views_max") return fallback_views_max(out, points, error);
-  if (name == "hash_collide") return hash_collide(out, points, hash_cells == 0 ? kMaxVoxels : std::min(hash_cells, kMaxVoxels), error);
+  if (name == "hash_collide")
+    return hash_collide(out, points, hash_cells == 0 ? kMaxVoxels : std::min(hash_cells, kMaxVoxels), error);
   error = "unknown case " + name;
   return false;
 }

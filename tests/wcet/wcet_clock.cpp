@@ -29,8 +29,8 @@ namespace {
 bool g_ir = false;          // instruction mode
 bool g_collecting = false;  // inside collect_begin() .. collect_end()
 std::string g_prefix;
-uint64_t g_dumps = 0;       // dumps written so far: the next one is PREFIX.<g_dumps + 1>
-uint64_t g_total = 0;       // instructions collected so far
+uint64_t g_dumps = 0;  // dumps written so far: the next one is PREFIX.<g_dumps + 1>
+uint64_t g_total = 0;  // instructions collected so far
 
 // Reads the "summary: <Ir>" line of dump n, then removes the file.
 uint64_t read_dump(uint64_t n) {

@@ -25,7 +25,7 @@ bool valgrind_headers_available();
 //! --callgrind-out-file=PREFIX; the counters of each dump are read back from
 //! PREFIX.<n>. False (with a message) when not under valgrind.
 bool use_instruction_clock(const std::string& dump_prefix, std::string& error);
-bool instruction_clock() ;
+bool instruction_clock();
 
 //! Starts / stops callgrind's collection around the measured calls (no-ops natively).
 void collect_begin();

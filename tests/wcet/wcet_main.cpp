@@ -11,22 +11,21 @@
 // Under valgrind --tool=callgrind --collect-atstart=no, --ir PREFIX counts instructions
 // instead of microseconds (wcet_clock.hpp); --profile only switches collection on around
 // the measured calls (for callgrind_annotate). scripts/wcet.sh drives both.
+#include <pthread.h>
+#include <sys/mman.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
-
-#include <pthread.h>
-#include <sys/mman.h>
-
-#include <functional>
-#include <nlohmann/json.hpp>
 
 #include "fg/core/limits.hpp"
 #include "fg/core/planner.hpp"
@@ -40,8 +39,8 @@
 
 namespace {
 
-using fg::wcet::CaseInput;
 using fg::wcet::CaseInfo;
+using fg::wcet::CaseInput;
 
 constexpr int kStages = static_cast<int>(fg::Stage::count);
 // Report columns: the planner's stages, then the whole public calls.
@@ -49,10 +48,14 @@ enum Extra { kReset = kStages, kAdd, kPlan, kColumns };
 const char* column_name(int c) {
   if (c < kStages) return fg::to_string(static_cast<fg::Stage>(c));
   switch (c) {
-    case kReset: return "reset";
-    case kAdd: return "add";
-    case kPlan: return "plan";
-    default: return "?";
+    case kReset:
+      return "reset";
+    case kAdd:
+      return "add";
+    case kPlan:
+      return "plan";
+    default:
+      return "?";
   }
 }
 
@@ -70,11 +73,11 @@ struct CaseReport {
   std::vector<RunValues> runs;
   uint32_t max_contour = 0, max_lines = 0;  // over all viewpoints (timed mode only)
   bool analysed_views = false;
-  int64_t stack_bytes = -1;                 // measured high-water of reset + add + plan (timed mode)
-  uint32_t hash_max_probe = 0;              // voxel hash: longest displacement from the home slot
+  int64_t stack_bytes = -1;     // measured high-water of reset + add + plan (timed mode)
+  uint32_t hash_max_probe = 0;  // voxel hash: longest displacement from the home slot
   double hash_mean_probe = 0;
-  std::vector<std::string> saturated;       // capacities reached, and what the planner did
-  std::vector<std::string> problems;        // undefined outcomes (smoke failures)
+  std::vector<std::string> saturated;  // capacities reached, and what the planner did
+  std::vector<std::string> problems;   // undefined outcomes (smoke failures)
 };
 
 double now_us() {
@@ -89,8 +92,7 @@ double median(std::vector<double> v) {
 }
 
 fg::Status add_sensor(fg::Planner& p, const fg::wcet::SensorInput& s) {
-  if (s.is_image())
-    return p.add_depth_image(s.role, s.depth.data(), s.width, s.height, s.k, s.pose);
+  if (s.is_image()) return p.add_depth_image(s.role, s.depth.data(), s.width, s.height, s.k, s.pose);
   return p.add_points(s.role, s.xyz.data(), s.points(), 12, s.pose);
 }
 
@@ -145,7 +147,8 @@ void judge(CaseReport& rep) {
     rep.problems.push_back("no message with a non-ok status");
   if (rep.add_status == fg::Status::capacity_exceeded) {
     rep.saturated.push_back("voxels: add_* returned capacity_exceeded, plan() " + std::string(fg::to_string(st)));
-    if (st != fg::Status::capacity_exceeded) rep.problems.push_back("plan after a full grid did not return capacity_exceeded");
+    if (st != fg::Status::capacity_exceeded)
+      rep.problems.push_back("plan after a full grid did not return capacity_exceeded");
   } else if (r.points.voxels == fg::kMaxVoxels) {
     rep.saturated.push_back("voxels: exactly kMaxVoxels, accepted");
   }
@@ -328,9 +331,12 @@ nlohmann::json to_json(const std::vector<CaseReport>& reps, const Options& o) {
 
 std::string number(double v, bool ir) {
   char b[64];
-  if (ir) std::snprintf(b, sizeof b, "%.0f", v);
-  else if (v >= 100) std::snprintf(b, sizeof b, "%.0f", v);
-  else std::snprintf(b, sizeof b, "%.1f", v);
+  if (ir)
+    std::snprintf(b, sizeof b, "%.0f", v);
+  else if (v >= 100)
+    std::snprintf(b, sizeof b, "%.0f", v);
+  else
+    std::snprintf(b, sizeof b, "%.1f", v);
   return b;
 }
 
@@ -375,7 +381,8 @@ std::string table(const std::vector<CaseReport>& reps, const Options& o, bool ma
       for (const RunValues& rv : r.runs) v.push_back(rv.v[c]);
       const double med = median(v), mx = v.empty() ? 0 : *std::max_element(v.begin(), v.end());
       const std::string cell = (o.once || v.size() == 1) ? number(med, ir) : number(med, ir) + " / " + number(mx, ir);
-      if (markdown) out << ' ' << cell << " |";
+      if (markdown)
+        out << ' ' << cell << " |";
       else {
         std::snprintf(b, sizeof b, " %17s", cell.c_str());
         out << b;
@@ -417,18 +424,30 @@ int main(int argc, char** argv) {
       }
       return argv[++i];
     };
-    if (a == "--runs") o.runs = std::max(1, std::atoi(next().c_str()));
-    else if (a == "--case") o.cases = split(next());
-    else if (a == "--once") o.once = true;
-    else if (a == "--ir") o.ir_prefix = next(), o.once = true;
-    else if (a == "--profile") o.profile = true, o.once = true;
-    else if (a == "--json") o.json_path = next();
-    else if (a == "--markdown") o.md_path = next();
-    else if (a == "--points") o.points = static_cast<uint32_t>(std::strtoul(next().c_str(), nullptr, 10));
-    else if (a == "--hash-cells") o.hash_cells = static_cast<uint32_t>(std::strtoul(next().c_str(), nullptr, 10));
-    else if (a == "--smoke") o.smoke = true;
-    else if (a == "--no-warmup") o.warmup = false;
-    else if (a == "--quiet") o.quiet = true;
+    if (a == "--runs")
+      o.runs = std::max(1, std::atoi(next().c_str()));
+    else if (a == "--case")
+      o.cases = split(next());
+    else if (a == "--once")
+      o.once = true;
+    else if (a == "--ir")
+      o.ir_prefix = next(), o.once = true;
+    else if (a == "--profile")
+      o.profile = true, o.once = true;
+    else if (a == "--json")
+      o.json_path = next();
+    else if (a == "--markdown")
+      o.md_path = next();
+    else if (a == "--points")
+      o.points = static_cast<uint32_t>(std::strtoul(next().c_str(), nullptr, 10));
+    else if (a == "--hash-cells")
+      o.hash_cells = static_cast<uint32_t>(std::strtoul(next().c_str(), nullptr, 10));
+    else if (a == "--smoke")
+      o.smoke = true;
+    else if (a == "--no-warmup")
+      o.warmup = false;
+    else if (a == "--quiet")
+      o.quiet = true;
     else if (a == "--list") {
       for (const CaseInfo& c : fg::wcet::case_list())
         std::printf("%-16s %-22s %s%s\n", c.name, c.targets, c.what, c.typical ? " [typical]" : "");
@@ -453,8 +472,8 @@ int main(int argc, char** argv) {
   }
   std::vector<const CaseInfo*> todo;
   for (const CaseInfo& c : fg::wcet::case_list()) {
-    const bool wanted = o.cases.empty() ? (!o.smoke || c.smoke)
-                                        : std::find(o.cases.begin(), o.cases.end(), c.name) != o.cases.end();
+    const bool wanted =
+        o.cases.empty() ? (!o.smoke || c.smoke) : std::find(o.cases.begin(), o.cases.end(), c.name) != o.cases.end();
     if (wanted) todo.push_back(&c);
   }
   for (const std::string& n : o.cases) {
@@ -530,7 +549,9 @@ int main(int argc, char** argv) {
     if (!rep.problems.empty()) failed = true;
     if (!o.quiet) {
       std::printf("  %-16s %s%s", info->name, status_text(rep).c_str(),
-                  rep.add_status != fg::Status::ok ? (std::string(" (add: ") + fg::to_string(rep.add_status) + ")").c_str() : "");
+                  rep.add_status != fg::Status::ok
+                      ? (std::string(" (add: ") + fg::to_string(rep.add_status) + ")").c_str()
+                      : "");
       for (const std::string& s : rep.saturated) std::printf("; %s", s.c_str());
       for (const std::string& s : rep.problems) std::printf("; PROBLEM: %s", s.c_str());
       std::printf("\n");

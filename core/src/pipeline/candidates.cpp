@@ -37,8 +37,8 @@ Status trace_silhouette(const CandidateContext& ctx, const ViewFrame& f, ViewWor
     ymax = std::max(ymax, out.contour[i].y);
   }
   float delta = cfg.scan_delta_m;
-  out.n_lines = build_scan_lines(out.contour, out.n_contour, ymin, ymax, cfg.scan_delta_m, out.lines, kMaxScanLines,
-                                 delta);
+  out.n_lines =
+      build_scan_lines(out.contour, out.n_contour, ymin, ymax, cfg.scan_delta_m, out.lines, kMaxScanLines, delta);
   mark_graspable(out.lines, out.n_lines, cfg.gripper.min_opening_m, cfg.gripper.max_opening_m - cfg.width_margin_m);
   // k = ceil(finger_width / delta) lines per window (delta may have grown to fit).
   uint32_t k = static_cast<uint32_t>(std::ceil(cfg.gripper.finger_width_m / delta - 1e-4f));
@@ -139,9 +139,12 @@ bool xoz_candidate(const CandidateContext& ctx, const ViewFrame& f, const SideFi
         for (float zz : zs) {
           const float h0 = h_o + nx * xx + ny * yy + nz * zz - cfg.table_clearance_m;
           // need h0 + nz * pos_z >= 0
-          if (nz < -1e-6f) hi = std::min(hi, h0 / -nz);
-          else if (nz > 1e-6f) lo = std::max(lo, -h0 / nz);
-          else if (h0 < 0.f) return false;
+          if (nz < -1e-6f)
+            hi = std::min(hi, h0 / -nz);
+          else if (nz > 1e-6f)
+            lo = std::max(lo, -h0 / nz);
+          else if (h0 < 0.f)
+            return false;
         }
     pos_z = std::min(pos_z, hi);
     if (pos_z < lo) return false;
@@ -210,8 +213,8 @@ bool xoz_candidate(const CandidateContext& ctx, const ViewFrame& f, const SideFi
   constexpr double kMinWeight = 1e-3;
   const double ml = wl > kMinWeight ? wzl / wl : zl / nl, mr = wr > kMinWeight ? wzr / wr : zr / nr;
   c.dz = static_cast<float>(std::fabs(ml - mr));
-  c.sides_in_cone = cfg.friction_mu <= 0.f ||
-                    (std::fabs(w.a_left) <= cfg.friction_mu && std::fabs(w.a_right) <= cfg.friction_mu);
+  c.sides_in_cone =
+      cfg.friction_mu <= 0.f || (std::fabs(w.a_left) <= cfg.friction_mu && std::fabs(w.a_right) <= cfg.friction_mu);
   c.width = width;
   c.beta = w.beta;
   c.balanced = w.beta <= cfg.beta_max_rad;

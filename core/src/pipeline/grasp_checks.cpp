@@ -1,6 +1,8 @@
 // Stage F: the checks of one candidate grasp (grasp_checks.hpp; algorithm.md F and G,
 // docs/method.md): support plane, swept collision, the target's local hull and the
 // space under it, visibility and the friction cone of the contact normals.
+#include "fg/core/pipeline/grasp_checks.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -10,23 +12,32 @@
 #include "fg/core/gjk.hpp"
 #include "fg/core/hull.hpp"
 #include "fg/core/near_list.hpp"
-#include "fg/core/pipeline/grasp_checks.hpp"
 #include "fg/core/segment_box.hpp"
 
 namespace fg {
 
 const char* to_string(CheckId id) {
   switch (id) {
-    case CheckId::support_plane: return "support_plane";
-    case CheckId::swept_collision: return "swept_collision";
-    case CheckId::local_hull: return "local_hull";
-    case CheckId::under_target: return "under_target";
-    case CheckId::unknown_space: return "unknown_space";
-    case CheckId::unseen_side: return "unseen_side";
-    case CheckId::friction_cone: return "friction_cone";
-    case CheckId::robot_collision: return "robot_collision";
-    case CheckId::robot_reach: return "robot_reach";
-    case CheckId::count: break;
+    case CheckId::support_plane:
+      return "support_plane";
+    case CheckId::swept_collision:
+      return "swept_collision";
+    case CheckId::local_hull:
+      return "local_hull";
+    case CheckId::under_target:
+      return "under_target";
+    case CheckId::unknown_space:
+      return "unknown_space";
+    case CheckId::unseen_side:
+      return "unseen_side";
+    case CheckId::friction_cone:
+      return "friction_cone";
+    case CheckId::robot_collision:
+      return "robot_collision";
+    case CheckId::robot_reach:
+      return "robot_reach";
+    case CheckId::count:
+      break;
   }
   return "unknown";
 }
@@ -36,10 +47,14 @@ const char* margin_unit(CheckId id) {
     case CheckId::support_plane:
     case CheckId::swept_collision:
     case CheckId::local_hull:
-    case CheckId::under_target: return "m";
-    case CheckId::unknown_space: return "share";
-    case CheckId::friction_cone: return "deg";
-    default: return "";
+    case CheckId::under_target:
+      return "m";
+    case CheckId::unknown_space:
+      return "share";
+    case CheckId::friction_cone:
+      return "deg";
+    default:
+      return "";
   }
 }
 
@@ -168,8 +183,9 @@ void gripper_boxes(const PlannerConfig& cfg, Box out[3]) {
   const float back = g.finger_depth_m + cfg.pregrasp_clearance_m;  // approach stroke
   out[0] = {-half_open - t, -half_open, -0.5f * g.finger_width_m, 0.5f * g.finger_width_m, -half_fd - back, half_fd};
   out[1] = {half_open, half_open + t, -0.5f * g.finger_width_m, 0.5f * g.finger_width_m, -half_fd - back, half_fd};
-  out[2] = {-half_open - t, half_open + t, -0.5f * g.palm_width_m, 0.5f * g.palm_width_m,
-            -half_fd - g.palm_depth_m - back, -half_fd};
+  out[2] = {
+      -half_open - t, half_open + t, -0.5f * g.palm_width_m, 0.5f * g.palm_width_m, -half_fd - g.palm_depth_m - back,
+      -half_fd};
 }
 }  // namespace
 
@@ -337,8 +353,8 @@ CheckVerdict GraspChecks::evaluate(const Candidate& c, bool first_pass) {
   // Support plane: every corner above it.
   for (const Box& b : boxes)
     for (int k = 0; k < 8; ++k) {
-      const Vec3 p = c.position + f.X * ((k & 1) ? b.x1 : b.x0) + f.Y * ((k & 2) ? b.y1 : b.y0) +
-                     f.Z * ((k & 4) ? b.z1 : b.z0);
+      const Vec3 p =
+          c.position + f.X * ((k & 1) ? b.x1 : b.x0) + f.Y * ((k & 2) ? b.y1 : b.y0) + f.Z * ((k & 4) ? b.z1 : b.z0);
       if (support_.plane.height(p) < cfg_.table_clearance_m - 1e-4f) return CheckVerdict::fail(CheckId::support_plane);
     }
   // Every voxel that is not table (the target and its neighbours) stays out of the
@@ -397,8 +413,7 @@ CheckVerdict GraspChecks::evaluate(const Candidate& c, bool first_pass) {
 // facing the approach are what the pads slide along, not what they squeeze (a side
 // the sensors did not see leaves only its front edge in the band). Per side: how many,
 // how many inside the friction cone, and the sum of the outward normals.
-void GraspChecks::contact_normal_stats(const Vec3& pos, const ViewFrame& f, float width,
-                                   ContactNormalStats& st) {
+void GraspChecks::contact_normal_stats(const Vec3& pos, const ViewFrame& f, float width, ContactNormalStats& st) {
   const GripperGeometry& g = cfg_.gripper;
   const float cos_cone = std::cos(std::atan(cfg_.friction_mu));
   st = ContactNormalStats{};
@@ -408,14 +423,17 @@ void GraspChecks::contact_normal_stats(const Vec3& pos, const ViewFrame& f, floa
     const float x = f.X.dot(d), y = f.Y.dot(d), z = f.Z.dot(d);
     if (std::fabs(y) > 0.5f * g.finger_width_m || std::fabs(z) > 0.5f * g.finger_depth_m) continue;
     int side = -1;
-    if (x <= -0.5f * width + cfg_.contact_band_m) side = 0;
-    else if (x >= 0.5f * width - cfg_.contact_band_m) side = 1;
+    if (x <= -0.5f * width + cfg_.contact_band_m)
+      side = 0;
+    else if (x >= 0.5f * width - cfg_.contact_band_m)
+      side = 1;
     if (side < 0) continue;
     st.z_first[side] = std::min(st.z_first[side], z);
     if (support_.found) st.top[side] = std::max(st.top[side], support_.plane.height(object_[i]));
     Vec3 nrm;
     if (!normal_at(i, nrm)) continue;
-    if (support_.found && std::fabs(nrm.dot(support_.plane.n)) > kFrontFacingCos * support_.plane.n.norm()) ++st.level[side];
+    if (support_.found && std::fabs(nrm.dot(support_.plane.n)) > kFrontFacingCos * support_.plane.n.norm())
+      ++st.level[side];
     if (std::fabs(nrm.dot(f.Z)) > kFrontFacingCos) continue;
     const float along = nrm.dot(f.X);
     ++st.total[side];
@@ -432,8 +450,7 @@ bool GraspChecks::refine_closing(Candidate& c) {
   contact_normal_stats(c.position, ViewFrame{c.X, c.Y, c.Z}, c.width, st);
   if (st.total[0] < 3 || st.total[1] < 3) return false;
   // Along the mean outward normals: from the left contact's towards the right's.
-  Vec3 x = st.outward_sum[1] / static_cast<float>(st.total[1]) -
-           st.outward_sum[0] / static_cast<float>(st.total[0]);
+  Vec3 x = st.outward_sum[1] / static_cast<float>(st.total[1]) - st.outward_sum[0] / static_cast<float>(st.total[0]);
   x -= c.Z * c.Z.dot(x);
   const float len = x.norm();
   if (!(len > 1e-6f)) return false;
@@ -445,8 +462,7 @@ bool GraspChecks::refine_closing(Candidate& c) {
   const uint32_t n = object_.size();
   for (uint32_t i = 0; i < n; ++i) {
     const Vec3 d = object_[i] - c.position;
-    if (std::fabs(y.dot(d)) > 0.5f * g.finger_width_m || std::fabs(c.Z.dot(d)) > 0.5f * g.finger_depth_m)
-      continue;
+    if (std::fabs(y.dot(d)) > 0.5f * g.finger_width_m || std::fabs(c.Z.dot(d)) > 0.5f * g.finger_depth_m) continue;
     const float px = x.dot(d);
     xmin = std::min(xmin, px);
     xmax = std::max(xmax, px);
@@ -471,8 +487,7 @@ bool GraspChecks::fingers_clear_of_hull(const Vec3& pos, const ViewFrame& f, flo
   for (uint32_t i = 0; i < n; ++i) {
     const Vec3 d = object_[i] - pos;
     const Vec3 q(f.X.dot(d), f.Y.dot(d), f.Z.dot(d));
-    if (std::fabs(q.y()) <= hy + m && std::fabs(q.z()) <= hz + m &&
-        std::fabs(q.x()) <= half_open + t + m)
+    if (std::fabs(q.y()) <= hy + m && std::fabs(q.z()) <= hz + m && std::fabs(q.x()) <= half_open + t + m)
       local_[n_local++] = q;
   }
   if (n_local == 0) return true;
@@ -630,8 +645,7 @@ int GraspChecks::fingers_in_seen_space(const Vec3& pos, const ViewFrame& f, floa
   if (hidden_share != nullptr) *hidden_share = static_cast<float>(hidden) / static_cast<float>(total);
   const bool one_finger = partly_hidden == 1u || partly_hidden == 2u;
   const bool top_down = straight_down(f.Z);
-  if (static_cast<float>(hidden) > kMaxHiddenShare * static_cast<float>(total) && !(one_finger && top_down))
-    return 2;
+  if (static_cast<float>(hidden) > kMaxHiddenShare * static_cast<float>(total) && !(one_finger && top_down)) return 2;
   return partly_hidden != 0 ? 1 : 0;
 }
 
@@ -858,8 +872,7 @@ bool GraspChecks::normal_at(uint32_t oi, Vec3& nrm) {
   for (int32_t dz = -1; dz <= 1; ++dz)
     for (int32_t dy = -1; dy <= 1; ++dy)
       for (int32_t dx = -1; dx <= 1; ++dx) {
-        const uint32_t j = grid_.find(VoxelGrid::pack(static_cast<uint32_t>(x + dx),
-                                                      static_cast<uint32_t>(y + dy),
+        const uint32_t j = grid_.find(VoxelGrid::pack(static_cast<uint32_t>(x + dx), static_cast<uint32_t>(y + dy),
                                                       static_cast<uint32_t>(z + dz)));
         if (j != VoxelGrid::kNone && state_[j] == kVoxelTarget) pts[m++] = grid_.centroid(j);
       }
@@ -905,7 +918,7 @@ void GraspChecks::footprint_extremes(const Vec3& pos, const ViewFrame& f, float 
 // less than kTiltFitSpread of depth between them. near_face[s] and edge_face[s] are the
 // 1 - cos(tilt) of the face beside an edge found near the extreme (-1: none found).
 void GraspChecks::contact_tilt(const Vec3& pos, const ViewFrame& f, float one_minus_cos[2], bool valid[2], bool flat[2],
-                           float near_face[2], float edge_face[2]) {
+                               float near_face[2], float edge_face[2]) {
   const GripperGeometry& g = cfg_.gripper;
   const uint32_t n = object_.size();
   float ext[2];  // the sides' extremes in the footprint (x)
@@ -1140,8 +1153,10 @@ float largest_clear_growth(const Clear& clear, float deepest, float cap) {
   float lo = -deepest, hi = cap;
   for (int i = 0; i < 14; ++i) {
     const float mid = 0.5f * (lo + hi);
-    if (clear(mid)) lo = mid;
-    else hi = mid;
+    if (clear(mid))
+      lo = mid;
+    else
+      hi = mid;
   }
   return lo;
 }
@@ -1252,8 +1267,8 @@ void GraspChecks::margins(const Candidate& c, CheckMargins& out) {
   float lowest = std::numeric_limits<float>::infinity();
   for (const Box& b : boxes)
     for (int k = 0; k < 8; ++k) {
-      const Vec3 p = c.position + f.X * ((k & 1) ? b.x1 : b.x0) + f.Y * ((k & 2) ? b.y1 : b.y0) +
-                     f.Z * ((k & 4) ? b.z1 : b.z0);
+      const Vec3 p =
+          c.position + f.X * ((k & 1) ? b.x1 : b.x0) + f.Y * ((k & 2) ? b.y1 : b.y0) + f.Z * ((k & 4) ? b.z1 : b.z0);
       lowest = std::min(lowest, support_.plane.height(p));
     }
   out.value[static_cast<uint32_t>(CheckId::support_plane)] = lowest - cfg_.table_clearance_m;
@@ -1262,13 +1277,13 @@ void GraspChecks::margins(const Candidate& c, CheckMargins& out) {
   const GripperGeometry& g = cfg_.gripper;
   const float half_thinnest = 0.5f * std::min(g.finger_thickness_m, std::min(g.finger_width_m, g.finger_depth_m));
   const float tol = cfg_.collision_tolerance_m, half_leaf = 0.5f * cfg_.voxel_leaf_m;
-  out.value[static_cast<uint32_t>(CheckId::local_hull)] = largest_clear_growth(
-      [&](float grow) { return fingers_clear_of_hull(c.position, f, grow); },
-      std::max(0.f, 0.9f * half_thinnest - tol), kHullNeighbourhood);
+  out.value[static_cast<uint32_t>(CheckId::local_hull)] =
+      largest_clear_growth([&](float grow) { return fingers_clear_of_hull(c.position, f, grow); },
+                           std::max(0.f, 0.9f * half_thinnest - tol), kHullNeighbourhood);
   if (footprint_applies(f, c.width))
-    out.value[static_cast<uint32_t>(CheckId::under_target)] = largest_clear_growth(
-        [&](float grow) { return fingers_clear_of_footprint(c.position, f, c.width, grow); },
-        std::max(0.f, 0.9f * half_thinnest - half_leaf), cfg_.voxel_leaf_m);
+    out.value[static_cast<uint32_t>(CheckId::under_target)] =
+        largest_clear_growth([&](float grow) { return fingers_clear_of_footprint(c.position, f, c.width, grow); },
+                             std::max(0.f, 0.9f * half_thinnest - half_leaf), cfg_.voxel_leaf_m);
   uint32_t hidden_sides = 0;
   float hidden_share = 0.f;
   (void)fingers_in_seen_space(c.position, f, c.width, hidden_sides, &hidden_share);

@@ -153,8 +153,8 @@ bool GraspChecks::grazed_round_body(const Candidate& c, Candidate& round) {
   // as the depth rule lets the palm go; the support plane's bound is the checks'
   // (first_failed_check tests every corner).
   const float reach = half_fd - kReachMargin;
-  const float shift = std::max(
-      0.f, std::min(cz - reach, z_first_palm + half_fd - cfg_.palm_clearance_m - kShiftPalmMargin));
+  const float shift =
+      std::max(0.f, std::min(cz - reach, z_first_palm + half_fd - cfg_.palm_clearance_m - kShiftPalmMargin));
   if (cz - shift < -reach) return false;
   const float past_tips = std::max(0.f, cz - shift - reach);
   const float max_tilt = std::atan(cfg_.friction_mu) - kTipTiltMargin;

@@ -30,8 +30,7 @@ Vec3 orthogonal_from(const Vec3& axis, const Vec3& hint) {
   return Vec3::UnitY();
 }
 
-bool build_object_frame(const PointSpan& pts, const SensorViews& sensors, const PlannerConfig& cfg,
-                        ObjectFrame& out) {
+bool build_object_frame(const PointSpan& pts, const SensorViews& sensors, const PlannerConfig& cfg, ObjectFrame& out) {
   Vec3 evals;
   Mat3 evecs;
   if (!pca(pts.data(), pts.size(), out.centroid, evals, evecs)) return false;

@@ -51,14 +51,22 @@ CheckVerdict Selection::judge(Candidate& c, bool first, GraspChecks& checks, Gra
   // Then the check of the layers above (robot: inverse kinematics, the whole tool).
   if (verdict.passed() && robot != nullptr) {
     const Vec3 z = c.Z.normalized();
-    const GraspQuery q{c.position, z, c.X.normalized(),
+    const GraspQuery q{c.position,
+                       z,
+                       c.X.normalized(),
                        c.position - z * (cfg.gripper.finger_depth_m + cfg.pregrasp_clearance_m),
-                       c.width, scene.support.found ? &scene.support.plane : nullptr, &scene.object[0],
-                       scene.object.size(), scene.grid.centroids(), scene.state, scene.grid.size()};
+                       c.width,
+                       scene.support.found ? &scene.support.plane : nullptr,
+                       &scene.object[0],
+                       scene.object.size(),
+                       scene.grid.centroids(),
+                       scene.state,
+                       scene.grid.size()};
     const GraspVerdict v = robot->check(q);
     if (v == GraspVerdict::collision) verdict = CheckVerdict::fail(CheckId::robot_collision);
     // An unknown verdict never passes.
-    else if (v != GraspVerdict::pass) verdict = CheckVerdict::fail(CheckId::robot_reach);
+    else if (v != GraspVerdict::pass)
+      verdict = CheckVerdict::fail(CheckId::robot_reach);
   }
   return verdict;
 }
@@ -92,8 +100,10 @@ uint32_t Selection::first_pass(CandidateList& list, uint32_t first, GraspChecks&
     --checks_left_;
     const CheckVerdict v = judge(c, true, checks, robot);
     if (v.passed()) return order_[i];
-    if (v.outcome == CheckVerdict::Outcome::wait) deferred_[n_deferred_++] = order_[i];
-    else ++rejected.by_check[static_cast<uint32_t>(v.check)];
+    if (v.outcome == CheckVerdict::Outcome::wait)
+      deferred_[n_deferred_++] = order_[i];
+    else
+      ++rejected.by_check[static_cast<uint32_t>(v.check)];
   }
   return kMaxCandidates;
 }

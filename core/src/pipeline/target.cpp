@@ -17,8 +17,8 @@ ClusterParams target_cluster_params(const PlannerConfig& cfg) {
 
 // Not inlined: its bitmap stays off the planner's frame, which the deepest stack path
 // holds.
-[[gnu::noinline]] ClusterResult find_target(VoxelGrid& grid, uint8_t* state, const ClusterParams& cp,
-                                            uint32_t* queue, LentWords lent, uint32_t* target_voxels) {
+[[gnu::noinline]] ClusterResult find_target(VoxelGrid& grid, uint8_t* state, const ClusterParams& cp, uint32_t* queue,
+                                            LentWords lent, uint32_t* target_voxels) {
   CellBitmap free_cells;
   const bool dense = build_cell_bitmap(grid, state, kVoxelFree, queue, lent.words, lent.count, free_cells);
   if (!dense) grid.prepare_lookups(state, lent.words, lent.bits);

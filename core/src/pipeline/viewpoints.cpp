@@ -35,13 +35,20 @@ bool seen_from_a_sensor(const ViewContext& ctx, const Vec3& approach) {
 
 const char* to_string(ViewFamily f) {
   switch (f) {
-    case ViewFamily::sensor_arc: return "sensor_arc";
-    case ViewFamily::full_circle: return "full_circle";
-    case ViewFamily::middle_axis: return "middle_axis";
-    case ViewFamily::minor_axis: return "minor_axis";
-    case ViewFamily::support_normal: return "support_normal";
-    case ViewFamily::support_major: return "support_major";
-    case ViewFamily::support_minor: return "support_minor";
+    case ViewFamily::sensor_arc:
+      return "sensor_arc";
+    case ViewFamily::full_circle:
+      return "full_circle";
+    case ViewFamily::middle_axis:
+      return "middle_axis";
+    case ViewFamily::minor_axis:
+      return "minor_axis";
+    case ViewFamily::support_normal:
+      return "support_normal";
+    case ViewFamily::support_major:
+      return "support_major";
+    case ViewFamily::support_minor:
+      return "support_minor";
   }
   return "unknown";
 }

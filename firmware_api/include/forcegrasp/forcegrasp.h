@@ -102,8 +102,15 @@ typedef enum fg_target_rule { FG_TARGET_NEAREST_TO_CENTRE = 0, FG_TARGET_LARGEST
 
 /** Stages timed by fg_plan (fg_grasp.stage_us). */
 enum {
-  FG_STAGE_INGEST = 0, FG_STAGE_PLANE, FG_STAGE_CLUSTER, FG_STAGE_FRAME, FG_STAGE_XOY,
-  FG_STAGE_XOZ, FG_STAGE_SELECT, FG_STAGE_TOTAL, FG_STAGE_COUNT
+  FG_STAGE_INGEST = 0,
+  FG_STAGE_PLANE,
+  FG_STAGE_CLUSTER,
+  FG_STAGE_FRAME,
+  FG_STAGE_XOY,
+  FG_STAGE_XOZ,
+  FG_STAGE_SELECT,
+  FG_STAGE_TOTAL,
+  FG_STAGE_COUNT
 };
 
 /** A rigid transform: rotation row-major (r[3*i + j] = R(i, j)) and translation (m). */
@@ -150,20 +157,20 @@ typedef struct fg_config {
   /* E/F. XOZ balance, selection, checks */
   float beta_max_rad, contact_band_m, reach_width_ratio, friction_mu;
   float table_clearance_m, collision_tolerance_m, pregrasp_clearance_m, palm_clearance_m;
-  uint32_t paper_depth;           /**< 0 or 1 */
-  uint32_t executability_checks;  /**< 0 or 1 */
+  uint32_t paper_depth;          /**< 0 or 1 */
+  uint32_t executability_checks; /**< 0 or 1 */
 } fg_config;
 
 /** The planner's answer. Vectors are world-frame; units metres and radians. */
 typedef struct fg_grasp {
-  int32_t reason;         /**< fg_no_grasp_reason when fg_plan returned FG_NO_GRASP */
-  float position[3];      /**< between the pads */
-  float approach[3];      /**< unit, palm towards the object */
-  float closing[3];       /**< unit, one finger towards the other */
-  float pregrasp[3];      /**< position backed off along -approach */
-  float width_m;          /**< object width between the contact regions */
-  float beta_rad;         /**< XOY force balance */
-  float dz_m;             /**< XOZ force balance */
+  int32_t reason;    /**< fg_no_grasp_reason when fg_plan returned FG_NO_GRASP */
+  float position[3]; /**< between the pads */
+  float approach[3]; /**< unit, palm towards the object */
+  float closing[3];  /**< unit, one finger towards the other */
+  float pregrasp[3]; /**< position backed off along -approach */
+  float width_m;     /**< object width between the contact regions */
+  float beta_rad;    /**< XOY force balance */
+  float dz_m;        /**< XOZ force balance */
   uint32_t points_input, points_finite, points_kept, voxels, plane_voxels, object_voxels;
   uint32_t viewpoints, candidates;
   uint32_t stage_us[FG_STAGE_COUNT]; /**< time per stage (platform clock) */
@@ -206,20 +213,19 @@ fg_status fg_reset(fg_workspace *ws);
 /** Adds one sensor's depth image (uint16 millimetres, 0 = no return, row-major,
  *  width x height) for this capture. role: an fg_sensor_role, each at most once per
  *  capture (others: FG_ERR_INVALID_SENSOR). */
-fg_status fg_add_depth_image(fg_workspace *ws, int32_t role, const uint16_t *depth_mm,
-                             uint16_t width, uint16_t height, const fg_intrinsics *k,
-                             const fg_pose *world_T_sensor);
+fg_status fg_add_depth_image(fg_workspace *ws, int32_t role, const uint16_t *depth_mm, uint16_t width, uint16_t height,
+                             const fg_intrinsics *k, const fg_pose *world_T_sensor);
 
 /** Adds one sensor's points: count xyz triples of float (sensor frame, metres), the
  *  first float of point i at xyz + i * stride_bytes (stride >= 12; any alignment).
  *  NaN points are skipped. role: an fg_sensor_role, each at most once per capture. */
-fg_status fg_add_points(fg_workspace *ws, int32_t role, const float *xyz, size_t count,
-                        size_t stride_bytes, const fg_pose *world_T_sensor);
+fg_status fg_add_points(fg_workspace *ws, int32_t role, const float *xyz, size_t count, size_t stride_bytes,
+                        const fg_pose *world_T_sensor);
 
 /** The same for planar buffers (structure of arrays): point i is (x[i], y[i], z[i]).
  *  Null arrays only with count 0. */
-fg_status fg_add_points_planar(fg_workspace *ws, int32_t role, const float *x, const float *y,
-                               const float *z, size_t count, const fg_pose *world_T_sensor);
+fg_status fg_add_points_planar(fg_workspace *ws, int32_t role, const float *x, const float *y, const float *z,
+                               size_t count, const fg_pose *world_T_sensor);
 
 /** Plans a grasp on this capture. FG_OK: *out holds the grasp. FG_NO_GRASP:
  *  out->reason says why. Errors leave out's counts and times filled where known. */
@@ -258,10 +264,10 @@ typedef struct fg_gripper_state {
 /** The hardware, as callbacks; every one is required. Calls returning int32_t return
  *  0 when the command was accepted (or the state read), anything else otherwise. */
 typedef struct fg_hal_ops {
-  void *ctx; /**< passed back to every callback */
-  uint64_t (*now_us)(void *ctx); /**< monotonic microseconds */
-  int32_t (*sensor_request)(void *ctx, int32_t role);                      /**< start a capture */
-  int32_t (*sensor_poll)(void *ctx, int32_t role, fg_depth_frame *out);    /**< FG_CAPTURE_* */
+  void *ctx;                                                                /**< passed back to every callback */
+  uint64_t (*now_us)(void *ctx);                                            /**< monotonic microseconds */
+  int32_t (*sensor_request)(void *ctx, int32_t role);                       /**< start a capture */
+  int32_t (*sensor_poll)(void *ctx, int32_t role, fg_depth_frame *out);     /**< FG_CAPTURE_* */
   int32_t (*arm_move)(void *ctx, const double q[6], double speed_fraction); /**< joint target */
   int32_t (*arm_read)(void *ctx, fg_arm_state *out);
   void (*arm_stop)(void *ctx);
@@ -271,13 +277,13 @@ typedef struct fg_hal_ops {
 } fg_hal_ops;
 
 typedef struct fg_task_config {
-  uint32_t struct_size;  /**< sizeof(fg_task_config) as the caller compiled it */
-  fg_pose world_T_base;  /**< the arm's base (DH base frame) in the world */
-  fg_pose world_T_head;  /**< the head sensor's fixed mount */
-  fg_pose tool0_T_hand;  /**< the wrist sensor on the flange (hand-eye) */
-  uint32_t use_head, use_hand;     /**< 0 or 1; at least one */
-  float tcp_offset_m;    /**< flange to the pads' centre along tool0 +z */
-  float lift_m;          /**< lift straight up after closing */
+  uint32_t struct_size;        /**< sizeof(fg_task_config) as the caller compiled it */
+  fg_pose world_T_base;        /**< the arm's base (DH base frame) in the world */
+  fg_pose world_T_head;        /**< the head sensor's fixed mount */
+  fg_pose tool0_T_hand;        /**< the wrist sensor on the flange (hand-eye) */
+  uint32_t use_head, use_hand; /**< 0 or 1; at least one */
+  float tcp_offset_m;          /**< flange to the pads' centre along tool0 +z */
+  float lift_m;                /**< lift straight up after closing */
   float grip_force_n;
   double speed_fraction; /**< (0, 1] of the arm's maximum joint speed */
   double joint_tolerance_rad;
@@ -285,23 +291,40 @@ typedef struct fg_task_config {
 } fg_task_config;
 
 typedef enum fg_task_state {
-  FG_TASK_IDLE = 0, FG_TASK_CAPTURING = 1, FG_TASK_PLANNING = 2, FG_TASK_OPENING = 3,
-  FG_TASK_TO_PREGRASP = 4, FG_TASK_APPROACHING = 5, FG_TASK_CLOSING = 6, FG_TASK_LIFTING = 7,
-  FG_TASK_SUCCEEDED = 8, FG_TASK_FAILED = 9
+  FG_TASK_IDLE = 0,
+  FG_TASK_CAPTURING = 1,
+  FG_TASK_PLANNING = 2,
+  FG_TASK_OPENING = 3,
+  FG_TASK_TO_PREGRASP = 4,
+  FG_TASK_APPROACHING = 5,
+  FG_TASK_CLOSING = 6,
+  FG_TASK_LIFTING = 7,
+  FG_TASK_SUCCEEDED = 8,
+  FG_TASK_FAILED = 9
 } fg_task_state;
 
 typedef enum fg_task_failure {
-  FG_TASK_OK = 0, FG_TASK_INVALID_CONFIG = 1, FG_TASK_SENSOR_FAILED = 2, FG_TASK_SENSOR_TIMEOUT = 3,
-  FG_TASK_NO_GRASP = 4, FG_TASK_UNREACHABLE = 5, FG_TASK_ARM_REFUSED = 6, FG_TASK_ARM_FAULT = 7,
-  FG_TASK_ARM_TIMEOUT = 8, FG_TASK_GRIPPER_REFUSED = 9, FG_TASK_GRIPPER_FAULT = 10,
-  FG_TASK_GRIPPER_TIMEOUT = 11, FG_TASK_MISSED = 12, FG_TASK_ABORTED = 13
+  FG_TASK_OK = 0,
+  FG_TASK_INVALID_CONFIG = 1,
+  FG_TASK_SENSOR_FAILED = 2,
+  FG_TASK_SENSOR_TIMEOUT = 3,
+  FG_TASK_NO_GRASP = 4,
+  FG_TASK_UNREACHABLE = 5,
+  FG_TASK_ARM_REFUSED = 6,
+  FG_TASK_ARM_FAULT = 7,
+  FG_TASK_ARM_TIMEOUT = 8,
+  FG_TASK_GRIPPER_REFUSED = 9,
+  FG_TASK_GRIPPER_FAULT = 10,
+  FG_TASK_GRIPPER_TIMEOUT = 11,
+  FG_TASK_MISSED = 12,
+  FG_TASK_ABORTED = 13
 } fg_task_failure;
 
 typedef struct fg_task_status {
-  int32_t state;    /**< fg_task_state */
-  int32_t failure;  /**< fg_task_failure when state is FG_TASK_FAILED */
-  uint32_t ticks;   /**< fg_task_step calls since fg_task_start */
-  fg_grasp grasp;   /**< the planned grasp, from FG_TASK_OPENING on (reason on FG_TASK_NO_GRASP) */
+  int32_t state;   /**< fg_task_state */
+  int32_t failure; /**< fg_task_failure when state is FG_TASK_FAILED */
+  uint32_t ticks;  /**< fg_task_step calls since fg_task_start */
+  fg_grasp grasp;  /**< the planned grasp, from FG_TASK_OPENING on (reason on FG_TASK_NO_GRASP) */
   double q_pregrasp[6], q_grasp[6], q_lift[6]; /**< joint targets, from FG_TASK_OPENING on */
 } fg_task_status;
 

@@ -9,10 +9,9 @@
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
-
-#include <nlohmann/json.hpp>
 
 #include "sim/grasp_judge.hpp"
 #include "sim/scene_export.hpp"
@@ -112,8 +111,7 @@ int main(int argc, char** argv) {
   const nlohmann::json& jg = plan.contains("grasp") ? plan["grasp"] : nlohmann::json();
   if (!jg.is_object() || !read_vec3(jg.value("position", nlohmann::json()), g.position) ||
       !read_vec3(jg.value("approach", nlohmann::json()), g.approach) ||
-      !read_vec3(jg.value("closing", nlohmann::json()), g.closing) || !jg.contains("width") ||
-      !jg["width"].is_number())
+      !read_vec3(jg.value("closing", nlohmann::json()), g.closing) || !jg.contains("width") || !jg["width"].is_number())
     return verdict(false, "plan_malformed_grasp");
   g.width = jg["width"].get<float>();
 
@@ -123,9 +121,8 @@ int main(int argc, char** argv) {
                  "%s: true_width %.4f reported %.4f angles %.1f/%.1f deg contacts (%.3f %.3f %.3f) "
                  "(%.3f %.3f %.3f) target fits %d min_width %.3f\n",
                  name.c_str(), r.true_width, g.width, r.angle_left * 57.29578f, r.angle_right * 57.29578f,
-                 r.contact_left.x(), r.contact_left.y(), r.contact_left.z(), r.contact_right.x(),
-                 r.contact_right.y(), r.contact_right.z(), truth.truth.target_fits ? 1 : 0,
-                 truth.truth.target_min_width);
+                 r.contact_left.x(), r.contact_left.y(), r.contact_left.z(), r.contact_right.x(), r.contact_right.y(),
+                 r.contact_right.z(), truth.truth.target_fits ? 1 : 0, truth.truth.target_min_width);
   }
   return verdict(r.success, r.reason);
 }

@@ -96,10 +96,14 @@ int main(int argc, char** argv) {
       if (kinds.empty()) return usage(argv[0]), 2;
     } else if (a == "--encoding") {
       if (!value(v)) return usage(argv[0]), 2;
-      if (v == "binary") eopt.encoding = fg::host::PcdEncoding::binary;
-      else if (v == "ascii") eopt.encoding = fg::host::PcdEncoding::ascii;
-      else if (v == "binary_compressed") eopt.encoding = fg::host::PcdEncoding::binary_compressed;
-      else return usage(argv[0]), 2;
+      if (v == "binary")
+        eopt.encoding = fg::host::PcdEncoding::binary;
+      else if (v == "ascii")
+        eopt.encoding = fg::host::PcdEncoding::ascii;
+      else if (v == "binary_compressed")
+        eopt.encoding = fg::host::PcdEncoding::binary_compressed;
+      else
+        return usage(argv[0]), 2;
     } else if (a == "--distribution") {
       if (!value(v)) return usage(argv[0]), 2;  // read above
     } else if (a == "--no-noise") {

@@ -1,4 +1,5 @@
 // The `forcegrasp` host program.
+#include <CLI/CLI.hpp>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
@@ -6,8 +7,6 @@
 #include <random>
 #include <sstream>
 #include <string>
-
-#include <CLI/CLI.hpp>
 
 #include "io/config_options.hpp"
 #include "plan_command.hpp"
@@ -27,24 +26,26 @@ int main(int argc, char** argv) {
     plan->add_option("--pictures", po.pictures_dir, "write SVG pictures of the stages to this folder");
     plan->add_option("--config", po.config_path, "JSON file of planner options");
     plan->add_option("--set", po.sets, "override one option: name=value (repeatable)");
-    CLI::App* sim_cmd = app.add_subcommand(
-        "sim", "run the whole grasp task on simulated hardware over objects and seeded poses");
+    CLI::App* sim_cmd =
+        app.add_subcommand("sim", "run the whole grasp task on simulated hardware over objects and seeded poses");
     SimOptions so;
     std::string kinds_arg = "all";
     std::string sim_config;
     std::vector<std::string> sim_sets;
     double min_rate = -1.0;
     bool quiet = false;
-    sim_cmd->add_option("--objects", kinds_arg,
-                    "comma-separated object kinds, or all, primitives, meshes (" + [] {
-                      std::string k;
-                      for (const auto* list : {&fg::sim::all_kinds(), &fg::sim::mesh_kinds()})
-                        for (const fg::sim::ObjectKind kind : *list) k += (k.empty() ? "" : ",") + std::string(fg::sim::kind_name(kind));
-                      return k;
-                    }() + ")");
-    sim_cmd->add_option("--trials", so.trials, "number of trials (default 20 per object kind); trial i: kind i % kinds");
-    CLI::Option* seed_opt =
-        sim_cmd->add_option("--seed", so.seed, "seed of the first trial (trial i uses seed + i); without it a seed is drawn and printed");
+    sim_cmd->add_option(
+        "--objects", kinds_arg, "comma-separated object kinds, or all, primitives, meshes (" + [] {
+          std::string k;
+          for (const auto* list : {&fg::sim::all_kinds(), &fg::sim::mesh_kinds()})
+            for (const fg::sim::ObjectKind kind : *list)
+              k += (k.empty() ? "" : ",") + std::string(fg::sim::kind_name(kind));
+          return k;
+        }() + ")");
+    sim_cmd->add_option("--trials", so.trials,
+                        "number of trials (default 20 per object kind); trial i: kind i % kinds");
+    CLI::Option* seed_opt = sim_cmd->add_option(
+        "--seed", so.seed, "seed of the first trial (trial i uses seed + i); without it a seed is drawn and printed");
     std::string distribution_arg = "cell";
     sim_cmd
         ->add_option("--distribution", distribution_arg,
@@ -54,14 +55,15 @@ int main(int argc, char** argv) {
     sim_cmd->add_option("--mu", so.mu, "friction coefficient of the judge");
     sim_cmd->add_option("--second-object-rate", so.second_object_rate, "classic: share of scenes with a second object");
     sim_cmd->add_option("--pictures", so.pictures_dir, "write SVG pictures of each trial's plan to DIR/<kind>-<seed>");
-    sim_cmd->add_option("--export", so.export_dir, "write each trial's scene (scene.json, PCD, truth.json) to DIR/<kind>-<seed>");
+    sim_cmd->add_option("--export", so.export_dir,
+                        "write each trial's scene (scene.json, PCD, truth.json) to DIR/<kind>-<seed>");
     sim_cmd->add_option("--json", so.json_path, "write every trial and the table as JSON to this file");
     sim_cmd->add_option("--config", sim_config, "JSON file of planner options");
     sim_cmd->add_option("--set", sim_sets, "override one planner option: name=value (repeatable)");
     sim_cmd->add_option("--min-rate", min_rate, "exit 4 when the overall success rate is below this (0..1)");
     sim_cmd->add_flag("--quiet", quiet, "no progress line");
-    CLI::App* config = app.add_subcommand(
-        "config", "print every planner option with its default, as a --config JSON file");
+    CLI::App* config =
+        app.add_subcommand("config", "print every planner option with its default, as a --config JSON file");
     try {
       app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

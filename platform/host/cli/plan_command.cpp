@@ -7,11 +7,11 @@
 #include <new>
 #include <sstream>
 
-#include "io/big_buffer.hpp"
-#include "io/config_options.hpp"
 #include "fg/platform/platform.hpp"
 #include "fg/robot/ur5.hpp"
 #include "fg/robot/ur5_grasp_check.hpp"
+#include "io/big_buffer.hpp"
+#include "io/config_options.hpp"
 #include "io/pcd.hpp"
 #include "io/ply.hpp"
 #include "io/scene.hpp"
@@ -123,9 +123,9 @@ PlanOutcome run_plan(const PlanOptions& opts) {
         continue;
       }
       const uint32_t n = static_cast<uint32_t>(c.size());
-      const Status st = c.planar() ? planner.add_points_planar(role, c.planar_array(0), c.planar_array(1),
-                                                               c.planar_array(2), n, pose)
-                                   : planner.add_points(role, c.xyz.data(), n, 3 * sizeof(float), pose);
+      const Status st =
+          c.planar() ? planner.add_points_planar(role, c.planar_array(0), c.planar_array(1), c.planar_array(2), n, pose)
+                     : planner.add_points(role, c.xyz.data(), n, 3 * sizeof(float), pose);
       if (st != Status::ok) add_error = s.cloud_path + ": " + planner.last_message() + " (" + to_string(st) + ")";
       clouds[i] = PointCloud{};  // its memory is no longer needed
     }
@@ -172,8 +172,7 @@ PlanOutcome run_plan(const PlanOptions& opts) {
         const CheckId id = static_cast<CheckId>(k);
         if (!cfg.executability_checks || (id == CheckId::robot_reach && !check_cfg.check_reach)) continue;
         const float m = res.margins[id];
-        checks[to_string(id)] = json{{"margin", std::isfinite(m) ? json(m) : json(nullptr)},
-                                     {"unit", margin_unit(id)}};
+        checks[to_string(id)] = json{{"margin", std::isfinite(m) ? json(m) : json(nullptr)}, {"unit", margin_unit(id)}};
       }
       j["grasp"]["checks"] = checks;
       if (check_cfg.check_reach && check.has_motion()) {
@@ -206,28 +205,29 @@ PlanOutcome run_plan(const PlanOptions& opts) {
                      {"points_dropped", res.crop.points_dropped}};
     json timing = json::object();
     timing["total"] = res.stage_us[static_cast<int>(Stage::total)];
-    for (int s = 0; s < static_cast<int>(Stage::total); ++s)
-      timing[to_string(static_cast<Stage>(s))] = res.stage_us[s];
+    for (int s = 0; s < static_cast<int>(Stage::total); ++s) timing[to_string(static_cast<Stage>(s))] = res.stage_us[s];
     timing["process_plan"] = t_done - t_plan;
     timing["process_read"] = t_plan - t_process;
     j["timing_us"] = timing;
     j["search"] = json{{"viewpoints", res.viewpoints},
                        {"candidates", res.candidates},
-                       {"rejected", {{"table", res.rejected.table},
-                                     {"collision", res.rejected.collision},
-                                     {"unreachable", res.rejected.unreachable},
-                                     {"friction", res.rejected.friction},
-                                     {"occluded", res.rejected.occluded}}}};
+                       {"rejected",
+                        {{"table", res.rejected.table},
+                         {"collision", res.rejected.collision},
+                         {"unreachable", res.rejected.unreachable},
+                         {"friction", res.rejected.friction},
+                         {"occluded", res.rejected.occluded}}}};
     json by_check = json::object();
     for (uint32_t k = 0; k < kCheckCount; ++k)
       by_check[to_string(static_cast<CheckId>(k))] = res.rejected_by_check.by_check[k];
     j["search"]["rejected_by_check"] = by_check;
-    if (planner.plane_found())
-      j["support_plane"] = json{{"normal", vec(planner.plane().n)}, {"d", planner.plane().d}};
+    if (planner.plane_found()) j["support_plane"] = json{{"normal", vec(planner.plane().n)}, {"d", planner.plane().d}};
     if (!opts.pictures_dir.empty()) {
       std::string perr;
-      if (!write_pictures(planner, res, opts.pictures_dir, perr)) j["pictures_error"] = perr;
-      else j["pictures"] = opts.pictures_dir;
+      if (!write_pictures(planner, res, opts.pictures_dir, perr))
+        j["pictures_error"] = perr;
+      else
+        j["pictures"] = opts.pictures_dir;
     }
     return o;
   } catch (const std::exception& e) {
@@ -252,10 +252,10 @@ std::string human_summary(const json& r) {
       s << "(" << g[k][0].get<double>() << ", " << g[k][1].get<double>() << ", " << g[k][2].get<double>() << ")";
       return s.str();
     };
-    os << "grasp found\n  position " << v3("position") << " m\n  approach " << v3("approach")
-       << "\n  closing  " << v3("closing") << "\n  width    " << g["width"].get<double>() * 1000.0
-       << " mm\n  beta     " << g["beta"].get<double>() << " rad, dz " << g["dz"].get<double>() * 1000.0
-       << " mm, viewpoint " << g["viewpoint"].get<double>() << " rad (" << g["family"].get<std::string>() << ")\n";
+    os << "grasp found\n  position " << v3("position") << " m\n  approach " << v3("approach") << "\n  closing  "
+       << v3("closing") << "\n  width    " << g["width"].get<double>() * 1000.0 << " mm\n  beta     "
+       << g["beta"].get<double>() << " rad, dz " << g["dz"].get<double>() * 1000.0 << " mm, viewpoint "
+       << g["viewpoint"].get<double>() << " rad (" << g["family"].get<std::string>() << ")\n";
   } else if (status == "no_grasp") {
     os << "no grasp: " << r.value("reason", "") << " - " << r.value("message", "") << "\n";
   } else {
@@ -263,8 +263,8 @@ std::string human_summary(const json& r) {
   }
   if (r.contains("points")) {
     const json& p = r["points"];
-    os << "  points   " << p["input"] << " input, " << p["after_filter"] << " after filters, "
-       << p["voxels"] << " voxels, " << p["object"] << " on the object\n";
+    os << "  points   " << p["input"] << " input, " << p["after_filter"] << " after filters, " << p["voxels"]
+       << " voxels, " << p["object"] << " on the object\n";
   }
   if (r.contains("crop") && r["crop"].value("shrinks", 0) > 0) {
     const json& c = r["crop"];

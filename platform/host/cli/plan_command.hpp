@@ -1,9 +1,8 @@
 // Host-only: `forcegrasp plan` — read a scene, run the planner, report (spec/scene-and-cli.md).
 #pragma once
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "fg/core/config.hpp"
 #include "fg/core/planner.hpp"
@@ -12,9 +11,9 @@ namespace fg::host {
 
 struct PlanOptions {
   std::string scene_path;
-  std::string config_path;             //!< optional JSON of options
-  std::vector<std::string> sets;       //!< name=value overrides
-  std::string pictures_dir;            //!< write SVG pictures here when set
+  std::string config_path;        //!< optional JSON of options
+  std::vector<std::string> sets;  //!< name=value overrides
+  std::string pictures_dir;       //!< write SVG pictures here when set
 };
 
 //! Exit codes of the contract.

@@ -31,9 +31,9 @@ using sim::V3;
 // Where the arm waits when the wrist camera cannot reach the scene's viewpoint: tool0
 // over the workspace, looking down.
 constexpr double kHome[6] = {0.0, -1.9, 1.9, -1.57, -1.57, 0.0};
-constexpr uint32_t kTickUs = 1000;           // the control tick
-constexpr uint32_t kMaxTicks = 120000;       // 2 min of simulated time: every task ends before
-constexpr uint32_t kPathSampleTicks = 10;    // the open gripper is judged every 10 ms on the way in
+constexpr uint32_t kTickUs = 1000;         // the control tick
+constexpr uint32_t kMaxTicks = 120000;     // 2 min of simulated time: every task ends before
+constexpr uint32_t kPathSampleTicks = 10;  // the open gripper is judged every 10 ms on the way in
 
 // Joints that put the wrist camera where the scene's hand camera is (turned about its
 // optical axis if need be: the view is the same, the arm's reach is not), nearest home;
@@ -116,7 +116,8 @@ SimTrial run_sim_trial(const std::string& kind_name, uint64_t seed, const SimOpt
   head_cfg.seed = scene.head_noise_seed;
   hand_cfg.seed = scene.hand_noise_seed;
   const Rigid head_pose = scene.head.world_T_sensor;
-  sim::SimDepthSensor head(scene.world, clock, [head_pose] { return head_pose; }, head_cfg);
+  sim::SimDepthSensor head(
+      scene.world, clock, [head_pose] { return head_pose; }, head_cfg);
   sim::SimDepthSensor hand(scene.world, clock, sim::mounted_on_tool0(arm, tool0_T_camera), hand_cfg);
   const task::TaskHal hal{clock, &head, &hand, arm, gripper};
 
@@ -137,8 +138,7 @@ SimTrial run_sim_trial(const std::string& kind_name, uint64_t seed, const SimOpt
     arm.tick(kTickUs * 1e-6);
     gripper.tick(kTickUs * 1e-6);
     const bool way_in = s == task::TaskState::to_pregrasp || s == task::TaskState::approaching;
-    if (way_in && way_in_hit.empty() && tick % kPathSampleTicks == 0)
-    {
+    if (way_in && way_in_hit.empty() && tick % kPathSampleTicks == 0) {
       way_in_hit = open_pose_hit(scene.world, scene.target, arm.world_T_tool0(), tc.tcp_offset_m, cfg.gripper);
       if (!way_in_hit.empty()) way_in_hit = std::string(task::to_string(s)) + ":" + way_in_hit;
     }
@@ -147,7 +147,7 @@ SimTrial run_sim_trial(const std::string& kind_name, uint64_t seed, const SimOpt
   out.task_s = static_cast<double>(clock.time_us()) * 1e-6;
   const PlanResult& pr = grasp_task.plan_result();
   out.plan_ms = pr.stage_us[static_cast<int>(Stage::total)] > 0 ? pr.stage_us[static_cast<int>(Stage::total)] * 1e-3
-                                                                  : plan_wall_ms;
+                                                                : plan_wall_ms;
   out.task_state = std::string(task::to_string(grasp_task.state()));
   if (grasp_task.state() == task::TaskState::failed)
     out.task_state += std::string(":") + task::to_string(grasp_task.failure());
@@ -266,7 +266,9 @@ nlohmann::json run_sim(const SimOptions& opt, const PlannerConfig& cfg, Planner&
     std::sort(v.begin(), v.end());
     return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
   };
-  const auto max_of = [](const std::vector<double>& v) { return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end()); };
+  const auto max_of = [](const std::vector<double>& v) {
+    return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end());
+  };
   json table = json::array();
   std::printf("distribution %s, seed %llu (trial i: seed + i; --distribution %s --seed %llu repeats it)\n",
               sim::distribution_name(opt.distribution), static_cast<unsigned long long>(opt.seed),
@@ -281,9 +283,13 @@ nlohmann::json run_sim(const SimOptions& opt, const PlannerConfig& cfg, Planner&
                 fmt_ms(median(r.plan_ms)).c_str(), fmt_ms(max_of(r.plan_ms)).c_str(), fails.c_str());
     json f = json::object();
     for (const auto& [k, c] : r.failures) f[k] = c;
-    table.push_back(json{{"object", name}, {"trials", r.trials}, {"fits", r.fits}, {"success", r.success},
+    table.push_back(json{{"object", name},
+                         {"trials", r.trials},
+                         {"fits", r.fits},
+                         {"success", r.success},
                          {"rate", r.trials ? static_cast<double>(r.success) / r.trials : 0.0},
-                         {"plan_ms_median", median(r.plan_ms)}, {"plan_ms_max", max_of(r.plan_ms)},
+                         {"plan_ms_median", median(r.plan_ms)},
+                         {"plan_ms_max", max_of(r.plan_ms)},
                          {"failures", f}});
   };
   for (const std::string& k : order) print_row(k, rows[k]);
@@ -291,13 +297,26 @@ nlohmann::json run_sim(const SimOptions& opt, const PlannerConfig& cfg, Planner&
   json records = json::array();
   const auto vec = [](const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); };
   for (const SimTrial& t : trials) {
-    json r{{"kind", t.kind}, {"seed", t.seed}, {"fits", t.fits}, {"success", t.success},
-           {"verdict", t.verdict}, {"task", t.task_state}, {"plan_reason", t.plan_reason},
-           {"plan_ms", t.plan_ms}, {"width_error_m", t.width_error_m}, {"wrist_view", t.wrist_view}, {"task_s", t.task_s}, {"ticks", t.ticks}};
+    json r{{"kind", t.kind},
+           {"seed", t.seed},
+           {"fits", t.fits},
+           {"success", t.success},
+           {"verdict", t.verdict},
+           {"task", t.task_state},
+           {"plan_reason", t.plan_reason},
+           {"plan_ms", t.plan_ms},
+           {"width_error_m", t.width_error_m},
+           {"wrist_view", t.wrist_view},
+           {"task_s", t.task_s},
+           {"ticks", t.ticks}};
     if (t.has_grasp) {
-      r["grasp"] = json{{"position", vec(t.grasp.position)}, {"approach", vec(t.grasp.approach)},
-                        {"closing", vec(t.grasp.closing)}, {"width", t.grasp.width}, {"beta", t.grasp.beta},
-                        {"dz", t.grasp.dz}, {"family", static_cast<int>(t.grasp.family)}};
+      r["grasp"] = json{{"position", vec(t.grasp.position)},
+                        {"approach", vec(t.grasp.approach)},
+                        {"closing", vec(t.grasp.closing)},
+                        {"width", t.grasp.width},
+                        {"beta", t.grasp.beta},
+                        {"dz", t.grasp.dz},
+                        {"family", static_cast<int>(t.grasp.family)}};
       r["judge"] = json{{"angle_left", t.angle_left}, {"angle_right", t.angle_right}, {"true_width", t.true_width}};
       if (t.true_width >= 0.f) {
         r["judge"]["contact_left"] = vec(t.contact_left);
@@ -306,7 +325,9 @@ nlohmann::json run_sim(const SimOptions& opt, const PlannerConfig& cfg, Planner&
     }
     records.push_back(r);
   }
-  return json{{"distribution", sim::distribution_name(opt.distribution)}, {"seed", opt.seed}, {"trials", records},
+  return json{{"distribution", sim::distribution_name(opt.distribution)},
+              {"seed", opt.seed},
+              {"trials", records},
               {"table", table}};
 }
 

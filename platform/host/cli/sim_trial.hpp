@@ -4,10 +4,9 @@
 // geometry. Each trial is judged on the TRUE geometry. Host only.
 #pragma once
 #include <cstdint>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "fg/core/config.hpp"
 #include "fg/core/planner.hpp"
@@ -16,35 +15,35 @@
 namespace fg::host {
 
 struct SimOptions {
-  std::vector<std::string> kinds;     //!< object kinds (hal/sim scene_gen names)
-  uint32_t trials = 0;                //!< 0: 20 per kind
-  uint64_t seed = 1;                  //!< trial i: kind i % kinds, seed + i
+  std::vector<std::string> kinds;  //!< object kinds (hal/sim scene_gen names)
+  uint32_t trials = 0;             //!< 0: 20 per kind
+  uint64_t seed = 1;               //!< trial i: kind i % kinds, seed + i
   //! Which scenes (hal/sim scene_gen.hpp); the program's default is cell, and the tests
   //! that pin seeds of the project's own spread ask for classic.
   sim::Distribution distribution = sim::Distribution::cell;
-  double mu = 0.5;                    //!< friction coefficient of the judge
-  std::string pictures_dir;           //!< per trial: SVG pictures of the plan
-  std::string export_dir;             //!< per trial: scene.json + PCD + truth.json
-  std::string json_path;              //!< per trial records and the table, as JSON
-  bool progress = true;               //!< a progress line on stderr
-  double second_object_rate = 0.3;    //!< classic only (cell draws 0-3 other objects)
+  double mu = 0.5;                  //!< friction coefficient of the judge
+  std::string pictures_dir;         //!< per trial: SVG pictures of the plan
+  std::string export_dir;           //!< per trial: scene.json + PCD + truth.json
+  std::string json_path;            //!< per trial records and the table, as JSON
+  bool progress = true;             //!< a progress line on stderr
+  double second_object_rate = 0.3;  //!< classic only (cell draws 0-3 other objects)
 };
 
 //! One trial's outcome.
 struct SimTrial {
   std::string kind;
   uint64_t seed = 0;
-  bool fits = false;         //!< the target fits the gripper in some direction (truth)
-  bool success = false;      //!< lifted with a grasp the judge passes on the true geometry, or
-                             //!< no_grasp on a target that fits in no direction
-  std::string verdict;       //!< "success", the judge's reason, or the task's failure
-  std::string task_state;    //!< the task's final state and failure
-  std::string plan_reason;   //!< the planner's no_grasp reason, when it gave one
-  bool wrist_view = false;   //!< the arm put the wrist camera at the scene's viewpoint
-                             //!< (else it looked from its home pose)
-  double plan_ms = 0.0;      //!< the planner's own time (the plan() call)
+  bool fits = false;            //!< the target fits the gripper in some direction (truth)
+  bool success = false;         //!< lifted with a grasp the judge passes on the true geometry, or
+                                //!< no_grasp on a target that fits in no direction
+  std::string verdict;          //!< "success", the judge's reason, or the task's failure
+  std::string task_state;       //!< the task's final state and failure
+  std::string plan_reason;      //!< the planner's no_grasp reason, when it gave one
+  bool wrist_view = false;      //!< the arm put the wrist camera at the scene's viewpoint
+                                //!< (else it looked from its home pose)
+  double plan_ms = 0.0;         //!< the planner's own time (the plan() call)
   double width_error_m = -1.0;  //!< |reported - true width| of a judged grasp, else -1
-  double task_s = 0.0;       //!< simulated time from start to the end of the task
+  double task_s = 0.0;          //!< simulated time from start to the end of the task
   uint32_t ticks = 0;
   // The planned grasp (when the plan gave one) and what the judge measured on it.
   bool has_grasp = false;

@@ -50,12 +50,23 @@ std::string esc(const std::string& s) {
   o.reserve(s.size());
   for (const char c : s) {
     switch (c) {
-      case '&': o += "&amp;"; break;
-      case '<': o += "&lt;"; break;
-      case '>': o += "&gt;"; break;
-      case '"': o += "&quot;"; break;
-      case '\'': o += "&apos;"; break;
-      default: o += c;
+      case '&':
+        o += "&amp;";
+        break;
+      case '<':
+        o += "&lt;";
+        break;
+      case '>':
+        o += "&gt;";
+        break;
+      case '"':
+        o += "&quot;";
+        break;
+      case '\'':
+        o += "&apos;";
+        break;
+      default:
+        o += c;
     }
   }
   return o;
@@ -74,7 +85,6 @@ std::string rad_text(double v) {
 std::string vec_text(const V3& v, int decimals = 3) {
   return "(" + fmt(v.x(), decimals) + ", " + fmt(v.y(), decimals) + ", " + fmt(v.z(), decimals) + ")";
 }
-
 
 // Largest of 1, 2, 5 x 10^k not above v (v > 0).
 double nice_floor(double v) {
@@ -101,8 +111,7 @@ struct P2 {
   double x = 0, y = 0;
 };
 
-std::string attrs(const std::string& stroke, double width, const std::string& fill,
-                  const std::string& extra = "") {
+std::string attrs(const std::string& stroke, double width, const std::string& fill, const std::string& extra = "") {
   std::string s = "stroke=\"" + stroke + "\" stroke-width=\"" + fmt(width, 2) + "\" fill=\"" + fill + "\"";
   if (!extra.empty()) s += " " + extra;
   return s;
@@ -117,16 +126,15 @@ class Svg {
   void raw(const std::string& s) { os_ << s << "\n"; }
   void def(const std::string& s) { defs_ << s << "\n"; }
   void line(P2 a, P2 b, const std::string& style) {
-    os_ << "<line x1=\"" << px(a.x) << "\" y1=\"" << px(a.y) << "\" x2=\"" << px(b.x) << "\" y2=\""
-        << px(b.y) << "\" " << style << "/>\n";
+    os_ << "<line x1=\"" << px(a.x) << "\" y1=\"" << px(a.y) << "\" x2=\"" << px(b.x) << "\" y2=\"" << px(b.y) << "\" "
+        << style << "/>\n";
   }
   void circle(P2 c, double r, const std::string& style) {
-    os_ << "<circle cx=\"" << px(c.x) << "\" cy=\"" << px(c.y) << "\" r=\"" << px(r) << "\" " << style
-        << "/>\n";
+    os_ << "<circle cx=\"" << px(c.x) << "\" cy=\"" << px(c.y) << "\" r=\"" << px(r) << "\" " << style << "/>\n";
   }
   void rect(double x, double y, double w, double h, const std::string& style) {
-    os_ << "<rect x=\"" << px(x) << "\" y=\"" << px(y) << "\" width=\"" << px(std::max(w, 0.0))
-        << "\" height=\"" << px(std::max(h, 0.0)) << "\" " << style << "/>\n";
+    os_ << "<rect x=\"" << px(x) << "\" y=\"" << px(y) << "\" width=\"" << px(std::max(w, 0.0)) << "\" height=\""
+        << px(std::max(h, 0.0)) << "\" " << style << "/>\n";
   }
   void poly(const char* tag, const std::vector<P2>& pts, const std::string& style) {
     if (pts.empty()) return;
@@ -138,8 +146,8 @@ class Svg {
   void polyline(const std::vector<P2>& pts, const std::string& style) { poly("polyline", pts, style); }
   //! Text at `at`; `extra` holds further attributes (anchor, size, colour, transform).
   void text(P2 at, const std::string& s, const std::string& extra = "") {
-    os_ << "<text x=\"" << px(at.x) << "\" y=\"" << px(at.y) << "\"" << (extra.empty() ? "" : " ")
-        << extra << ">" << esc(s) << "</text>\n";
+    os_ << "<text x=\"" << px(at.x) << "\" y=\"" << px(at.y) << "\"" << (extra.empty() ? "" : " ") << extra << ">"
+        << esc(s) << "</text>\n";
   }
   void open(const std::string& tag_and_attrs) { os_ << "<" << tag_and_attrs << ">\n"; }
   void close(const char* tag) { os_ << "</" << tag << ">\n"; }
@@ -159,8 +167,8 @@ class Svg {
   std::string str(const std::string& title, const std::string& desc) const {
     std::ostringstream o;
     o << "<?xml version=\"1.0\" encoding=\"UTF-8\" standalone=\"no\"?>\n"
-      << "<svg xmlns=\"http://www.w3.org/2000/svg\" version=\"1.1\" width=\"" << px(w_) << "\" height=\""
-      << px(h_) << "\" viewBox=\"0 0 " << px(w_) << " " << px(h_)
+      << "<svg xmlns=\"http://www.w3.org/2000/svg\" version=\"1.1\" width=\"" << px(w_) << "\" height=\"" << px(h_)
+      << "\" viewBox=\"0 0 " << px(w_) << " " << px(h_)
       << "\" font-family=\"DejaVu Sans, Arial, Helvetica, sans-serif\" font-size=\"13\">\n"
       << "<title>" << esc(title) << "</title>\n"
       << "<desc>" << esc(desc) << "</desc>\n";
@@ -194,11 +202,9 @@ struct Bounds {
 };
 
 struct Plot {
-  double left = 0, top = 0, w = 1, h = 1;      // pixels
-  double x0 = 0, x1 = 1, y0 = 0, y1 = 1;       // data
-  P2 map(double x, double y) const {
-    return {left + (x - x0) / (x1 - x0) * w, top + h - (y - y0) / (y1 - y0) * h};
-  }
+  double left = 0, top = 0, w = 1, h = 1;  // pixels
+  double x0 = 0, x1 = 1, y0 = 0, y1 = 1;   // data
+  P2 map(double x, double y) const { return {left + (x - x0) / (x1 - x0) * w, top + h - (y - y0) / (y1 - y0) * h}; }
   P2 map(P2 p) const { return map(p.x, p.y); }
   double sx() const { return w / (x1 - x0); }  // pixels per data unit
   double sy() const { return h / (y1 - y0); }
@@ -206,8 +212,7 @@ struct Plot {
 
 //! Fits `b` (grown by `pad` of its size and to at least `min_span`) into the pixel
 //! rectangle; equal_aspect keeps one scale for both axes (geometric pictures).
-Plot make_plot(double left, double top, double w, double h, Bounds b, double pad, double min_span,
-               bool equal_aspect) {
+Plot make_plot(double left, double top, double w, double h, Bounds b, double pad, double min_span, bool equal_aspect) {
   if (b.empty()) b = Bounds{-min_span / 2, min_span / 2, -min_span / 2, min_span / 2};
   auto grow = [&](double& lo, double& hi) {
     double span = hi - lo;
@@ -241,8 +246,8 @@ Plot make_plot(double left, double top, double w, double h, Bounds b, double pad
 //! Grid, ticks, tick labels, frame and axis labels; defines clip path `clip_id`.
 void draw_axes(Svg& svg, const Plot& p, const std::string& xlabel, const std::string& ylabel,
                const std::string& clip_id) {
-  svg.def("<clipPath id=\"" + clip_id + "\"><rect x=\"" + px(p.left) + "\" y=\"" + px(p.top) +
-          "\" width=\"" + px(p.w) + "\" height=\"" + px(p.h) + "\"/></clipPath>");
+  svg.def("<clipPath id=\"" + clip_id + "\"><rect x=\"" + px(p.left) + "\" y=\"" + px(p.top) + "\" width=\"" + px(p.w) +
+          "\" height=\"" + px(p.h) + "\"/></clipPath>");
   const double xs = nice_step(p.x1 - p.x0, std::max(3.0, p.w / 90));
   const double ys = nice_step(p.y1 - p.y0, std::max(3.0, p.h / 70));
   const int xd = step_decimals(xs), yd = step_decimals(ys);
@@ -321,8 +326,7 @@ class Legend {
 };
 
 //! A scale bar of a 1-2-5 length (data units `unit`) at most max_px long; returns y below.
-double draw_scale_bar(Svg& svg, double x, double y, double px_per_unit, double max_px,
-                      const std::string& unit) {
+double draw_scale_bar(Svg& svg, double x, double y, double px_per_unit, double max_px, const std::string& unit) {
   if (!(px_per_unit > 0)) return y;
   const double len = nice_floor(max_px / px_per_unit);
   const double l = len * px_per_unit;
@@ -333,7 +337,8 @@ double draw_scale_bar(Svg& svg, double x, double y, double px_per_unit, double m
   svg.rect(x + l / 2, by - 3, l / 2, 6, attrs("#000000", 1, "#ffffff"));
   svg.line({x, by - 7}, {x, by + 7}, st);
   svg.line({x + l, by - 7}, {x + l, by + 7}, st);
-  svg.text({x + l / 2, by + 22}, fmt(len, step_decimals(len)) + " " + unit, "text-anchor=\"middle\" font-size=\"12.5\"");
+  svg.text({x + l / 2, by + 22}, fmt(len, step_decimals(len)) + " " + unit,
+           "text-anchor=\"middle\" font-size=\"12.5\"");
   return by + 30;
 }
 
@@ -360,9 +365,7 @@ void draw_note(Svg& svg, const Plot& p, const std::string& msg) {
 // ---------------------------------------------------------------------------------
 // Geometry helpers
 
-double cross2(const P2& o, const P2& a, const P2& b) {
-  return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
-}
+double cross2(const P2& o, const P2& a, const P2& b) { return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x); }
 
 //! Convex hull (monotone chain), counter-clockwise in data coordinates.
 std::vector<P2> convex_hull(std::vector<P2> pts) {
@@ -384,8 +387,8 @@ std::vector<P2> convex_hull(std::vector<P2> pts) {
 
 //! Orthographic view of the world: picture coordinates in millimetres.
 struct View3 {
-  V3 u, v;    // picture right and up (world unit vectors)
-  V3 into;    // viewing direction (into the picture)
+  V3 u, v;  // picture right and up (world unit vectors)
+  V3 into;  // viewing direction (into the picture)
   P2 operator()(const V3& p) const { return {1000.0 * u.dot(p), 1000.0 * v.dot(p)}; }
 };
 
@@ -409,8 +412,10 @@ std::vector<P2> box_outline(const GraspFrame& f, const Box3& b, const View3& vie
 void draw_outline(Svg& svg, const Plot& p, const std::vector<P2>& hull, const std::string& style) {
   std::vector<P2> q;
   for (const P2& h : hull) q.push_back(p.map(h));
-  if (q.size() >= 3) svg.polygon(q, style);
-  else if (q.size() == 2) svg.polyline(q, style);
+  if (q.size() >= 3)
+    svg.polygon(q, style);
+  else if (q.size() == 2)
+    svg.polyline(q, style);
 }
 
 // Height colour ramp (dark blue - teal - green - yellow), t in [0, 1].
@@ -478,7 +483,7 @@ std::string world_picture(const Planner& planner, const PlanResult& result, bool
     view.u = d.cross(V3::UnitZ()).normalized();
     view.v = V3::UnitZ();
     const bool along_y = (d - V3::UnitY()).norm() < 1e-9;
-    xlabel = view.u.x() > 0.9999   ? "world x (mm)"
+    xlabel = view.u.x() > 0.9999    ? "world x (mm)"
              : view.u.x() < -0.9999 ? "world -x (mm)"
              : view.u.y() > 0.9999  ? "world y (mm)"
              : view.u.y() < -0.9999 ? "world -y (mm)"
@@ -520,8 +525,8 @@ std::string world_picture(const Planner& planner, const PlanResult& result, bool
   const Plot p = make_plot(95, 110, 640, 590, b, 0.06, 20.0, true);
 
   std::vector<std::string> sub;
-  sub.push_back(std::to_string(obj.size()) + " object points (voxel centroids, " +
-                fmt(cfg.voxel_leaf_m * 1000, 1) + " mm leaf), " + seen);
+  sub.push_back(std::to_string(obj.size()) + " object points (voxel centroids, " + fmt(cfg.voxel_leaf_m * 1000, 1) +
+                " mm leaf), " + seen);
   if (!ok) sub.push_back(status_line(result));
   if (ok)
     sub.push_back("grasp at " + vec_text(f.o * 1000, 1) + " mm, approach " + vec_text(f.z, 2) + ", closing " +
@@ -543,8 +548,9 @@ std::string world_picture(const Planner& planner, const PlanResult& result, bool
     };
     if (std::fabs(n.z()) > 1e-6) {
       const P2 a = p.map(p.x0, h_at(p.x0)), c = p.map(p.x1, h_at(p.x1));
-      svg.def("<pattern id=\"hatch\" patternUnits=\"userSpaceOnUse\" width=\"10\" height=\"10\">"
-              "<path d=\"M0,10 L10,0\" stroke=\"#c9a89a\" stroke-width=\"1\"/></pattern>");
+      svg.def(
+          "<pattern id=\"hatch\" patternUnits=\"userSpaceOnUse\" width=\"10\" height=\"10\">"
+          "<path d=\"M0,10 L10,0\" stroke=\"#c9a89a\" stroke-width=\"1\"/></pattern>");
       svg.polygon({a, c, {c.x, p.top + p.h + 50}, {a.x, p.top + p.h + 50}}, "stroke=\"none\" fill=\"url(#hatch)\"");
       svg.line(a, c, attrs(kPlane, 2.5, "none"));
     }
@@ -600,7 +606,8 @@ std::string world_picture(const Planner& planner, const PlanResult& result, bool
     for (const Box3& fb : fingers_closed)
       draw_outline(svg, p, box_outline(f, fb, view), attrs("#a04000", 1.5, kFinger, "fill-opacity=\"0.45\""));
     for (const Box3& fb : pads_closed)
-      draw_outline(svg, p, box_outline(f, fb, view), attrs(kPad, 3, kPad, "fill-opacity=\"0.35\" stroke-linejoin=\"round\""));
+      draw_outline(svg, p, box_outline(f, fb, view),
+                   attrs(kPad, 3, kPad, "fill-opacity=\"0.35\" stroke-linejoin=\"round\""));
 
     const P2 c = p.map(view(f.o));
     // Approach: an arrow behind the palm, or a symbol when it points into / out of the picture.
@@ -627,7 +634,8 @@ std::string world_picture(const Planner& planner, const PlanResult& result, bool
   // Object centroid.
   if (obj.size() > 0) {
     const P2 oc = p.map(view(planner.object_centroid().cast<double>()));
-    svg.polygon({{oc.x, oc.y - 6}, {oc.x + 6, oc.y}, {oc.x, oc.y + 6}, {oc.x - 6, oc.y}}, attrs("#000000", 1.2, "none"));
+    svg.polygon({{oc.x, oc.y - 6}, {oc.x + 6, oc.y}, {oc.x, oc.y + 6}, {oc.x - 6, oc.y}},
+                attrs("#000000", 1.2, "none"));
   }
   svg.close("g");
   if (obj.size() == 0) draw_note(svg, p, "no object points (" + status_line(result) + ")");
@@ -635,46 +643,73 @@ std::string world_picture(const Planner& planner, const PlanResult& result, bool
   // Legend, colour bar and scale bar.
   Legend lg(760, 110, 265);
   if (top) {
-    lg.add([&](Svg& s, P2 q) {
-      for (int k = 0; k < 4; ++k) s.circle({q.x - 9 + 6.0 * k, q.y}, 2.5, "stroke=\"none\" fill=\"" + ramp(k / 3.0) + "\"");
-    }, "object point (colour: height)");
+    lg.add(
+        [&](Svg& s, P2 q) {
+          for (int k = 0; k < 4; ++k)
+            s.circle({q.x - 9 + 6.0 * k, q.y}, 2.5, "stroke=\"none\" fill=\"" + ramp(k / 3.0) + "\"");
+        },
+        "object point (colour: height)");
   } else {
-    lg.add([&](Svg& s, P2 q) {
-      for (int k = 0; k < 4; ++k) s.circle({q.x - 9 + 6.0 * k, q.y}, 2.5, std::string("stroke=\"none\" fill=\"") + kPoints + "\"");
-    }, "object point");
+    lg.add(
+        [&](Svg& s, P2 q) {
+          for (int k = 0; k < 4; ++k)
+            s.circle({q.x - 9 + 6.0 * k, q.y}, 2.5, std::string("stroke=\"none\" fill=\"") + kPoints + "\"");
+        },
+        "object point");
   }
-  lg.add([](Svg& s, P2 q) {
-    s.polygon({{q.x, q.y - 6}, {q.x + 6, q.y}, {q.x, q.y + 6}, {q.x - 6, q.y}}, attrs("#000000", 1.2, "none"));
-  }, "object centroid");
+  lg.add(
+      [](Svg& s, P2 q) {
+        s.polygon({{q.x, q.y - 6}, {q.x + 6, q.y}, {q.x, q.y + 6}, {q.x - 6, q.y}}, attrs("#000000", 1.2, "none"));
+      },
+      "object centroid");
   if (n_other > 0)
-    lg.add([](Svg& s, P2 q) {
-      for (int k = 0; k < 4; ++k) s.circle({q.x - 9 + 6.0 * k, q.y}, 1.6, "stroke=\"none\" fill=\"#b0b0b0\"");
-    }, "other points (not target/table)");
+    lg.add(
+        [](Svg& s, P2 q) {
+          for (int k = 0; k < 4; ++k) s.circle({q.x - 9 + 6.0 * k, q.y}, 1.6, "stroke=\"none\" fill=\"#b0b0b0\"");
+        },
+        "other points (not target/table)");
   if (show_plane)
     lg.add([](Svg& s, P2 q) { s.line({q.x - 14, q.y}, {q.x + 14, q.y}, attrs(kPlane, 2.5, "none")); }, "support plane");
   if (ok) {
-    lg.add([](Svg& s, P2 q) {
-      s.circle(q, 4.5, attrs("#000000", 1.5, "#ffffff"));
-      s.line({q.x - 7, q.y}, {q.x + 7, q.y}, attrs("#000000", 1.2, "none"));
-    }, "grasp position");
-    lg.add([](Svg& s, P2 q) { s.rect(q.x - 14, q.y - 6, 28, 12, attrs(kPalm, 1.5, kPalm, "fill-opacity=\"0.22\"")); }, "palm");
-    lg.add([](Svg& s, P2 q) {
-      s.rect(q.x - 14, q.y - 6, 28, 12, attrs(kFinger, 1.5, kFinger, "fill-opacity=\"0.08\" stroke-dasharray=\"6,4\""));
-    }, "fingers, open (max opening)");
-    lg.add([](Svg& s, P2 q) { s.rect(q.x - 14, q.y - 6, 28, 12, attrs("#a04000", 1.5, kFinger, "fill-opacity=\"0.45\"")); },
+    lg.add(
+        [](Svg& s, P2 q) {
+          s.circle(q, 4.5, attrs("#000000", 1.5, "#ffffff"));
+          s.line({q.x - 7, q.y}, {q.x + 7, q.y}, attrs("#000000", 1.2, "none"));
+        },
+        "grasp position");
+    lg.add([](Svg& s, P2 q) { s.rect(q.x - 14, q.y - 6, 28, 12, attrs(kPalm, 1.5, kPalm, "fill-opacity=\"0.22\"")); },
+           "palm");
+    lg.add(
+        [](Svg& s, P2 q) {
+          s.rect(q.x - 14, q.y - 6, 28, 12,
+                 attrs(kFinger, 1.5, kFinger, "fill-opacity=\"0.08\" stroke-dasharray=\"6,4\""));
+        },
+        "fingers, open (max opening)");
+    lg.add([](Svg& s,
+              P2 q) { s.rect(q.x - 14, q.y - 6, 28, 12, attrs("#a04000", 1.5, kFinger, "fill-opacity=\"0.45\"")); },
            "fingers, closed (width)");
-    lg.add([](Svg& s, P2 q) { s.line({q.x - 14, q.y}, {q.x + 14, q.y}, attrs(kPad, 3, "none")); },
-           "finger pads (dashed: open)");
-    lg.add([](Svg& s, P2 q) { s.arrow({q.x - 15, q.y}, {q.x + 15, q.y}, kApproach, 3, 10); }, "approach (\u2297: into the picture)");
+    lg.add(
+        [](Svg& s, P2 q) {
+          s.line({q.x - 14, q.y}, {q.x + 14, q.y}, attrs(kPad, 3, "none"));
+        },
+        "finger pads (dashed: open)");
+    lg.add(
+        [](Svg& s, P2 q) {
+          s.arrow({q.x - 15, q.y}, {q.x + 15, q.y}, kApproach, 3, 10);
+        },
+        "approach (\u2297: into the picture)");
     lg.add([](Svg& s, P2 q) { s.arrow({q.x - 15, q.y}, {q.x + 15, q.y}, kClosing, 2.5, 10); }, "closing direction");
   }
   double y = lg.draw(svg) + 28;
   if (top && obj.size() > 0) {
-    svg.def("<linearGradient id=\"heightramp\" x1=\"0\" y1=\"0\" x2=\"1\" y2=\"0\">"
-            "<stop offset=\"0\" stop-color=\"" + ramp(0) + "\"/><stop offset=\"0.25\" stop-color=\"" + ramp(0.25) +
-            "\"/><stop offset=\"0.5\" stop-color=\"" + ramp(0.5) + "\"/><stop offset=\"0.75\" stop-color=\"" +
-            ramp(0.75) + "\"/><stop offset=\"1\" stop-color=\"" + ramp(1) + "\"/></linearGradient>");
-    svg.text({760, y}, planner.plane_found() ? "Height above support plane" : "Height (world z)", "font-weight=\"bold\"");
+    svg.def(
+        "<linearGradient id=\"heightramp\" x1=\"0\" y1=\"0\" x2=\"1\" y2=\"0\">"
+        "<stop offset=\"0\" stop-color=\"" +
+        ramp(0) + "\"/><stop offset=\"0.25\" stop-color=\"" + ramp(0.25) + "\"/><stop offset=\"0.5\" stop-color=\"" +
+        ramp(0.5) + "\"/><stop offset=\"0.75\" stop-color=\"" + ramp(0.75) + "\"/><stop offset=\"1\" stop-color=\"" +
+        ramp(1) + "\"/></linearGradient>");
+    svg.text({760, y}, planner.plane_found() ? "Height above support plane" : "Height (world z)",
+             "font-weight=\"bold\"");
     svg.rect(760, y + 8, 220, 14, "stroke=\"#666666\" stroke-width=\"1\" fill=\"url(#heightramp)\"");
     svg.text({760, y + 38}, fmt(hmin, 0) + " mm", "font-size=\"12\"");
     svg.text({980, y + 38}, fmt(hmax, 0) + " mm", "font-size=\"12\" text-anchor=\"end\"");
@@ -728,9 +763,8 @@ std::string silhouette_picture(Planner& planner, const PlanResult& result) {
   if (vi >= 0) {
     const ViewRecord& v = planner.view(static_cast<uint32_t>(vi));
     sub.push_back(std::string(chosen ? "chosen viewpoint " : "viewpoint (none chosen; best beta) ") +
-                  std::to_string(vi) + ": family " + to_string(v.family) + ", theta " +
-                  fmt(v.theta * 180.0 / kPi, 1) + " deg; seen along its Z " + vec_text(v.Z.cast<double>(), 2) +
-                  ", origin at the object centroid");
+                  std::to_string(vi) + ": family " + to_string(v.family) + ", theta " + fmt(v.theta * 180.0 / kPi, 1) +
+                  " deg; seen along its Z " + vec_text(v.Z.cast<double>(), 2) + ", origin at the object centroid");
     sub.push_back(std::to_string(d.n_points) + " projected points, " + std::to_string(d.n_contour) +
                   "-vertex concave hull, " + std::to_string(d.n_lines) + " scan lines (" + std::to_string(hit) +
                   " crossing, " + std::to_string(kept) + " graspable)");
@@ -825,32 +859,46 @@ std::string silhouette_picture(Planner& planner, const PlanResult& result) {
   svg.close("g");
   for (const Label& l : labels) draw_label(svg, p, l.at, l.lines, l.colour);
   if (!have)
-    draw_note(svg, p, vi < 0 ? "no viewpoint was analysed (" + status_line(result) + ")"
-                             : std::string("analyze_view failed: ") + to_string(st));
+    draw_note(svg, p,
+              vi < 0 ? "no viewpoint was analysed (" + status_line(result) + ")"
+                     : std::string("analyze_view failed: ") + to_string(st));
 
   Legend lg(760, 110, 265);
-  lg.add([](Svg& s, P2 q) {
-    for (int k = 0; k < 4; ++k) s.circle({q.x - 9 + 6.0 * k, q.y}, 2, "stroke=\"none\" fill=\"#7a8ca8\"");
-  }, "projected object point");
+  lg.add(
+      [](Svg& s, P2 q) {
+        for (int k = 0; k < 4; ++k) s.circle({q.x - 9 + 6.0 * k, q.y}, 2, "stroke=\"none\" fill=\"#7a8ca8\"");
+      },
+      "projected object point");
   lg.add([](Svg& s, P2 q) { s.rect(q.x - 14, q.y - 7, 28, 14, attrs(kPoints, 1.6, kPoints, "fill-opacity=\"0.10\"")); },
          "concave hull contour");
   lg.add([](Svg& s, P2 q) { s.line({q.x - 14, q.y}, {q.x + 14, q.y}, attrs("#9a9a9a", 0.8, "none")); }, "scan line");
-  lg.add([](Svg& s, P2 q) { s.line({q.x - 14, q.y}, {q.x + 14, q.y}, attrs("#2ca02c", 1.5, "none")); },
-         "graspable line (width < opening)");
-  lg.add([](Svg& s, P2 q) {
-    s.circle({q.x - 7, q.y}, 3, attrs("#105010", 0.8, "#2ca02c"));
-    s.circle({q.x + 7, q.y}, 3, attrs("#105010", 0.8, "#ffffff"));
-  }, "L_j (filled), R_j (open)");
-  lg.add([](Svg& s, P2 q) { s.rect(q.x - 14, q.y - 7, 28, 14, "stroke=\"none\" fill=\"#d62728\" fill-opacity=\"0.15\""); },
-         "best window of the viewpoint");
-  lg.add([](Svg& s, P2 q) { s.line({q.x - 14, q.y}, {q.x + 14, q.y}, attrs(kPad, 3.2, "none")); },
-         "fitted sides x = a y + b");
+  lg.add(
+      [](Svg& s, P2 q) {
+        s.line({q.x - 14, q.y}, {q.x + 14, q.y}, attrs("#2ca02c", 1.5, "none"));
+      },
+      "graspable line (width < opening)");
+  lg.add(
+      [](Svg& s, P2 q) {
+        s.circle({q.x - 7, q.y}, 3, attrs("#105010", 0.8, "#2ca02c"));
+        s.circle({q.x + 7, q.y}, 3, attrs("#105010", 0.8, "#ffffff"));
+      },
+      "L_j (filled), R_j (open)");
+  lg.add(
+      [](Svg& s, P2 q) { s.rect(q.x - 14, q.y - 7, 28, 14, "stroke=\"none\" fill=\"#d62728\" fill-opacity=\"0.15\""); },
+      "best window of the viewpoint");
+  lg.add(
+      [](Svg& s, P2 q) {
+        s.line({q.x - 14, q.y}, {q.x + 14, q.y}, attrs(kPad, 3.2, "none"));
+      },
+      "fitted sides x = a y + b");
   if (chosen && result.status == Status::ok)
-    lg.add([](Svg& s, P2 q) {
-      s.line({q.x - 10, q.y - 7}, {q.x - 10, q.y + 7}, attrs(kFinger, 4, "none"));
-      s.line({q.x + 10, q.y - 7}, {q.x + 10, q.y + 7}, attrs(kFinger, 4, "none"));
-      s.circle(q, 3.5, attrs("#000000", 1.2, "#ffffff"));
-    }, "planned grasp: centre, pads");
+    lg.add(
+        [](Svg& s, P2 q) {
+          s.line({q.x - 10, q.y - 7}, {q.x - 10, q.y + 7}, attrs(kFinger, 4, "none"));
+          s.line({q.x + 10, q.y - 7}, {q.x + 10, q.y + 7}, attrs(kFinger, 4, "none"));
+          s.circle(q, 3.5, attrs("#000000", 1.2, "#ffffff"));
+        },
+        "planned grasp: centre, pads");
   const double y = lg.draw(svg) + 28;
   draw_scale_bar(svg, 760, y, p.sx(), 200, "mm");
   return svg.str("forcegrasp: silhouette of the chosen viewpoint",
@@ -864,8 +912,12 @@ std::string silhouette_picture(Planner& planner, const PlanResult& result) {
 
 void draw_marker(Svg& svg, ViewFamily f, P2 c, double r, const std::string& style) {
   switch (f) {
-    case ViewFamily::sensor_arc: svg.circle(c, r, style); break;
-    case ViewFamily::full_circle: svg.rect(c.x - r * 0.9, c.y - r * 0.9, 1.8 * r, 1.8 * r, style); break;
+    case ViewFamily::sensor_arc:
+      svg.circle(c, r, style);
+      break;
+    case ViewFamily::full_circle:
+      svg.rect(c.x - r * 0.9, c.y - r * 0.9, 1.8 * r, 1.8 * r, style);
+      break;
     case ViewFamily::middle_axis:
       svg.polygon({{c.x, c.y - 1.2 * r}, {c.x + 1.1 * r, c.y + 0.8 * r}, {c.x - 1.1 * r, c.y + 0.8 * r}}, style);
       break;
@@ -881,13 +933,20 @@ void draw_marker(Svg& svg, ViewFamily f, P2 c, double r, const std::string& styl
 }
 const char* family_colour(ViewFamily f) {
   switch (f) {
-    case ViewFamily::sensor_arc: return "#1f77b4";
-    case ViewFamily::full_circle: return "#ff7f0e";
-    case ViewFamily::middle_axis: return "#2ca02c";
-    case ViewFamily::minor_axis: return "#9467bd";
-    case ViewFamily::support_normal: return "#8c564b";
-    case ViewFamily::support_major: return "#e377c2";
-    case ViewFamily::support_minor: return "#7f7f7f";
+    case ViewFamily::sensor_arc:
+      return "#1f77b4";
+    case ViewFamily::full_circle:
+      return "#ff7f0e";
+    case ViewFamily::middle_axis:
+      return "#2ca02c";
+    case ViewFamily::minor_axis:
+      return "#9467bd";
+    case ViewFamily::support_normal:
+      return "#8c564b";
+    case ViewFamily::support_major:
+      return "#e377c2";
+    case ViewFamily::support_minor:
+      return "#7f7f7f";
   }
   return "#000000";
 }
@@ -960,8 +1019,10 @@ std::string balance_picture(const Planner& planner, const PlanResult& result) {
   draw_title(svg, "Force balance over the virtual viewpoints", sub);
   draw_axes(svg, pb, "viewpoint angle theta about the family's axis (deg)", "beta (rad)", "clip_beta");
   draw_axes(svg, pd, "viewpoint angle theta about the family's axis (deg)", "dz (mm)", "clip_dz");
-  svg.text({pb.left + 8, pb.top + 18}, "XOY balance: angle between the fitted sides", "font-size=\"12.5\" fill=\"#444444\"");
-  svg.text({pd.left + 8, pd.top + 18}, "XOZ balance: depth difference of the contact regions", "font-size=\"12.5\" fill=\"#444444\"");
+  svg.text({pb.left + 8, pb.top + 18}, "XOY balance: angle between the fitted sides",
+           "font-size=\"12.5\" fill=\"#444444\"");
+  svg.text({pd.left + 8, pd.top + 18}, "XOZ balance: depth difference of the contact regions",
+           "font-size=\"12.5\" fill=\"#444444\"");
 
   for (int panel = 0; panel < 2; ++panel) {
     const Plot& p = panel == 0 ? pb : pd;
@@ -996,8 +1057,11 @@ std::string balance_picture(const Planner& planner, const PlanResult& result) {
   if (have_chosen)
     lg.add([](Svg& s, P2 q) { s.circle(q, 9, attrs("#d62728", 2.5, "#ffd84d", "fill-opacity=\"0.6\"")); },
            "chosen grasp (its candidate)");
-  lg.add([](Svg& s, P2 q) { s.line({q.x - 14, q.y}, {q.x + 14, q.y}, attrs(kPad, 1.8, "none", "stroke-dasharray=\"8,5\"")); },
-         "beta_max (balanced below)");
+  lg.add(
+      [](Svg& s, P2 q) {
+        s.line({q.x - 14, q.y}, {q.x + 14, q.y}, attrs(kPad, 1.8, "none", "stroke-dasharray=\"8,5\""));
+      },
+      "beta_max (balanced below)");
   const double y = lg.draw(svg) + 30;
   svg.text({760, y}, "Selection (design E.3):", "font-weight=\"bold\" font-size=\"12.5\"");
   svg.text({760, y + 18}, "among beta <= beta_max the smallest", "font-size=\"12\"");
@@ -1021,19 +1085,18 @@ std::string index_html(const PlanResult& result) {
     const Grasp& g = result.grasp;
     o << ": position " << esc(vec_text(g.position.cast<double>(), 4)) << " m, approach "
       << esc(vec_text(g.approach.cast<double>(), 3)) << ", closing " << esc(vec_text(g.closing.cast<double>(), 3))
-      << ", width " << fmt(g.width * 1000, 1) << " mm, beta " << rad_text(g.beta) << " rad, dz "
-      << fmt(g.dz * 1000, 2) << " mm (" << to_string(g.family) << ", viewpoint " << fmt(g.viewpoint, 3)
-      << " rad)";
+      << ", width " << fmt(g.width * 1000, 1) << " mm, beta " << rad_text(g.beta) << " rad, dz " << fmt(g.dz * 1000, 2)
+      << " mm (" << to_string(g.family) << ", viewpoint " << fmt(g.viewpoint, 3) << " rad)";
   }
-  o << ". " << result.points.object << " object points, " << result.viewpoints << " viewpoints, "
-    << result.candidates << " candidates.</p>\n";
+  o << ". " << result.points.object << " object points, " << result.viewpoints << " viewpoints, " << result.candidates
+    << " candidates.</p>\n";
   const char* pics[4][2] = {{"object_top.svg", "Object cloud and grasp from above"},
                             {"object_side.svg", "Object cloud and grasp from the side, with the support plane"},
                             {"silhouette.svg", "Silhouette of the chosen viewpoint: contour, scan lines, fitted sides"},
                             {"balance.svg", "Force balance (beta, dz) over the viewpoints"}};
   for (const auto& pic : pics)
-    o << "<h2>" << pic[1] << "</h2>\n<p><a href=\"" << pic[0] << "\"><img src=\"" << pic[0] << "\" alt=\""
-      << pic[1] << "\"/></a></p>\n";
+    o << "<h2>" << pic[1] << "</h2>\n<p><a href=\"" << pic[0] << "\"><img src=\"" << pic[0] << "\" alt=\"" << pic[1]
+      << "\"/></a></p>\n";
   o << "</body>\n</html>\n";
   return o.str();
 }

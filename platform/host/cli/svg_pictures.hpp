@@ -1,6 +1,7 @@
 // Host-only: SVG pictures of the planner's stages for `forcegrasp plan --pictures DIR`.
 #pragma once
 #include <string>
+
 #include "fg/core/planner.hpp"
 
 namespace fg::host {
@@ -8,7 +9,6 @@ namespace fg::host {
 //! Writes object_top.svg, object_side.svg (object cloud, grasp and gripper),
 //! silhouette.svg (chosen viewpoint: silhouette, contour, scan lines, kept lines,
 //! fitted sides) and balance.svg (beta and dz over the viewpoints) into dir.
-bool write_pictures(Planner& planner, const PlanResult& result, const std::string& dir,
-                    std::string& error);
+bool write_pictures(Planner& planner, const PlanResult& result, const std::string& dir, std::string& error);
 
 }  // namespace fg::host

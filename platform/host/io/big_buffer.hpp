@@ -38,9 +38,13 @@ struct BigAllocator {
     ::new (static_cast<void*>(p)) U(std::forward<A>(a)...);
   }
   template <class U>
-  bool operator==(const BigAllocator<U>&) const noexcept { return true; }
+  bool operator==(const BigAllocator<U>&) const noexcept {
+    return true;
+  }
   template <class U>
-  bool operator!=(const BigAllocator<U>&) const noexcept { return false; }
+  bool operator!=(const BigAllocator<U>&) const noexcept {
+    return false;
+  }
 };
 
 template <class T>

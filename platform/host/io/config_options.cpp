@@ -5,9 +5,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
-#include <sstream>
-
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 namespace fg::host {
 
@@ -48,7 +47,8 @@ std::vector<ConfigOption> config_options(PlannerConfig& c) {
        &c.vertical_snap_round_rad},
       {"axis_ratio_min", "largest/middle eigenvalue below this: axis = z", K::real, &c.axis_ratio_min},
       {"extend_search", "search other viewpoint families when the arc fails", K::flag, &c.extend_search},
-      {"approach_view_max", "approaches stay within this angle of a sensor's sight line (rad)", K::real, &c.approach_view_max_rad},
+      {"approach_view_max", "approaches stay within this angle of a sensor's sight line (rad)", K::real,
+       &c.approach_view_max_rad},
       {"delta", "scan line spacing (m)", K::real, &c.scan_delta_m},
       {"dx_th", "discontinuity threshold (m)", K::real, &c.dx_threshold_m},
       {"width_margin", "lines must be narrower than max_opening - margin (m)", K::real, &c.width_margin_m},
@@ -62,7 +62,8 @@ std::vector<ConfigOption> config_options(PlannerConfig& c) {
       {"friction_mu", "friction coefficient of the contact-normal test (0: off)", K::real, &c.friction_mu},
       {"round_flanks", "round flanks seen to a grazing edge close on their unseen tangents", K::flag, &c.round_flanks},
       {"table_clearance", "gripper clearance above the support plane (m)", K::real, &c.table_clearance_m},
-      {"collision_tolerance", "points this close to a gripper box face are tolerated (m)", K::real, &c.collision_tolerance_m},
+      {"collision_tolerance", "points this close to a gripper box face are tolerated (m)", K::real,
+       &c.collision_tolerance_m},
       {"pregrasp_clearance", "pre-grasp back-off beyond the finger depth (m)", K::real, &c.pregrasp_clearance_m},
       {"palm_clearance", "the palm stops this far before the first surface (m)", K::real, &c.palm_clearance_m},
       {"paper_depth", "position at the contacts' mean depth, as the paper", K::flag, &c.paper_depth},
@@ -82,8 +83,7 @@ bool parse_real(const std::string& s, float& out) {
 }
 }  // namespace
 
-bool set_config_option(PlannerConfig& cfg, const std::string& name, const std::string& value,
-                       std::string& error) {
+bool set_config_option(PlannerConfig& cfg, const std::string& name, const std::string& value, std::string& error) {
   for (const ConfigOption& o : config_options(cfg)) {
     if (name != o.name) continue;
     switch (o.kind) {
@@ -109,16 +109,20 @@ bool set_config_option(PlannerConfig& cfg, const std::string& name, const std::s
         return true;
       }
       case ConfigOption::flag:
-        if (value == "true" || value == "1" || value == "on") *static_cast<bool*>(o.field) = true;
-        else if (value == "false" || value == "0" || value == "off") *static_cast<bool*>(o.field) = false;
+        if (value == "true" || value == "1" || value == "on")
+          *static_cast<bool*>(o.field) = true;
+        else if (value == "false" || value == "0" || value == "off")
+          *static_cast<bool*>(o.field) = false;
         else {
           error = "option " + name + ": \"" + value + "\" is not true or false";
           return false;
         }
         return true;
       case ConfigOption::rule:
-        if (value == "nearest") *static_cast<TargetRule*>(o.field) = TargetRule::nearest_to_centre;
-        else if (value == "largest") *static_cast<TargetRule*>(o.field) = TargetRule::largest;
+        if (value == "nearest")
+          *static_cast<TargetRule*>(o.field) = TargetRule::nearest_to_centre;
+        else if (value == "largest")
+          *static_cast<TargetRule*>(o.field) = TargetRule::largest;
         else {
           error = "option " + name + ": \"" + value + "\" is not nearest or largest";
           return false;
@@ -141,8 +145,12 @@ nlohmann::json default_config_json() {
         j[o.name] = std::strtod(buf, nullptr);
         break;
       }
-      case ConfigOption::count: j[o.name] = *static_cast<uint32_t*>(o.field); break;
-      case ConfigOption::flag: j[o.name] = *static_cast<bool*>(o.field); break;
+      case ConfigOption::count:
+        j[o.name] = *static_cast<uint32_t*>(o.field);
+        break;
+      case ConfigOption::flag:
+        j[o.name] = *static_cast<bool*>(o.field);
+        break;
       case ConfigOption::rule:
         j[o.name] = *static_cast<TargetRule*>(o.field) == TargetRule::largest ? "largest" : "nearest";
         break;
@@ -177,14 +185,17 @@ bool load_config_file(PlannerConfig& cfg, const std::string& path, std::string& 
   }
   for (auto it = j.begin(); it != j.end(); ++it) {
     std::string value;
-    if (it->is_boolean()) value = it->get<bool>() ? "true" : "false";
-    else if (it->is_number_unsigned()) value = std::to_string(it->get<uint64_t>());
+    if (it->is_boolean())
+      value = it->get<bool>() ? "true" : "false";
+    else if (it->is_number_unsigned())
+      value = std::to_string(it->get<uint64_t>());
     else if (it->is_number()) {
       std::ostringstream os;
       os.precision(9);
       os << it->get<double>();
       value = os.str();
-    } else if (it->is_string()) value = it->get<std::string>();
+    } else if (it->is_string())
+      value = it->get<std::string>();
     else {
       error = path + ": option " + it.key() + " must be a number, boolean or string";
       return false;

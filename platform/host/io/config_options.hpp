@@ -1,9 +1,10 @@
 // Host-only: the planner configuration as named options, settable from a JSON file
 // (--config FILE) or from the command line (--set name=value), every value validated.
 #pragma once
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-#include <nlohmann/json.hpp>
+
 #include "fg/core/config.hpp"
 
 namespace fg::host {
@@ -19,8 +20,7 @@ struct ConfigOption {
 std::vector<ConfigOption> config_options(PlannerConfig& cfg);
 
 //! Sets one option from text; false with a message naming the option and the problem.
-bool set_config_option(PlannerConfig& cfg, const std::string& name, const std::string& value,
-                       std::string& error);
+bool set_config_option(PlannerConfig& cfg, const std::string& name, const std::string& value, std::string& error);
 
 //! Every option with its default value, as a JSON object (a valid --config file).
 nlohmann::json default_config_json();

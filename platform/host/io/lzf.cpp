@@ -6,14 +6,13 @@
 namespace fg::host::lzf {
 
 namespace {
-constexpr size_t kMaxLiteral = 32;     // ctrl 0..31 -> 1..32 literal bytes
-constexpr size_t kMaxOffset = 8192;    // 13-bit offset + 1
-constexpr size_t kMaxMatch = 264;      // 7 + 255 + 2
+constexpr size_t kMaxLiteral = 32;   // ctrl 0..31 -> 1..32 literal bytes
+constexpr size_t kMaxOffset = 8192;  // 13-bit offset + 1
+constexpr size_t kMaxMatch = 264;    // 7 + 255 + 2
 constexpr size_t kHashBits = 14;
 }  // namespace
 
-bool decompress(const uint8_t* in, size_t in_size, uint8_t* out, size_t out_size,
-                std::string& error) {
+bool decompress(const uint8_t* in, size_t in_size, uint8_t* out, size_t out_size, std::string& error) {
   size_t ip = 0;
   size_t op = 0;
   while (ip < in_size) {
@@ -21,13 +20,13 @@ bool decompress(const uint8_t* in, size_t in_size, uint8_t* out, size_t out_size
     if (ctrl < 32) {
       const size_t len = ctrl + 1;
       if (len > in_size - ip) {
-        error = "LZF stream is corrupt: a literal run of " + std::to_string(len) +
-                " bytes at input offset " + std::to_string(ip - 1) + " runs past the end of the input";
+        error = "LZF stream is corrupt: a literal run of " + std::to_string(len) + " bytes at input offset " +
+                std::to_string(ip - 1) + " runs past the end of the input";
         return false;
       }
       if (len > out_size - op) {
-        error = "LZF stream is corrupt: output overflow (more than the declared " +
-                std::to_string(out_size) + " bytes)";
+        error =
+            "LZF stream is corrupt: output overflow (more than the declared " + std::to_string(out_size) + " bytes)";
         return false;
       }
       // Fast path: a fixed 32-byte copy (inlined as vector moves) when both buffers
@@ -55,14 +54,13 @@ bool decompress(const uint8_t* in, size_t in_size, uint8_t* out, size_t out_size
       const size_t dist = ((static_cast<size_t>(ctrl & 0x1f) << 8) | in[ip++]) + 1;
       len += 2;
       if (dist > op) {
-        error = "LZF stream is corrupt: a back-reference points " + std::to_string(dist) +
-                " bytes back but only " + std::to_string(op) +
-                " bytes were decoded (before the start of the output)";
+        error = "LZF stream is corrupt: a back-reference points " + std::to_string(dist) + " bytes back but only " +
+                std::to_string(op) + " bytes were decoded (before the start of the output)";
         return false;
       }
       if (len > out_size - op) {
-        error = "LZF stream is corrupt: output overflow (more than the declared " +
-                std::to_string(out_size) + " bytes)";
+        error =
+            "LZF stream is corrupt: output overflow (more than the declared " + std::to_string(out_size) + " bytes)";
         return false;
       }
       const uint8_t* ref = out + op - dist;
@@ -97,8 +95,8 @@ bool decompress(const uint8_t* in, size_t in_size, uint8_t* out, size_t out_size
     }
   }
   if (op != out_size) {
-    error = "LZF stream is truncated: it decodes to " + std::to_string(op) +
-            " bytes but " + std::to_string(out_size) + " were declared";
+    error = "LZF stream is truncated: it decodes to " + std::to_string(op) + " bytes but " + std::to_string(out_size) +
+            " were declared";
     return false;
   }
   return true;
@@ -129,8 +127,7 @@ std::vector<uint8_t> compress(const uint8_t* in, size_t n) {
     if (ref_signed >= 0) {
       const size_t ref = static_cast<size_t>(ref_signed);
       const size_t dist = i - ref;
-      if (dist >= 1 && dist <= kMaxOffset && in[ref] == in[i] && in[ref + 1] == in[i + 1] &&
-          in[ref + 2] == in[i + 2]) {
+      if (dist >= 1 && dist <= kMaxOffset && in[ref] == in[i] && in[ref + 1] == in[i + 1] && in[ref + 2] == in[i + 2]) {
         const size_t max_len = std::min(kMaxMatch, n - i);
         size_t len = 3;
         while (len < max_len && in[ref + len] == in[i + len]) ++len;

@@ -67,8 +67,8 @@ float read_coord(const uint8_t* p, uint32_t size) {
   return to_float(load_le<double>(p));
 }
 
-ReadResult parse_pcd_impl(const uint8_t* data, size_t size, const std::string& name,
-                          PointCloud& out, const ReadLimits& limits) {
+ReadResult parse_pcd_impl(const uint8_t* data, size_t size, const std::string& name, PointCloud& out,
+                          const ReadLimits& limits) {
   if (size == 0) return fail(name, "empty file (no PCD header)");
   if (size > limits.max_file_bytes) {
     return fail(name, "file of " + std::to_string(size) + " bytes is larger than the limit of " +
@@ -77,9 +77,8 @@ ReadResult parse_pcd_impl(const uint8_t* data, size_t size, const std::string& n
 
   // ---- header -------------------------------------------------------------------------
   std::vector<std::string_view> fields_tok, size_tok, type_tok, count_tok, tok;
-  bool have_version = false, have_fields = false, have_size = false, have_type = false,
-       have_count = false, have_width = false, have_height = false, have_points = false,
-       have_viewpoint = false, have_data = false;
+  bool have_version = false, have_fields = false, have_size = false, have_type = false, have_count = false,
+       have_width = false, have_height = false, have_points = false, have_viewpoint = false, have_data = false;
   uint64_t width = 0, height = 1, points = 0;
   std::array<double, 7> viewpoint{{0, 0, 0, 1, 0, 0, 0}};
   DataKind kind = DataKind::ascii;
@@ -105,8 +104,7 @@ ReadResult parse_pcd_impl(const uint8_t* data, size_t size, const std::string& n
     if (key == "VERSION") {
       if (dup(have_version)) return fail(name, "duplicate VERSION line" + where);
       if (tok.size() != 2 || (tok[1] != ".7" && tok[1] != "0.7")) {
-        return fail(name, "unsupported VERSION '" + printable(line.substr(7)) +
-                              "' (expected 0.7 or .7)" + where);
+        return fail(name, "unsupported VERSION '" + printable(line.substr(7)) + "' (expected 0.7 or .7)" + where);
       }
     } else if (key == "FIELDS" || key == "COLUMNS") {
       if (dup(have_fields)) return fail(name, "duplicate FIELDS line" + where);
@@ -137,8 +135,8 @@ ReadResult parse_pcd_impl(const uint8_t* data, size_t size, const std::string& n
     } else if (key == "VIEWPOINT") {
       if (dup(have_viewpoint)) return fail(name, "duplicate VIEWPOINT line" + where);
       if (tok.size() != 8) {
-        return fail(name, "VIEWPOINT needs 7 values (tx ty tz qw qx qy qz), got " +
-                              std::to_string(tok.size() - 1) + where);
+        return fail(name,
+                    "VIEWPOINT needs 7 values (tx ty tz qw qx qy qz), got " + std::to_string(tok.size() - 1) + where);
       }
       for (size_t i = 0; i < 7; ++i) {
         if (!parse_real(tok[i + 1], viewpoint[i])) {
@@ -209,13 +207,11 @@ ReadResult parse_pcd_impl(const uint8_t* data, size_t size, const std::string& n
     }
     if (have_count) {
       if (!parse_u64(count_tok[f], fd.count, LeadingPlus::reject) || fd.count == 0) {
-        return fail(name, "COUNT '" + printable(count_tok[f]) + "' of " + fq +
-                              " is not a positive integer");
+        return fail(name, "COUNT '" + printable(count_tok[f]) + "' of " + fq + " is not a positive integer");
       }
     }
     uint64_t bytes = 0;
-    if (!mul_ok(fd.size, fd.count, bytes) || point_size + bytes < point_size ||
-        total_count + fd.count < total_count) {
+    if (!mul_ok(fd.size, fd.count, bytes) || point_size + bytes < point_size || total_count + fd.count < total_count) {
       return fail(name, "COUNT of " + fq + " is too large");
     }
     fd.offset = point_size;
@@ -240,8 +236,8 @@ ReadResult parse_pcd_impl(const uint8_t* data, size_t size, const std::string& n
     }
     const Field& fd = fields[static_cast<size_t>(idx)];
     if (fd.type != 'F' || fd.count != 1) {
-      return fail(name, std::string("field '") + axis + "' must be TYPE F, SIZE 4 or 8, COUNT 1 (got " +
-                            fd.type + " " + std::to_string(fd.size) + " " + std::to_string(fd.count) + ")");
+      return fail(name, std::string("field '") + axis + "' must be TYPE F, SIZE 4 or 8, COUNT 1 (got " + fd.type + " " +
+                            std::to_string(fd.size) + " " + std::to_string(fd.count) + ")");
     }
   }
 
@@ -259,9 +255,9 @@ ReadResult parse_pcd_impl(const uint8_t* data, size_t size, const std::string& n
   if (!mul_ok(width, height, wh)) return fail(name, "WIDTH x HEIGHT overflows");
   if (!have_points) points = wh;
   if (wh != points) {
-    return fail(name, "WIDTH x HEIGHT = " + std::to_string(width) + "x" + std::to_string(height) +
-                          " = " + std::to_string(wh) + " does not match POINTS " +
-                          std::to_string(points) + " (inconsistent point count)");
+    return fail(name, "WIDTH x HEIGHT = " + std::to_string(width) + "x" + std::to_string(height) + " = " +
+                          std::to_string(wh) + " does not match POINTS " + std::to_string(points) +
+                          " (inconsistent point count)");
   }
   if (points > limits.max_points) {
     return fail(name, "declares " + std::to_string(points) + " points, more than the limit of " +
@@ -285,8 +281,8 @@ ReadResult parse_pcd_impl(const uint8_t* data, size_t size, const std::string& n
   // ---- data ---------------------------------------------------------------------------
   if (kind == DataKind::binary) {
     if (remaining < data_bytes) {
-      return fail(name, "DATA binary holds " + std::to_string(remaining) + " bytes but " + npts +
-                            " need " + std::to_string(data_bytes) + " (file too short / truncated)");
+      return fail(name, "DATA binary holds " + std::to_string(remaining) + " bytes but " + npts + " need " +
+                            std::to_string(data_bytes) + " (file too short / truncated)");
     }
     cloud.xyz.resize(points * 3);
     const uint8_t* base = data + data_offset;
@@ -316,8 +312,8 @@ ReadResult parse_pcd_impl(const uint8_t* data, size_t size, const std::string& n
     }
     if (usize != data_bytes) {
       return fail(name, "uncompressed size " + std::to_string(usize) + " does not match the " +
-                            std::to_string(data_bytes) + " bytes that " + npts + " of " +
-                            std::to_string(point_size) + " bytes need (size mismatch)");
+                            std::to_string(data_bytes) + " bytes that " + npts + " of " + std::to_string(point_size) +
+                            " bytes need (size mismatch)");
     }
     if (usize > lzf::max_decompressed_size(csize)) {
       return fail(name, "uncompressed size " + std::to_string(usize) + " (" + npts + ") cannot come from " +
@@ -371,9 +367,8 @@ ReadResult parse_pcd_impl(const uint8_t* data, size_t size, const std::string& n
     // (and the allocation) by the bytes present.
     uint64_t min_bytes = 0;
     if (!mul_ok(points, total_count, min_bytes) || remaining < min_bytes) {
-      return fail(name, "DATA ascii holds " + std::to_string(remaining) + " bytes, too few for " +
-                            npts + " of " + std::to_string(total_count) +
-                            " values each (file too short / truncated)");
+      return fail(name, "DATA ascii holds " + std::to_string(remaining) + " bytes, too few for " + npts + " of " +
+                            std::to_string(total_count) + " values each (file too short / truncated)");
     }
     cloud.xyz.resize(points * 3);
     std::vector<int> slot(nf, -1);
@@ -395,9 +390,8 @@ ReadResult parse_pcd_impl(const uint8_t* data, size_t size, const std::string& n
       if (line.empty()) continue;
       split_ws(line, tok);
       if (tok.size() != total_count) {
-        return fail(name, "ascii row " + std::to_string(row + 1) + " (line " + std::to_string(line_no) +
-                              ") has " + std::to_string(tok.size()) + " values, expected " +
-                              std::to_string(total_count) +
+        return fail(name, "ascii row " + std::to_string(row + 1) + " (line " + std::to_string(line_no) + ") has " +
+                              std::to_string(tok.size()) + " values, expected " + std::to_string(total_count) +
                               (tok.size() < total_count ? " (too few values)" : " (too many values)"));
       }
       size_t k = 0;
@@ -407,9 +401,9 @@ ReadResult parse_pcd_impl(const uint8_t* data, size_t size, const std::string& n
           float fv = 0;
           const bool num = slot[f] >= 0 ? parse_real(tok[k], fv) : parse_real(tok[k], v);
           if (!num) {
-            return fail(name, "ascii row " + std::to_string(row + 1) + " (line " +
-                                  std::to_string(line_no) + "): value '" + printable(tok[k]) +
-                                  "' of field '" + printable(fields[f].name) + "' is not a number");
+            return fail(name, "ascii row " + std::to_string(row + 1) + " (line " + std::to_string(line_no) +
+                                  "): value '" + printable(tok[k]) + "' of field '" + printable(fields[f].name) +
+                                  "' is not a number");
           }
           if (slot[f] >= 0) cloud.xyz[row * 3 + static_cast<size_t>(slot[f])] = fv;
         }
@@ -502,8 +496,7 @@ ReadResult read_pcd(const std::string& path, PointCloud& out, const ReadLimits& 
 
 ReadResult write_pcd(const std::string& path, const PointCloud& cloud, PcdEncoding encoding) {
   if (cloud.xyz.size() % 3 != 0) {
-    return fail(path, "cannot write: xyz holds " + std::to_string(cloud.xyz.size()) +
-                          " floats, not a multiple of 3");
+    return fail(path, "cannot write: xyz holds " + std::to_string(cloud.xyz.size()) + " floats, not a multiple of 3");
   }
   const uint64_t n = cloud.size();
   if (uint64_t{cloud.width} * cloud.height != n) {

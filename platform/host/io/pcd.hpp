@@ -1,6 +1,7 @@
 // Host-only PCD v0.7 reader and writer (the project's own, hardened).
 #pragma once
 #include <string>
+
 #include "point_cloud.hpp"
 
 namespace fg::host {
@@ -18,7 +19,6 @@ ReadResult parse_pcd(const uint8_t* data, size_t size, const std::string& name, 
 enum class PcdEncoding { ascii, binary, binary_compressed };
 
 //! Writes x y z (float) with the cloud's width/height and viewpoint.
-ReadResult write_pcd(const std::string& path, const PointCloud& cloud,
-                     PcdEncoding encoding = PcdEncoding::binary);
+ReadResult write_pcd(const std::string& path, const PointCloud& cloud, PcdEncoding encoding = PcdEncoding::binary);
 
 }  // namespace fg::host

@@ -55,13 +55,17 @@ std::optional<Scalar> parse_scalar(std::string_view t) {
 uint32_t scalar_size(Scalar s) {
   switch (s) {
     case Scalar::i8:
-    case Scalar::u8: return 1;
+    case Scalar::u8:
+      return 1;
     case Scalar::i16:
-    case Scalar::u16: return 2;
+    case Scalar::u16:
+      return 2;
     case Scalar::i32:
     case Scalar::u32:
-    case Scalar::f32: return 4;
-    case Scalar::f64: return 8;
+    case Scalar::f32:
+      return 4;
+    case Scalar::f64:
+      return 8;
   }
   return 1;
 }
@@ -69,14 +73,22 @@ uint32_t scalar_size(Scalar s) {
 // binary_little_endian on every host.
 double read_scalar(const uint8_t* p, Scalar s) {
   switch (s) {
-    case Scalar::i8: return load_le<int8_t>(p);
-    case Scalar::u8: return load_le<uint8_t>(p);
-    case Scalar::i16: return load_le<int16_t>(p);
-    case Scalar::u16: return load_le<uint16_t>(p);
-    case Scalar::i32: return load_le<int32_t>(p);
-    case Scalar::u32: return load_le<uint32_t>(p);
-    case Scalar::f32: return static_cast<double>(load_le<float>(p));
-    case Scalar::f64: return load_le<double>(p);
+    case Scalar::i8:
+      return load_le<int8_t>(p);
+    case Scalar::u8:
+      return load_le<uint8_t>(p);
+    case Scalar::i16:
+      return load_le<int16_t>(p);
+    case Scalar::u16:
+      return load_le<uint16_t>(p);
+    case Scalar::i32:
+      return load_le<int32_t>(p);
+    case Scalar::u32:
+      return load_le<uint32_t>(p);
+    case Scalar::f32:
+      return static_cast<double>(load_le<float>(p));
+    case Scalar::f64:
+      return load_le<double>(p);
   }
   return 0;
 }
@@ -85,13 +97,26 @@ double read_scalar(const uint8_t* p, Scalar s) {
 bool read_count(const uint8_t* p, Scalar s, uint64_t& n) {
   int64_t v = 0;
   switch (s) {
-    case Scalar::i8: v = load_le<int8_t>(p); break;
-    case Scalar::u8: v = load_le<uint8_t>(p); break;
-    case Scalar::i16: v = load_le<int16_t>(p); break;
-    case Scalar::u16: v = load_le<uint16_t>(p); break;
-    case Scalar::i32: v = load_le<int32_t>(p); break;
-    case Scalar::u32: v = load_le<uint32_t>(p); break;
-    default: return false;  // float counts are rejected in the header
+    case Scalar::i8:
+      v = load_le<int8_t>(p);
+      break;
+    case Scalar::u8:
+      v = load_le<uint8_t>(p);
+      break;
+    case Scalar::i16:
+      v = load_le<int16_t>(p);
+      break;
+    case Scalar::u16:
+      v = load_le<uint16_t>(p);
+      break;
+    case Scalar::i32:
+      v = load_le<int32_t>(p);
+      break;
+    case Scalar::u32:
+      v = load_le<uint32_t>(p);
+      break;
+    default:
+      return false;  // float counts are rejected in the header
   }
   if (v < 0) return false;
   n = static_cast<uint64_t>(v);
@@ -114,8 +139,8 @@ struct Element {
 
 enum class Format { ascii, binary_le };
 
-ReadResult parse_ply_impl(const uint8_t* data, size_t size, const std::string& name,
-                          PointCloud& out, const ReadLimits& limits) {
+ReadResult parse_ply_impl(const uint8_t* data, size_t size, const std::string& name, PointCloud& out,
+                          const ReadLimits& limits) {
   if (size == 0) return fail(name, "empty file (no PLY header)");
   if (size > limits.max_file_bytes) {
     return fail(name, "file of " + std::to_string(size) + " bytes is larger than the limit of " +
@@ -154,8 +179,9 @@ ReadResult parse_ply_impl(const uint8_t* data, size_t size, const std::string& n
       if (format) return fail(name, "duplicate format line" + where);
       if (tok.size() != 3) return fail(name, "malformed format line" + where);
       if (tok[1] == "binary_big_endian") {
-        return fail(name, "format binary_big_endian is not supported (big-endian PLY; use ascii or "
-                          "binary_little_endian)");
+        return fail(name,
+                    "format binary_big_endian is not supported (big-endian PLY; use ascii or "
+                    "binary_little_endian)");
       }
       if (tok[1] == "ascii") {
         format = Format::ascii;
@@ -206,14 +232,14 @@ ReadResult parse_ply_impl(const uint8_t* data, size_t size, const std::string& n
       Element& e = elems.back();
       for (const Prop& o : e.props) {
         if (o.name == p.name) {
-          return fail(name, "duplicate property '" + printable(p.name) + "' in element '" +
-                                printable(e.name) + "'" + where);
+          return fail(name,
+                      "duplicate property '" + printable(p.name) + "' in element '" + printable(e.name) + "'" + where);
         }
       }
       e.props.push_back(std::move(p));
     } else {
-      return fail(name, "unknown header line '" + printable(trim(line)) + "'" + where +
-                            " (garbled or truncated header)");
+      return fail(name,
+                  "unknown header line '" + printable(trim(line)) + "'" + where + " (garbled or truncated header)");
     }
   }
   if (!ended) return fail(name, "truncated header: no end_header line");
@@ -236,9 +262,8 @@ ReadResult parse_ply_impl(const uint8_t* data, size_t size, const std::string& n
     found->slot = axis;
   }
   if (vertex->count > limits.max_points) {
-    return fail(name, "declares " + std::to_string(vertex->count) +
-                          " vertices, more than the limit of " + std::to_string(limits.max_points) +
-                          " (too many points)");
+    return fail(name, "declares " + std::to_string(vertex->count) + " vertices, more than the limit of " +
+                          std::to_string(limits.max_points) + " (too many points)");
   }
   if (vertex->count > std::numeric_limits<uint32_t>::max()) {
     return fail(name, "declares too many vertices (" + std::to_string(vertex->count) + ")");
@@ -296,14 +321,15 @@ ReadResult parse_ply_impl(const uint8_t* data, size_t size, const std::string& n
       for (uint64_t i = 0; i < e.count; ++i) {
         for (const Prop& p : e.props) {
           const auto truncated = [&]() {
-            return fail(name, "element '" + printable(e.name) + "' item " + std::to_string(i) +
-                                  " of " + std::to_string(e.count) +
+            return fail(name, "element '" + printable(e.name) + "' item " + std::to_string(i) + " of " +
+                                  std::to_string(e.count) +
                                   " runs past the end of the data (data too short / truncated)");
           };
           if (!p.is_list) {
             const uint32_t sz = scalar_size(p.type);
             if (size - pos < sz) return truncated();
-            if (p.slot >= 0) cloud.xyz[i * 3 + static_cast<uint64_t>(p.slot)] = to_float(read_scalar(data + pos, p.type));
+            if (p.slot >= 0)
+              cloud.xyz[i * 3 + static_cast<uint64_t>(p.slot)] = to_float(read_scalar(data + pos, p.type));
             pos += sz;
             continue;
           }
@@ -311,8 +337,8 @@ ReadResult parse_ply_impl(const uint8_t* data, size_t size, const std::string& n
           if (size - pos < csz) return truncated();
           uint64_t n = 0;
           if (!read_count(data + pos, p.count_type, n)) {
-            return fail(name, "element '" + printable(e.name) + "' item " + std::to_string(i) +
-                                  ": list '" + printable(p.name) + "' has a negative count");
+            return fail(name, "element '" + printable(e.name) + "' item " + std::to_string(i) + ": list '" +
+                                  printable(p.name) + "' has a negative count");
           }
           pos += csz;
           uint64_t bytes = 0;
@@ -347,35 +373,32 @@ ReadResult parse_ply_impl(const uint8_t* data, size_t size, const std::string& n
       for (uint64_t i = 0; i < e.count; ++i) {
         for (const Prop& p : e.props) {
           const auto truncated = [&]() {
-            return fail(name, "ascii data ends in element '" + printable(e.name) + "' item " +
-                                  std::to_string(i) + " of " + std::to_string(e.count) +
-                                  " (data too short / truncated)");
+            return fail(name, "ascii data ends in element '" + printable(e.name) + "' item " + std::to_string(i) +
+                                  " of " + std::to_string(e.count) + " (data too short / truncated)");
           };
           if (!next_token(t)) return truncated();
           if (!p.is_list) {
             double v = 0;
             float fv = 0;
             if (!(p.slot >= 0 ? parse_real(t, fv) : parse_real(t, v))) {
-              return fail(name, "element '" + printable(e.name) + "' item " + std::to_string(i) +
-                                    ": value '" + printable(t) + "' of property '" + printable(p.name) +
-                                    "' is not a number");
+              return fail(name, "element '" + printable(e.name) + "' item " + std::to_string(i) + ": value '" +
+                                    printable(t) + "' of property '" + printable(p.name) + "' is not a number");
             }
             if (p.slot >= 0) cloud.xyz[i * 3 + static_cast<uint64_t>(p.slot)] = fv;
             continue;
           }
           uint64_t n = 0;
           if (!parse_u64(t, n, LeadingPlus::accept)) {
-            return fail(name, "element '" + printable(e.name) + "' item " + std::to_string(i) +
-                                  ": list count '" + printable(t) + "' of '" + printable(p.name) +
-                                  "' is not a non-negative integer");
+            return fail(name, "element '" + printable(e.name) + "' item " + std::to_string(i) + ": list count '" +
+                                  printable(t) + "' of '" + printable(p.name) + "' is not a non-negative integer");
           }
           for (uint64_t k = 0; k < n; ++k) {
             if (!next_token(t)) return truncated();
             double v = 0;
             float fv = 0;
             if (!(p.slot >= 0 ? parse_real(t, fv) : parse_real(t, v))) {
-              return fail(name, "element '" + printable(e.name) + "' item " + std::to_string(i) +
-                                    ": list value '" + printable(t) + "' is not a number");
+              return fail(name, "element '" + printable(e.name) + "' item " + std::to_string(i) + ": list value '" +
+                                    printable(t) + "' is not a number");
             }
           }
         }
@@ -401,8 +424,7 @@ ReadResult read_ply(const std::string& path, PointCloud& out, const ReadLimits& 
 
 ReadResult write_ply(const std::string& path, const PointCloud& cloud, bool binary) {
   if (cloud.xyz.size() % 3 != 0) {
-    return fail(path, "cannot write: xyz holds " + std::to_string(cloud.xyz.size()) +
-                          " floats, not a multiple of 3");
+    return fail(path, "cannot write: xyz holds " + std::to_string(cloud.xyz.size()) + " floats, not a multiple of 3");
   }
   const size_t n = cloud.size();
   std::string s = std::string("ply\nformat ") + (binary ? "binary_little_endian" : "ascii") +
@@ -439,8 +461,7 @@ ReadResult read_cloud(const std::string& path, PointCloud& out, const ReadLimits
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   if (ext == ".pcd") return read_pcd(path, out, limits);
   if (ext == ".ply") return read_ply(path, out, limits);
-  return fail(path, "unknown cloud file extension '" + printable(ext) +
-                        "' (expected .pcd or .ply)");
+  return fail(path, "unknown cloud file extension '" + printable(ext) + "' (expected .pcd or .ply)");
 }
 
 }  // namespace fg::host

@@ -1,6 +1,7 @@
 // Host-only PLY reader (the project's own, hardened): vertex x y z.
 #pragma once
 #include <string>
+
 #include "point_cloud.hpp"
 
 namespace fg::host {

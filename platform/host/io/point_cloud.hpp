@@ -10,9 +10,9 @@
 namespace fg::host {
 
 struct PointCloud {
-  BigBuffer<float> xyz;           //!< 3 floats per point, x y z; NaN kept for missing pixels
-  uint32_t width = 0;             //!< organized: image width; unorganized: point count
-  uint32_t height = 1;            //!< organized: image height; unorganized: 1
+  BigBuffer<float> xyz;  //!< 3 floats per point, x y z; NaN kept for missing pixels
+  uint32_t width = 0;    //!< organized: image width; unorganized: point count
+  uint32_t height = 1;   //!< organized: image height; unorganized: 1
   bool organized() const { return height > 1; }
   size_t size() const { return planar() ? planar_points : xyz.size() / 3; }
   //! Instead of xyz, when the reader was allowed to (ReadLimits::planar) and the file is
@@ -35,8 +35,8 @@ struct PointCloud {
 
 //! Limits a reader enforces before it allocates anything.
 struct ReadLimits {
-  uint64_t max_points = 10'000'000;     //!< more declared points -> error
-  uint64_t max_file_bytes = 1ull << 31; //!< larger files -> error
+  uint64_t max_points = 10'000'000;      //!< more declared points -> error
+  uint64_t max_file_bytes = 1ull << 31;  //!< larger files -> error
   //! The caller takes a structure of arrays (PointCloud::planar_block) where the file
   //! holds one; otherwise xyz is filled.
   bool planar = false;

@@ -3,9 +3,8 @@
 
 #include <cmath>
 #include <fstream>
-#include <sstream>
-
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 namespace fg::host {
 
@@ -36,14 +35,20 @@ int max_nesting(const std::string& s) {
   bool in_str = false, esc = false;
   for (char ch : s) {
     if (in_str) {
-      if (esc) esc = false;
-      else if (ch == '\\') esc = true;
-      else if (ch == '"') in_str = false;
+      if (esc)
+        esc = false;
+      else if (ch == '\\')
+        esc = true;
+      else if (ch == '"')
+        in_str = false;
       continue;
     }
-    if (ch == '"') in_str = true;
-    else if (ch == '[' || ch == '{') worst = std::max(worst, ++depth);
-    else if (ch == ']' || ch == '}') --depth;
+    if (ch == '"')
+      in_str = true;
+    else if (ch == '[' || ch == '{')
+      worst = std::max(worst, ++depth);
+    else if (ch == ']' || ch == '}')
+      --depth;
   }
   return worst;
 }
@@ -64,8 +69,7 @@ bool finite_number(const json& v, double& out) {
 }
 
 bool read_vec(const json& v, size_t n, double* out, Ctx& c, const std::string& what) {
-  if (!v.is_array() || v.size() != n)
-    return c.fail(what + " must be an array of " + std::to_string(n) + " numbers");
+  if (!v.is_array() || v.size() != n) return c.fail(what + " must be an array of " + std::to_string(n) + " numbers");
   for (size_t i = 0; i < n; ++i)
     if (!finite_number(v[i], out[i]))
       return c.fail(what + " has a value that is not a finite number (NaN, Inf or not a number)");
@@ -80,8 +84,7 @@ bool read_pose(const json& v, PoseD& p, Ctx& c, const std::string& what) {
   const json& r = v["rotation"];
   if (!r.is_array() || r.size() != 3) return c.fail(what + ".rotation must be 3 rows of 3 numbers");
   for (size_t i = 0; i < 3; ++i)
-    if (!read_vec(r[i], 3, p.rotation[i].data(), c, what + ".rotation row " + std::to_string(i)))
-      return false;
+    if (!read_vec(r[i], 3, p.rotation[i].data(), c, what + ".rotation row " + std::to_string(i))) return false;
   double worst = 0;
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) {
@@ -90,8 +93,7 @@ bool read_pose(const json& v, PoseD& p, Ctx& c, const std::string& what) {
       worst = std::max(worst, std::fabs(dot - (i == j ? 1.0 : 0.0)));
     }
   if (worst > 1e-3)
-    return c.fail(what + ".rotation is not orthonormal (R^T R differs from identity by " +
-                  std::to_string(worst) + ")");
+    return c.fail(what + ".rotation is not orthonormal (R^T R differs from identity by " + std::to_string(worst) + ")");
   const auto& R = p.rotation;
   const double det = R[0][0] * (R[1][1] * R[2][2] - R[1][2] * R[2][1]) -
                      R[0][1] * (R[1][0] * R[2][2] - R[1][2] * R[2][0]) +
@@ -114,8 +116,7 @@ bool read_gripper(const json& v, SceneGripper& g, Ctx& c) {
   for (const Field& f : fields) {
     if (!v.contains(f.name)) continue;
     double x = 0;
-    if (!finite_number(v[f.name], x))
-      return c.fail(std::string("gripper.") + f.name + " must be a finite number");
+    if (!finite_number(v[f.name], x)) return c.fail(std::string("gripper.") + f.name + " must be a finite number");
     if (x < f.lo || x > f.hi)
       return c.fail(std::string("gripper.") + f.name + " = " + std::to_string(x) + " is outside " +
                     std::to_string(f.lo) + ".." + std::to_string(f.hi) + " m");
@@ -129,11 +130,9 @@ ReadResult parse_scene(const std::string& text, const std::string& manifest_path
   Ctx c{manifest_path, {}};
   out = Scene{};
   out.manifest_path = manifest_path;
-  if (text.size() > kMaxManifestBytes)
-    return ReadResult::failure(manifest_path + ": manifest is larger than 1 MiB");
+  if (text.size() > kMaxManifestBytes) return ReadResult::failure(manifest_path + ": manifest is larger than 1 MiB");
   if (max_nesting(text) > kMaxNesting)
-    return ReadResult::failure(manifest_path + ": JSON nesting deeper than " +
-                               std::to_string(kMaxNesting) + " levels");
+    return ReadResult::failure(manifest_path + ": JSON nesting deeper than " + std::to_string(kMaxNesting) + " levels");
   json root;
   try {
     root = json::parse(text);
@@ -188,8 +187,7 @@ ReadResult parse_scene(const std::string& text, const std::string& manifest_path
     }
     out.sensors.push_back(ss);
   }
-  if (root.contains("gripper") && !read_gripper(root["gripper"], out.gripper, c))
-    return ReadResult::failure(c.err);
+  if (root.contains("gripper") && !read_gripper(root["gripper"], out.gripper, c)) return ReadResult::failure(c.err);
   return {};
 }
 

@@ -4,6 +4,7 @@
 #include <optional>
 #include <string>
 #include <vector>
+
 #include "fg/core/types.hpp"
 #include "point_cloud.hpp"
 
@@ -15,8 +16,8 @@ struct PoseD {
 };
 
 struct SceneSensor {
-  std::string name;        //!< "head" or "hand"
-  std::string cloud_path;  //!< resolved against the manifest's folder
+  std::string name;                             //!< "head" or "hand"
+  std::string cloud_path;                       //!< resolved against the manifest's folder
   std::optional<PoseD> pose;                    //!< world_T_sensor
   std::optional<std::array<double, 6>> joints;  //!< UR5 joints, instead of pose
   std::optional<PoseD> hand_eye;                //!< tool0_T_sensor with joints

@@ -7,8 +7,8 @@
 #include <cstdint>
 #include <cstdlib>
 #include <exception>
-#include <new>
 #include <limits>
+#include <new>
 #include <string>
 #include <string_view>
 #include <system_error>
@@ -24,9 +24,7 @@ inline ReadResult fail(const std::string& name, const std::string& msg) {
 }
 
 //! Blanks and line breaks: ' ', \t, \r, \n, \v, \f.
-inline bool is_space(char c) {
-  return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f';
-}
+inline bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f'; }
 
 inline std::string_view trim(std::string_view s) {
   while (!s.empty() && is_space(s.front())) s.remove_prefix(1);

@@ -1,9 +1,9 @@
 // Host (Linux) implementation of the platform services.
-#include "fg/platform/platform.hpp"
-
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
+
+#include "fg/platform/platform.hpp"
 
 namespace fg::platform {
 

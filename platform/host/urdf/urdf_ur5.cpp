@@ -3,10 +3,10 @@
 // turned +90 deg about y; the arm's lengths sit on single axes of the joint origins.
 #include "urdf/urdf_ur5.hpp"
 
+#include <urdf_parser/urdf_parser.h>
+
 #include <cmath>
 #include <exception>
-
-#include <urdf_parser/urdf_parser.h>
 
 namespace fg::host {
 namespace {
@@ -22,9 +22,9 @@ struct Expect {
 
 // The six joints in order, with the axis and origin rotation the layout gives them.
 const Expect kJoints[6] = {
-    {"shoulder_pan_joint", {0, 0, 1}, {0, 0, 0}},   {"shoulder_lift_joint", {0, 1, 0}, {0, kHalfPi, 0}},
-    {"elbow_joint", {0, 1, 0}, {0, 0, 0}},          {"wrist_1_joint", {0, 1, 0}, {0, kHalfPi, 0}},
-    {"wrist_2_joint", {0, 0, 1}, {0, 0, 0}},        {"wrist_3_joint", {0, 1, 0}, {0, 0, 0}},
+    {"shoulder_pan_joint", {0, 0, 1}, {0, 0, 0}}, {"shoulder_lift_joint", {0, 1, 0}, {0, kHalfPi, 0}},
+    {"elbow_joint", {0, 1, 0}, {0, 0, 0}},        {"wrist_1_joint", {0, 1, 0}, {0, kHalfPi, 0}},
+    {"wrist_2_joint", {0, 0, 1}, {0, 0, 0}},      {"wrist_3_joint", {0, 1, 0}, {0, 0, 0}},
 };
 
 bool near(double a, double b) { return std::fabs(a - b) <= kTol; }
@@ -59,7 +59,8 @@ bool read_ur5_urdf(const std::string& path, robot::Ur5Params& out, std::string& 
     const urdf::Vector3& ax = j->axis;
     if (!near(ax.x, kJoints[i].axis[0]) || !near(ax.y, kJoints[i].axis[1]) || !near(ax.z, kJoints[i].axis[2]) ||
         !near(r, kJoints[i].rpy[0]) || !near(p, kJoints[i].rpy[1]) || !near(y, kJoints[i].rpy[2])) {
-      error = path + ": joint '" + kJoints[i].name + "' has another axis or origin rotation than the ur_description layout";
+      error =
+          path + ": joint '" + kJoints[i].name + "' has another axis or origin rotation than the ur_description layout";
       return false;
     }
     origin[i] = j->parent_to_joint_origin_transform.position;

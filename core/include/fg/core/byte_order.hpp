@@ -23,9 +23,9 @@ inline uint8_t le_order(uint8_t v) { return v; }
 
 //! The unsigned integer as wide as T (1, 2, 4 or 8 bytes).
 template <class T>
-using SameSizeUint =
-    std::conditional_t<sizeof(T) == 1, uint8_t,
-                       std::conditional_t<sizeof(T) == 2, uint16_t, std::conditional_t<sizeof(T) == 4, uint32_t, uint64_t>>>;
+using SameSizeUint = std::conditional_t<
+    sizeof(T) == 1, uint8_t,
+    std::conditional_t<sizeof(T) == 2, uint16_t, std::conditional_t<sizeof(T) == 4, uint32_t, uint64_t>>>;
 
 //! A value of T (an integer or floating type of 1, 2, 4 or 8 bytes) stored little-endian at p.
 template <class T>

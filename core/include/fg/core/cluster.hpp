@@ -2,6 +2,7 @@
 // neighbours: 26-connectivity for 1) and the choice of the target cluster.
 #pragma once
 #include <cstdint>
+
 #include "fg/core/config.hpp"
 #include "fg/core/voxel_grid.hpp"
 
@@ -25,9 +26,9 @@ struct ClusterSummary {
 };
 
 struct ClusterResult {
-  uint32_t clusters = 0;        //!< clusters of at least min_points
-  uint32_t target_size = 0;     //!< voxels in the target (0: none)
-  uint32_t other_points = 0;    //!< non-removed voxels outside the target
+  uint32_t clusters = 0;      //!< clusters of at least min_points
+  uint32_t target_size = 0;   //!< voxels in the target (0: none)
+  uint32_t other_points = 0;  //!< non-removed voxels outside the target
   //! The largest clusters of at least min_points (the target among them), largest
   //! first, ties in the order found; a cluster that did not fit in the list leaves its
   //! size in largest_dropped. retarget_to_cover reads its candidates from here instead
@@ -56,8 +57,8 @@ struct CellBitmap {
 //! `n_words` words of `words` (false, and nothing usable, otherwise: a box of stray
 //! voxels far apart, or no such voxel). `list`: scratch of grid.size() entries (the
 //! clustering's queue will do). One pass over the voxels' states, then over the set's.
-bool build_cell_bitmap(const VoxelGrid& grid, const uint8_t* state, uint8_t from, uint32_t* list,
-                       uint64_t* words, uint32_t n_words, CellBitmap& out);
+bool build_cell_bitmap(const VoxelGrid& grid, const uint8_t* state, uint8_t from, uint32_t* list, uint64_t* words,
+                       uint32_t n_words, CellBitmap& out);
 
 //! Labels the connected components of the voxels whose state is kVoxelFree, picks the
 //! target (nearest centroid to the centre in x-y, or the largest; ties go to the
@@ -67,9 +68,8 @@ bool build_cell_bitmap(const VoxelGrid& grid, const uint8_t* state, uint8_t from
 //! target_size against it). O(voxels * neighbours): every voxel is queued once.
 //! `free_cells`, optional: build_cell_bitmap's bitmap of the kVoxelFree voxels (it is
 //! consumed: the walks clear the bits they visit); the same result, faster.
-ClusterResult cluster_and_pick(const VoxelGrid& grid, uint8_t* state, uint32_t* queue,
-                               const ClusterParams& params, uint32_t* target,
-                               uint32_t target_capacity, CellBitmap* free_cells = nullptr);
+ClusterResult cluster_and_pick(const VoxelGrid& grid, uint8_t* state, uint32_t* queue, const ClusterParams& params,
+                               uint32_t* target, uint32_t target_capacity, CellBitmap* free_cells = nullptr);
 
 //! The target-fragment fall-back (docs/method.md A.6), after cluster_and_pick: among
 //! the components of the voxels marked kVoxelVisited (the clusters not picked), the
@@ -84,10 +84,9 @@ ClusterResult cluster_and_pick(const VoxelGrid& grid, uint8_t* state, uint32_t* 
 //! With `labelled` (cluster_and_pick's result for this state) holding every cluster
 //! larger than old_size, only the chosen cluster is walked; otherwise (or with nullptr)
 //! O(voxels * neighbours): every non-target voxel is walked once, the chosen cluster twice.
-uint32_t retarget_to_cover(const VoxelGrid& grid, uint8_t* state, uint32_t* queue,
-                           const ClusterParams& params, const uint32_t* old_target, uint32_t old_size,
-                           float cx, float cy, uint32_t* target, uint32_t target_capacity,
-                           const ClusterResult* labelled = nullptr);
+uint32_t retarget_to_cover(const VoxelGrid& grid, uint8_t* state, uint32_t* queue, const ClusterParams& params,
+                           const uint32_t* old_target, uint32_t old_size, float cx, float cy, uint32_t* target,
+                           uint32_t target_capacity, const ClusterResult* labelled = nullptr);
 
 namespace detail {
 //! The lookup filter's verdicts on the hashes kh + oh[o], o < n <= 32: bit o set when

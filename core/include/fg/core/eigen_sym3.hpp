@@ -2,6 +2,7 @@
 // PCA of a point set built on it.
 #pragma once
 #include <cstdint>
+
 #include "fg/core/types.hpp"
 
 namespace fg {

@@ -3,6 +3,7 @@
 // and the least-squares sides with their angle beta.
 #pragma once
 #include <cstdint>
+
 #include "fg/core/types.hpp"
 
 namespace fg {
@@ -30,8 +31,8 @@ struct SideFit {
 
 //! Scan lines y_j = y_min + j * delta over [y_min, y_max]. When the span needs more
 //! than `capacity` lines, delta grows to fit (reported in used_delta). Returns the count.
-uint32_t build_scan_lines(const Vec2* contour, uint32_t n_contour, float y_min, float y_max,
-                          float delta, ScanLine* lines, uint32_t capacity, float& used_delta);
+uint32_t build_scan_lines(const Vec2* contour, uint32_t n_contour, float y_min, float y_max, float delta,
+                          ScanLine* lines, uint32_t capacity, float& used_delta);
 
 //! Marks the lines whose width lies in [min_width, max_width).
 void mark_graspable(ScanLine* lines, uint32_t n, float min_width, float max_width);
@@ -47,7 +48,7 @@ float side_angle(float a_left, float a_right);
 //! above dx_threshold between neighbours ends a region), slides windows of k lines
 //! over each region and returns the best `max_out` windows by rank (beta plus
 //! centre_weight times the distance of the window centre from y_ref), best first.
-uint32_t best_windows(const ScanLine* lines, uint32_t n, float dx_threshold, uint32_t k,
-                      float y_ref, float centre_weight, SideFit* out, uint32_t max_out);
+uint32_t best_windows(const ScanLine* lines, uint32_t n, float dx_threshold, uint32_t k, float y_ref,
+                      float centre_weight, SideFit* out, uint32_t max_out);
 
 }  // namespace fg

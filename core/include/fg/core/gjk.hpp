@@ -3,6 +3,7 @@
 // support is a scan over the points: no hull is ever built. Bounded iterations.
 #pragma once
 #include <cstdint>
+
 #include "fg/core/types.hpp"
 
 namespace fg {

@@ -19,11 +19,11 @@ enum class GraspVerdict : uint8_t {
 
 //! One candidate as the check sees it, all in `world`.
 struct GraspQuery {
-  Vec3 position;   //!< the pads' centre at the grasp
-  Vec3 approach;   //!< unit, palm towards the object (grasp +z)
-  Vec3 closing;    //!< unit, left finger towards the right one (grasp +x)
-  Vec3 pregrasp;   //!< position backed off along -approach
-  float width;     //!< object width between the contacts
+  Vec3 position;              //!< the pads' centre at the grasp
+  Vec3 approach;              //!< unit, palm towards the object (grasp +z)
+  Vec3 closing;               //!< unit, left finger towards the right one (grasp +x)
+  Vec3 pregrasp;              //!< position backed off along -approach
+  float width;                //!< object width between the contacts
   const Plane* support;       //!< the support plane, or null when none was found
   const Vec3* object_points;  //!< the target's points (the planner's memory; valid
   uint32_t n_object_points;   //!< during the call only)

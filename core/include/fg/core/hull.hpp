@@ -3,6 +3,7 @@
 // silhouette raster). Both are bounded by their capacities; neither allocates.
 #pragma once
 #include <cstdint>
+
 #include "fg/core/limits.hpp"
 #include "fg/core/status.hpp"
 #include "fg/core/types.hpp"
@@ -18,8 +19,7 @@ namespace fg {
 //! Returns capacity_exceeded if the hull has more than out_capacity vertices, and
 //! invalid_argument for a null points / scratch with n > 0 or a null out with
 //! out_capacity > 0. out_n = 0 whenever the status is not ok.
-Status convex_hull_2d(const Vec2* points, uint32_t n, Vec2* scratch, Vec2* out,
-                      uint32_t out_capacity, uint32_t& out_n);
+Status convex_hull_2d(const Vec2* points, uint32_t n, Vec2* scratch, Vec2* out, uint32_t out_capacity, uint32_t& out_n);
 
 //! A run of foreground cells in one raster row (the concave hull's component labels).
 struct HullRun {
@@ -59,8 +59,8 @@ struct ConcaveHullScratch {
 
 //! Parameters of the raster concave hull.
 struct ConcaveHullParams {
-  float cell_m = 0.0025f;     //!< raster cell size (> 0, finite); grown automatically to fit the grid
-  uint32_t closing_cells = 2; //!< closing radius in cells, at most (kHullGridDim - 5) / 2
+  float cell_m = 0.0025f;      //!< raster cell size (> 0, finite); grown automatically to fit the grid
+  uint32_t closing_cells = 2;  //!< closing radius in cells, at most (kHullGridDim - 5) / 2
   //! Optional: the caller states that every point is finite and gives their bounding
   //! box (the planner's projection computes it in passing), so the hull skips its own
   //! pass over the points. With the exact box the result is the one without it;
@@ -91,16 +91,14 @@ struct ConcaveHullParams {
 //! out_cell_m receives the cell size actually used (0 when there is no finite point).
 //! Statuses: ok (out_n = 0 when there is no finite point); invalid_argument (null
 //! points with n > 0, null out with out_capacity > 0, cell_m not a finite value > 0,
-//! closing_cells too large, given bounds not finite or min above max); capacity_exceeded (more than out_capacity vertices);
-//! numeric_failure (the raster's corners overflow float: coordinates near FLT_MAX).
-//! out_n = 0 whenever the status is not ok. Time: O(n + raster cells) (the raster
-//! is at most kHullGridDim^2 cells). Cells with more than 254 points keep an exact
-//! count in the scratch (up to ConcaveHullScratch::kMaxFullCells of them: every
-//! input of kMaxObjectPoints points); only beyond that does a component holding
-//! such an uncounted cell cost one extra pass over the points and the raster.
-Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& params,
-                       ConcaveHullScratch& scratch, Vec2* out, uint32_t out_capacity,
-                       uint32_t& out_n, float& out_cell_m, bool& all_inside);
+//! closing_cells too large, given bounds not finite or min above max); capacity_exceeded (more than out_capacity
+//! vertices); numeric_failure (the raster's corners overflow float: coordinates near FLT_MAX). out_n = 0 whenever the
+//! status is not ok. Time: O(n + raster cells) (the raster is at most kHullGridDim^2 cells). Cells with more than 254
+//! points keep an exact count in the scratch (up to ConcaveHullScratch::kMaxFullCells of them: every input of
+//! kMaxObjectPoints points); only beyond that does a component holding such an uncounted cell cost one extra pass over
+//! the points and the raster.
+Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& params, ConcaveHullScratch& scratch,
+                       Vec2* out, uint32_t out_capacity, uint32_t& out_n, float& out_cell_m, bool& all_inside);
 
 //! The smallest-area rectangle about a convex polygon (`hull`, h vertices): it has a
 //! side along a hull edge (Freeman and Shapira), so each edge's direction is tried

@@ -2,6 +2,7 @@
 // with defaults for anything left out and the relations between them checked.
 #pragma once
 #include <cstdint>
+
 #include "fg_limits.h"
 
 #ifndef FG_MAX_VOXELS
@@ -56,7 +57,7 @@ inline constexpr uint32_t kMaxCandidates = FG_MAX_CANDIDATES;
 inline constexpr uint32_t kMaxCheckedCandidates = FG_MAX_CHECKED_CANDIDATES;  //!< per plan()
 inline constexpr uint32_t kRansacMaxIters = FG_RANSAC_MAX_ITERS;
 inline constexpr uint32_t kMaxSensors = FG_MAX_SENSORS;
-inline constexpr uint32_t kSightBins = FG_SIGHT_BINS;           //!< per axis, per sensor
+inline constexpr uint32_t kSightBins = FG_SIGHT_BINS;             //!< per axis, per sensor
 inline constexpr uint32_t kVoxelCacheBits = FG_VOXEL_CACHE_BITS;  //!< ingest's cell cache
 
 static_assert(kMaxVoxels > 0 && kMaxObjectPoints > 0, "capacities must be positive");

@@ -4,6 +4,7 @@
 // every voxel in reach (a bound set by the box's size, not the scene's voxel count).
 #pragma once
 #include <cstdint>
+
 #include "fg/core/types.hpp"
 
 namespace fg {
@@ -45,8 +46,7 @@ void sort_by_cell(uint32_t* entries, uint32_t n, uint32_t index_bits, uint32_t c
 //! state is 0) lies strictly inside box `b` shrunk by `tol`, the box placed at `pos`
 //! with axes[0..2] as its frame's x, y, z in world. Reads only the cells under the
 //! box's world bounding box: a binary search and a scan per column of cells.
-bool near_list_hits(const uint32_t* entries, uint32_t n, uint32_t index_bits, const NearGrid& g,
-                    const Vec3* points, const uint8_t* state, const Vec3& pos, const Vec3 axes[3],
-                    const FrameBox& b, float tol);
+bool near_list_hits(const uint32_t* entries, uint32_t n, uint32_t index_bits, const NearGrid& g, const Vec3* points,
+                    const uint8_t* state, const Vec3& pos, const Vec3 axes[3], const FrameBox& b, float tol);
 
 }  // namespace fg

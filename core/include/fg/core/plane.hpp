@@ -1,6 +1,7 @@
 // RANSAC support plane with the core's own seeded PRNG, then a least-squares refit.
 #pragma once
 #include <cstdint>
+
 #include "fg/core/types.hpp"
 
 namespace fg {
@@ -24,8 +25,7 @@ struct PlaneParams {
 //! Finds the dominant near-horizontal plane of `pts`. Hypotheses are scored on an
 //! evenly strided subset of at most 4096 points (bounded time for any n); the winner
 //! is refitted by PCA on all its inliers. Returns false when no plane has enough inliers.
-bool ransac_plane(const Vec3* pts, uint32_t n, const PlaneParams& params, Plane& out,
-                  uint32_t& inliers);
+bool ransac_plane(const Vec3* pts, uint32_t n, const PlaneParams& params, Plane& out, uint32_t& inliers);
 
 //! The points within `thr` of the plane (nrm, d) (|n . p + d| <= thr; NaN points are
 //! never in): ransac_plane's final count.

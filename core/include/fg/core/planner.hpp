@@ -5,6 +5,7 @@
 // or in caller memory), configure(), then per plan: reset(), add_*(), plan().
 #pragma once
 #include <cstdint>
+
 #include "fg/core/config.hpp"
 #include "fg/core/grasp_check.hpp"
 #include "fg/core/limits.hpp"
@@ -33,13 +34,13 @@ struct PinholeIntrinsics {
 };
 
 struct Grasp {
-  Vec3 position = Vec3::Zero();  //!< world, centre between the pads
-  Vec3 approach = Vec3::UnitZ(); //!< world unit vector, palm towards object
-  Vec3 closing = Vec3::UnitX();  //!< world unit vector, one finger towards the other
-  float width = 0.f;             //!< object width between the contact regions (m)
-  float beta = 0.f;              //!< XOY force balance (rad)
-  float dz = 0.f;                //!< XOZ force balance (m)
-  float viewpoint = 0.f;         //!< rotation of the chosen viewpoint about its axis (rad)
+  Vec3 position = Vec3::Zero();   //!< world, centre between the pads
+  Vec3 approach = Vec3::UnitZ();  //!< world unit vector, palm towards object
+  Vec3 closing = Vec3::UnitX();   //!< world unit vector, one finger towards the other
+  float width = 0.f;              //!< object width between the contact regions (m)
+  float beta = 0.f;               //!< XOY force balance (rad)
+  float dz = 0.f;                 //!< XOZ force balance (m)
+  float viewpoint = 0.f;          //!< rotation of the chosen viewpoint about its axis (rad)
   ViewFamily family = ViewFamily::sensor_arc;
   Vec3 pregrasp = Vec3::Zero();  //!< position backed off along -approach
 };
@@ -77,9 +78,9 @@ struct PlanResult {
   CropUsed crop;
   RejectCounts rejected;
   CheckRejections rejected_by_check;
-  CheckMargins margins;      //!< of the grasp (status ok), per check; NaN: none measured
-  uint32_t viewpoints = 0;   //!< viewpoints analysed
-  uint32_t candidates = 0;   //!< candidates ranked
+  CheckMargins margins;     //!< of the grasp (status ok), per check; NaN: none measured
+  uint32_t viewpoints = 0;  //!< viewpoints analysed
+  uint32_t candidates = 0;  //!< candidates ranked
   uint32_t stage_us[static_cast<uint32_t>(Stage::count)] = {};
 };
 
@@ -125,12 +126,12 @@ class Planner {
   //! The same for a structure of arrays: point i is (x[i], y[i], z[i]) (a sensor SDK's
   //! planar buffers, a PCD file's binary_compressed block as decompressed: no copy into
   //! x y z triples first).
-  Status add_points_planar(SensorRole role, const float* x, const float* y, const float* z,
-                           uint32_t count, const Pose& world_T_sensor);
+  Status add_points_planar(SensorRole role, const float* x, const float* y, const float* z, uint32_t count,
+                           const Pose& world_T_sensor);
 
   //! Adds a depth image (uint16 millimetres, 0 = no reading, row-major width x height).
-  Status add_depth_image(SensorRole role, const uint16_t* depth_mm, uint16_t width,
-                         uint16_t height, const PinholeIntrinsics& k, const Pose& world_T_sensor);
+  Status add_depth_image(SensorRole role, const uint16_t* depth_mm, uint16_t width, uint16_t height,
+                         const PinholeIntrinsics& k, const Pose& world_T_sensor);
 
   //! The ingest's vector width for every planner of the process: 0 (the default) the
   //! widest this CPU runs (8 lanes on x86-64 with AVX2, else 4), 4 the path of every
@@ -179,8 +180,8 @@ class Planner {
   void make_room(ingest::State& in, uint32_t n);
   void shrink_crop(ingest::State& in);
   // The loop both point layouts share: coordinate k of point i at base[k] + i * stride.
-  Status add_coordinates(SensorRole role, const uint8_t* const base[3], uint32_t count,
-                         uint32_t stride_bytes, const Pose& world_T_sensor);
+  Status add_coordinates(SensorRole role, const uint8_t* const base[3], uint32_t count, uint32_t stride_bytes,
+                         const Pose& world_T_sensor);
   // The target's voxels (object_voxel_[0, size)) become the object points, and the
   // checks' near list is built around them in `storage`.
   void load_target(uint32_t size, uint32_t* storage);

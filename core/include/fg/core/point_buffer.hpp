@@ -3,6 +3,7 @@
 // parameter), and a version over caller memory. push() always checks capacity.
 #pragma once
 #include <cstdint>
+
 #include "fg/core/status.hpp"
 #include "fg/core/types.hpp"
 
@@ -64,8 +65,7 @@ class PointBuffer final : public PointSpan {
 //! Storage in caller memory (e.g. a firmware workspace).
 class PointBufferExt final : public PointSpan {
  public:
-  PointBufferExt(Vec3* memory, uint32_t capacity)
-      : PointSpan(memory, memory != nullptr ? capacity : 0u) {}
+  PointBufferExt(Vec3* memory, uint32_t capacity) : PointSpan(memory, memory != nullptr ? capacity : 0u) {}
 };
 
 }  // namespace fg

@@ -21,9 +21,7 @@ class Prng {
     return state_ * 0x2545F4914F6CDD1Dull;
   }
   //! Uniform integer in [0, n) for n > 0 (multiply-shift, no modulo bias worth noting).
-  uint32_t below(uint32_t n) {
-    return static_cast<uint32_t>(((next() >> 32) * static_cast<uint64_t>(n)) >> 32);
-  }
+  uint32_t below(uint32_t n) { return static_cast<uint32_t>(((next() >> 32) * static_cast<uint64_t>(n)) >> 32); }
 
  private:
   uint64_t state_ = 1;

@@ -32,17 +32,17 @@ enum class Status : int32_t {
 //! Why a valid input produced no grasp.
 enum class NoGraspReason : int32_t {
   none = 0,
-  no_points = 1,        //!< nothing left after the range filter and crop box
-  no_plane = 2,         //!< no support plane was found
-  no_object = 3,        //!< nothing stands on the support plane
-  too_few_points = 4,   //!< the target cluster is too small to analyse
-  too_wide = 5,         //!< the object is wider than the opening from every viewpoint
-  no_candidate = 6,     //!< no candidate passed the force-balance filters
-  collision = 7,        //!< every candidate hit the support plane or another object
-  unreachable = 8,      //!< every candidate failed inverse kinematics
-  friction = 9,         //!< every candidate's contact normals lay outside the friction cone
-  degenerate = 10,      //!< the object cloud has no defined principal axis
-  occluded = 11,        //!< every candidate put a finger where no sensor looked (see the object from elsewhere)
+  no_points = 1,       //!< nothing left after the range filter and crop box
+  no_plane = 2,        //!< no support plane was found
+  no_object = 3,       //!< nothing stands on the support plane
+  too_few_points = 4,  //!< the target cluster is too small to analyse
+  too_wide = 5,        //!< the object is wider than the opening from every viewpoint
+  no_candidate = 6,    //!< no candidate passed the force-balance filters
+  collision = 7,       //!< every candidate hit the support plane or another object
+  unreachable = 8,     //!< every candidate failed inverse kinematics
+  friction = 9,        //!< every candidate's contact normals lay outside the friction cone
+  degenerate = 10,     //!< the object cloud has no defined principal axis
+  occluded = 11,       //!< every candidate put a finger where no sensor looked (see the object from elsewhere)
 };
 
 const char* to_string(Status s);

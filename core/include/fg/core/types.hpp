@@ -1,9 +1,9 @@
 // Small fixed-size math types shared by every layer (Eigen, fixed size only).
 #pragma once
-#include <cstdint>
 #include <Eigen/Core>
 #include <Eigen/Geometry>  // cross products
 #include <Eigen/LU>        // 3x3 determinant
+#include <cstdint>
 
 namespace fg {
 

@@ -12,6 +12,7 @@
 #pragma once
 #include <cstdint>
 #include <cstring>
+
 #include "fg/core/limits.hpp"
 #include "fg/core/status.hpp"
 #include "fg/core/types.hpp"
@@ -53,11 +54,10 @@ class VoxelGrid {
   //! origin, already checked to lie in [2, kMax - 2), before finalize(). False when
   //! the grid is full (or the cell's hash neighbourhood is: kMaxProbe).
   bool insert_cell(float fx, float fy, float fz) {
-    const uint32_t ix = static_cast<uint32_t>(fx), iy = static_cast<uint32_t>(fy),
-                   iz = static_cast<uint32_t>(fz);
-    return add_to_cell(pack(ix, iy, iz), V4f{(fx - static_cast<float>(ix)) * leaf_,
-                                             (fy - static_cast<float>(iy)) * leaf_,
-                                             (fz - static_cast<float>(iz)) * leaf_, 1.f});
+    const uint32_t ix = static_cast<uint32_t>(fx), iy = static_cast<uint32_t>(fy), iz = static_cast<uint32_t>(fz);
+    return add_to_cell(pack(ix, iy, iz),
+                       V4f{(fx - static_cast<float>(ix)) * leaf_, (fy - static_cast<float>(iy)) * leaf_,
+                           (fz - static_cast<float>(iz)) * leaf_, 1.f});
   }
 
   //! The hot path of the ingest: one point of the cell `key` (the packed key of a cell
@@ -222,7 +222,7 @@ class VoxelGrid {
   // A blocked Bloom filter: each key sets two bits of one 64-bit word, so a test is one
   // load. Word and bits come from disjoint fields of the mixed hash (filter_mix).
   static constexpr uint64_t kFilterMul = 0x9E3779B97F4A7C15ull;  // 2^64 / golden ratio, odd
-  static constexpr uint32_t kMaxFilterWordBits = 26;  // word bits [38, 64), bit fields [26, 38)
+  static constexpr uint32_t kMaxFilterWordBits = 26;             // word bits [38, 64), bit fields [26, 38)
   static_assert(kCacheBits <= kMaxFilterWordBits, "filter word and bit fields are disjoint");
   // The sum hash is linear, so structured keys (a lattice of cells) give correlated
   // fields; one xor-shift and multiply per test decorrelates word and bits.

@@ -27,39 +27,39 @@ enum class TaskState : uint8_t {
   closing,      //!< gripper closes until contact
   lifting,      //!< arm lifts the object straight up
   succeeded,
-  failed,       //!< see failure()
+  failed,  //!< see failure()
 };
 const char* to_string(TaskState s);
 
 //! Why the task stopped in TaskState::failed. Values are explicit and never reused.
 enum class TaskFailure : uint8_t {
   none = 0,
-  invalid_config = 1,   //!< start() refused the configuration
-  sensor_failed = 2,    //!< a sensor refused or failed a capture, or its image was refused
+  invalid_config = 1,  //!< start() refused the configuration
+  sensor_failed = 2,   //!< a sensor refused or failed a capture, or its image was refused
   sensor_timeout = 3,
-  no_grasp = 4,         //!< the planner found none: plan_result() says why
-  unreachable = 5,      //!< no inverse kinematics solution inside the joint limits
-  arm_refused = 6,      //!< the arm refused a motion command
-  arm_fault = 7,        //!< the arm reported a fault
+  no_grasp = 4,     //!< the planner found none: plan_result() says why
+  unreachable = 5,  //!< no inverse kinematics solution inside the joint limits
+  arm_refused = 6,  //!< the arm refused a motion command
+  arm_fault = 7,    //!< the arm reported a fault
   arm_timeout = 8,
   gripper_refused = 9,
   gripper_fault = 10,
   gripper_timeout = 11,
-  missed = 12,          //!< the gripper closed without touching anything
-  aborted = 13,         //!< abort() by the caller
+  missed = 12,   //!< the gripper closed without touching anything
+  aborted = 13,  //!< abort() by the caller
 };
 const char* to_string(TaskFailure f);
 
 struct TaskConfig {
-  Pose world_T_base;                 //!< the arm's base (DH base frame) in the world
-  Pose world_T_head;                 //!< the head sensor (fixed mount)
-  Pose tool0_T_hand;                 //!< the wrist sensor on the flange (hand-eye)
+  Pose world_T_base;  //!< the arm's base (DH base frame) in the world
+  Pose world_T_head;  //!< the head sensor (fixed mount)
+  Pose tool0_T_hand;  //!< the wrist sensor on the flange (hand-eye)
   bool use_head = true, use_hand = true;
-  float tcp_offset_m = 0.15f;        //!< flange (tool0) to the pads' centre along tool0 +z
-  float lift_m = 0.10f;              //!< lift straight up (world z) after closing
-  double speed_fraction = 0.25;      //!< of the arm's maximum joint speed
+  float tcp_offset_m = 0.15f;    //!< flange (tool0) to the pads' centre along tool0 +z
+  float lift_m = 0.10f;          //!< lift straight up (world z) after closing
+  double speed_fraction = 0.25;  //!< of the arm's maximum joint speed
   float grip_force_n = 40.f;
-  double joint_tolerance_rad = 2e-3; //!< a motion is done when every joint is this close
+  double joint_tolerance_rad = 2e-3;  //!< a motion is done when every joint is this close
   uint32_t capture_timeout_us = 2000000;
   uint32_t move_timeout_us = 20000000;
   uint32_t gripper_timeout_us = 3000000;
@@ -120,7 +120,7 @@ class GraspTask {
   double q_capture_[6] = {};          // the arm's joints when the images were taken
   double q_pre_[6] = {}, q_grasp_[6] = {}, q_lift_[6] = {};
   double q_approach_[robot::GraspMotion::kApproachSteps][6] = {};  // the last one is q_grasp_
-  int waypoint_ = 0;  // of the approach
+  int waypoint_ = 0;                                               // of the approach
   PlanResult plan_;
   robot::Ur5GraspCheck check_;
 };

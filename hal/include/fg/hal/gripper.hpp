@@ -9,7 +9,7 @@
 namespace fg::hal {
 
 struct GripperState {
-  float width_m = 0.f;   //!< current distance between the pads
+  float width_m = 0.f;  //!< current distance between the pads
   bool moving = false;
   bool contact = false;  //!< both pads stopped on something while closing
   bool fault = false;

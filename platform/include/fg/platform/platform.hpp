@@ -22,7 +22,7 @@ void internal_error(const char* file, int line, const char* what);
 
 }  // namespace fg::platform
 
-#define FG_INTERNAL_CHECK(cond)                                          \
-  do {                                                                   \
+#define FG_INTERNAL_CHECK(cond)                                             \
+  do {                                                                      \
     if (!(cond)) ::fg::platform::internal_error(__FILE__, __LINE__, #cond); \
   } while (0)

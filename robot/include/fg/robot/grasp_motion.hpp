@@ -22,7 +22,7 @@ struct MotionConfig {
   //! The arm's free move (joint space, from wherever it is) ends this far behind the
   //! planner's pre-grasp along the approach; the rest is the approach line in steps.
   float standoff_m = 0.06f;
-  IkOptions ik;                //!< with the joint limits (ik.limits)
+  IkOptions ik;  //!< with the joint limits (ik.limits)
 };
 
 struct GraspMotion {
@@ -40,19 +40,16 @@ struct GraspMotion {
 
 //! world_T_tool0 with the pads' centre at `centre`: tool0 z along `approach`, x along
 //! `closing` (reversed when `turned`), the flange tcp_offset behind.
-PoseD tool0_pose(const MotionConfig& cfg, const Vec3& centre, const Vec3& approach, const Vec3& closing,
-                 bool turned);
+PoseD tool0_pose(const MotionConfig& cfg, const Vec3& centre, const Vec3& approach, const Vec3& closing, bool turned);
 
 //! Joint targets for the grasp (position, approach, closing, pre-grasp in world; the
 //! motion starts standoff_m behind that pre-grasp) from
 //! the current joints `q_now`: ok, unreachable (no solution inside the limits for one
 //! of the three poses, both ways round) or invalid_argument (non-finite input).
-IkStatus plan_grasp_motion(const MotionConfig& cfg, const Vec3& position, const Vec3& approach,
-                           const Vec3& closing, const Vec3& pregrasp, const double q_now[6],
-                           GraspMotion& out);
+IkStatus plan_grasp_motion(const MotionConfig& cfg, const Vec3& position, const Vec3& approach, const Vec3& closing,
+                           const Vec3& pregrasp, const double q_now[6], GraspMotion& out);
 //! Same, one way round only: `turned` false keeps the closing direction, true reverses it.
-IkStatus plan_grasp_motion(const MotionConfig& cfg, const Vec3& position, const Vec3& approach,
-                           const Vec3& closing, const Vec3& pregrasp, const double q_now[6],
-                           bool turned, GraspMotion& out);
+IkStatus plan_grasp_motion(const MotionConfig& cfg, const Vec3& position, const Vec3& approach, const Vec3& closing,
+                           const Vec3& pregrasp, const double q_now[6], bool turned, GraspMotion& out);
 
 }  // namespace fg::robot

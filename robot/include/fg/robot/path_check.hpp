@@ -8,9 +8,8 @@
 // every loop bounded by the sample bound and the point count, and a plan's checks
 // together by a work budget (PathBudget) so the whole select stage has a fixed bound.
 #pragma once
-#include <cstdint>
-
 #include <Eigen/Core>
+#include <cstdint>
 
 #include "fg/core/grasp_check.hpp"
 #include "fg/core/limits.hpp"

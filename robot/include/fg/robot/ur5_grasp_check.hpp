@@ -67,8 +67,7 @@ class Ur5GraspCheck final : public GraspCheck {
   void do_begin_plan() override;
 
   GraspCheckConfig cfg_;
-  double q_now_[6] = {0.0, -1.5707963267948966, 1.5707963267948966, -1.5707963267948966,
-                      -1.5707963267948966, 0.0};
+  double q_now_[6] = {0.0, -1.5707963267948966, 1.5707963267948966, -1.5707963267948966, -1.5707963267948966, 0.0};
   GraspMotion motion_{};
   PathSceneScratch path_scratch_;  // the kept scene points of the path check, by column
   // The path check's scene, gathered at the plan's first check (the planner's scene

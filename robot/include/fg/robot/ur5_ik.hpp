@@ -152,8 +152,8 @@ struct IkChoice {
 //! The solution nearest `current` in weighted joint space (weights null: all 1),
 //! every joint taken in its representation (+- 2pi k) nearest the current joint that
 //! lies inside `limits`. Ties go to the lower row. Never NaN.
-IkChoice choose_nearest(const double current[6], const IkSolutions& solutions,
-                        const JointLimits& limits, const double* weights = nullptr);
+IkChoice choose_nearest(const double current[6], const IkSolutions& solutions, const JointLimits& limits,
+                        const double* weights = nullptr);
 //! Same with ur5_joint_limits() and unit weights.
 IkChoice choose_nearest(const double current[6], const IkSolutions& solutions);
 

@@ -25,11 +25,11 @@ struct ViewFrame {
 struct Candidate {
   uint32_t view;
   float beta, dz, width;
-  Vec3 position;  //!< world
-  Vec3 X, Y, Z;   //!< grasp frame (closing, across, approach): the viewpoint's, or refined
-  bool balanced;  //!< beta <= beta_max
-  bool sides_in_cone;  //!< both fitted sides within atan(mu) of the closing normal (XOY)
-  bool corners_clear;  //!< nothing beside the pads or just past their tips stands out past their contacts (xoz)
+  Vec3 position;          //!< world
+  Vec3 X, Y, Z;           //!< grasp frame (closing, across, approach): the viewpoint's, or refined
+  bool balanced;          //!< beta <= beta_max
+  bool sides_in_cone;     //!< both fitted sides within atan(mu) of the closing normal (XOY)
+  bool corners_clear;     //!< nothing beside the pads or just past their tips stands out past their contacts (xoz)
   bool tangent_contacts;  //!< the pads close on a round body's unseen tangents (grazed_round_body)
   ViewFrame frame() const { return ViewFrame{X, Y, Z}; }
 };

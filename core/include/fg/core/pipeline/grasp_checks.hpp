@@ -64,8 +64,8 @@ struct CheckScene {
   const PlannerConfig& cfg;
   const PointSpan& object;       //!< the target's points
   const uint32_t* object_voxel;  //!< their voxels' indices in the grid
-  const VoxelGrid& grid;    //!< every voxel, its state below
-  const uint8_t* state;     //!< per voxel (cluster.hpp's VoxelState)
+  const VoxelGrid& grid;         //!< every voxel, its state below
+  const uint8_t* state;          //!< per voxel (cluster.hpp's VoxelState)
   const SupportPlane& support;
   const SensorViews& sensors;
 };
@@ -85,7 +85,12 @@ inline constexpr uint32_t kMaxBodyEdges = 128;
 class GraspChecks {
  public:
   explicit GraspChecks(const CheckScene& scene)
-      : cfg_(scene.cfg), object_(scene.object), object_voxel_(scene.object_voxel), grid_(scene.grid), state_(scene.state), support_(scene.support),
+      : cfg_(scene.cfg),
+        object_(scene.object),
+        object_voxel_(scene.object_voxel),
+        grid_(scene.grid),
+        state_(scene.state),
+        support_(scene.support),
         sensors_(scene.sensors) {}
   GraspChecks(const GraspChecks&) = delete;
   GraspChecks& operator=(const GraspChecks&) = delete;
@@ -97,7 +102,10 @@ class GraspChecks {
   //! the tables' memory, which the sort is done with by then).
   void begin_target(uint32_t* storage, uint32_t* tables, Vec2* scratch);
   //! No near list (before a target is loaded): the swept check walks every voxel.
-  void forget_target() { n_near_ = 0; near_ = nullptr; }
+  void forget_target() {
+    n_near_ = 0;
+    near_ = nullptr;
+  }
 
   //! The checks in order, up to the first that fails or defers the candidate. In the
   //! first pass (first_pass) a finger partly in hidden space, or a cap's lower
@@ -137,12 +145,12 @@ class GraspChecks {
 
  private:
   struct ContactNormalStats {
-    uint32_t total[2] = {0, 0};        //!< left, right
+    uint32_t total[2] = {0, 0};  //!< left, right
     uint32_t inside_cone[2] = {0, 0};
     Vec3 outward_sum[2] = {Vec3::Zero(), Vec3::Zero()};
-    float z_first[2] = {1e9f, 1e9f};   //!< the shallowest contact point along the approach
-    uint32_t level[2] = {0, 0};        //!< normals within 30 deg of the support plane's (a top)
-    float top[2] = {-1e9f, -1e9f};     //!< the highest contact point above the support plane
+    float z_first[2] = {1e9f, 1e9f};  //!< the shallowest contact point along the approach
+    uint32_t level[2] = {0, 0};       //!< normals within 30 deg of the support plane's (a top)
+    float top[2] = {-1e9f, -1e9f};    //!< the highest contact point above the support plane
   };
   void contact_normal_stats(const Vec3& pos, const ViewFrame& f, float width, ContactNormalStats& st);
   bool friction_ok(const Vec3& pos, const ViewFrame& f, float width);

@@ -20,8 +20,7 @@ struct ObjectFrame {
 };
 
 //! False when the points have no defined principal axis (all identical, too few).
-bool build_object_frame(const PointSpan& pts, const SensorViews& sensors, const PlannerConfig& cfg,
-                        ObjectFrame& out);
+bool build_object_frame(const PointSpan& pts, const SensorViews& sensors, const PlannerConfig& cfg, ObjectFrame& out);
 
 //! The support plane's frame: its upward normal, then the object's major and minor
 //! directions along it (PCA of the points projected onto the plane), right-handed.

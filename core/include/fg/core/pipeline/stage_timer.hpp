@@ -15,8 +15,7 @@ using StageTimes = uint32_t[static_cast<uint32_t>(Stage::count)];
 
 class StageTimer {
  public:
-  StageTimer(StageTimes& times, Stage s)
-      : slot_(times[static_cast<uint32_t>(s)]), t0_(platform::monotonic_us()) {}
+  StageTimer(StageTimes& times, Stage s) : slot_(times[static_cast<uint32_t>(s)]), t0_(platform::monotonic_us()) {}
   ~StageTimer() { slot_ += static_cast<uint32_t>(platform::monotonic_us() - t0_); }
   StageTimer(const StageTimer&) = delete;
   StageTimer& operator=(const StageTimer&) = delete;

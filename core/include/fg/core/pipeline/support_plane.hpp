@@ -10,8 +10,8 @@
 namespace fg {
 
 struct SupportPlane {
-  Plane plane;         //!< found, or the level plane through the lowest point
-  bool found = false;  //!< a plane within plane_max_tilt of level had enough inliers
+  Plane plane;           //!< found, or the level plane through the lowest point
+  bool found = false;    //!< a plane within plane_max_tilt of level had enough inliers
   uint32_t removed = 0;  //!< voxels taken out (the plane and below)
 };
 

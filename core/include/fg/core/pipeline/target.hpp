@@ -27,8 +27,8 @@ ClusterParams target_cluster_params(const PlannerConfig& cfg);
 //! cells span more than it holds, they ask the hash through the larger lookup filter
 //! `lent` then holds. Either is given back before returning (the grid's lookups are
 //! prepared again without it).
-ClusterResult find_target(VoxelGrid& grid, uint8_t* state, const ClusterParams& cp, uint32_t* queue,
-                          LentWords lent, uint32_t* target_voxels);
+ClusterResult find_target(VoxelGrid& grid, uint8_t* state, const ClusterParams& cp, uint32_t* queue, LentWords lent,
+                          uint32_t* target_voxels);
 
 //! The target-fragment fall-back (docs/method.md A.6): the larger cluster whose
 //! footprint holds the x-y centroid of the first target's points `first` (a stand under

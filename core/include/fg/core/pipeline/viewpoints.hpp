@@ -33,11 +33,11 @@ const char* to_string(ViewFamily f);
 //! One viewpoint, and the summary of its best candidate kept for reports and pictures.
 struct ViewRecord {
   ViewFamily family;
-  float theta;      //!< rad about the family's axis
-  Vec3 X, Y, Z;     //!< the virtual object frame (closing, axis, approach)
+  float theta;   //!< rad about the family's axis
+  Vec3 X, Y, Z;  //!< the virtual object frame (closing, axis, approach)
   bool has_candidate;
-  float beta;       //!< best candidate's beta (when has_candidate)
-  float dz;         //!< best candidate's dz
+  float beta;  //!< best candidate's beta (when has_candidate)
+  float dz;    //!< best candidate's dz
 };
 
 struct ViewList {
