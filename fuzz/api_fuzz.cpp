@@ -182,7 +182,7 @@ void op_task(Reader& r) {
   fg_hal_ops ops = {&g_hw, hw_now, hw_request, hw_poll, hw_move, hw_arm_read, hw_stop, hw_open, hw_close, hw_grip_read};
   if ((flags & 4u) != 0) ops.gripper_read = nullptr;
   fg_task_config tc;
-  fg_task_config_default(&tc);
+  if (fg_task_config_default(&tc) != FG_OK) std::abort();  // the defaults are always valid
   tc.world_T_head = g_last.pose;
   tc.tool0_T_hand = g_last.pose;
   tc.use_head = flags & 1u;
@@ -235,7 +235,7 @@ void op_init(Reader& r) {
   if (size > kMemBytes - offset) size = kMemBytes - offset;
   unsigned char* memory = (mem & 64u) != 0 ? nullptr : g_mem[slot] + offset;
   fg_config cfg;
-  fg_config_default(&cfg);
+  if (fg_config_default(&cfg) != FG_OK) std::abort();  // the defaults are always valid
   const fg_config* cfgp = &cfg;
   const uint32_t v = cfgv & 7u;
   if (v == 1) cfg.struct_size = r.u32();
@@ -364,7 +364,7 @@ void op_bogus(Reader& r) {
 
 void op_check(Reader& r) {
   fg_config cfg;
-  fg_config_default(&cfg);
+  if (fg_config_default(&cfg) != FG_OK) std::abort();  // the defaults are always valid
   const uint32_t n = r.u8() % 5u;
   for (uint32_t i = 0; i < n; ++i) {
     const uint8_t f = r.u8();

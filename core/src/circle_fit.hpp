@@ -22,7 +22,7 @@ struct CircleFit {
   }
   // The centre and the squared radius; false when the points are collinear (a flat
   // section) or give no real circle.
-  bool solve(double& xc, double& zc, double& rr) const {
+  [[nodiscard]] bool solve(double& xc, double& zc, double& rr) const {
     if (!(std::fabs(a.determinant()) > 1e-18)) return false;
     const Eigen::Vector3d sol = a.inverse() * r;
     xc = -0.5 * sol[0];

@@ -10,12 +10,12 @@
 #include <cmath>
 #include <limits>
 
+#include "fg/core/constants.hpp"
 #include "fg/platform/platform.hpp"
 
 namespace fg {
 
 namespace {
-constexpr float kPi = 3.14159265358979f;
 // Two family axes closer than 10 deg (the extension's step) search the same circle.
 constexpr float kSameAxisCos = 0.9848078f;
 }  // namespace
@@ -183,12 +183,12 @@ uint32_t Planner::search_grasp(PlanResult& out, NoGraspReason& reason, const cha
     FamilySpec specs[2];
     uint32_t n_specs = 1;
     if (fam == 1) {
-      specs[0] = FamilySpec{ViewFamily::full_circle, axes[0], frame_.X0, 0.f, 2.f * kPi, true, arc_from, arc_to};
+      specs[0] = FamilySpec{ViewFamily::full_circle, axes[0], frame_.X0, 0.f, 2.f * kPiF, true, arc_from, arc_to};
     } else {
       const Vec3 hint = sensors_.origin[sensors_.added[1] ? 1 : 0] - frame_.centroid;
       const Vec3 Xa = orthogonal_from(axes[fam - 1], hint);
       const ViewFamily vf = fam == 2 ? ViewFamily::middle_axis : ViewFamily::minor_axis;
-      specs[0] = FamilySpec{vf, axes[fam - 1], Xa, 0.f, 2.f * kPi};
+      specs[0] = FamilySpec{vf, axes[fam - 1], Xa, 0.f, 2.f * kPiF};
       // The steps start from the sensor's direction, so they pass straight down only by
       // chance (5 deg off at worst), yet an object standing on the plane is grasped
       // best from straight above, its closing level: tilted 10 deg, the lower fingertip
@@ -233,7 +233,7 @@ uint32_t Planner::search_grasp(PlanResult& out, NoGraspReason& reason, const cha
     bool searched = false;
     for (int a = 0; a < 3; ++a) searched = searched || std::fabs(axis.dot(axes[a])) > kSameAxisCos;
     if (searched) continue;
-    const FamilySpec circle{static_cast<ViewFamily>(fam), axis, x0, 0.f, 2.f * kPi};
+    const FamilySpec circle{static_cast<ViewFamily>(fam), axis, x0, 0.f, 2.f * kPiF};
     found = search_family(&circle, 1, out);
   }
   if (found == kMaxCandidates && cfg_.executability_checks) {

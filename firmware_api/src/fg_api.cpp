@@ -107,7 +107,8 @@ struct fg_workspace {
   fg::task::GraspTask task;
 };
 
-static_assert(sizeof(fg_workspace) <= FG_WORKSPACE_SIZE,
+// The budget is a byte count: comparing a sizeof with it is the point.
+static_assert(sizeof(fg_workspace) <= FG_WORKSPACE_SIZE,  // NOLINT(bugprone-sizeof-expression)
               "the workspace outgrew the build configuration's FG_WORKSPACE_SIZE budget");
 static_assert(alignof(fg_workspace) <= FG_WORKSPACE_ALIGN, "workspace alignment above FG_WORKSPACE_ALIGN");
 
@@ -169,7 +170,7 @@ FG_SAME(FG_TASK_ABORTED, fg::task::TaskFailure::aborted);
 
 namespace {
 
-fg_status to_c(fg::Status s) { return static_cast<fg_status>(static_cast<int32_t>(s)); }
+[[nodiscard]] fg_status to_c(fg::Status s) { return static_cast<fg_status>(static_cast<int32_t>(s)); }
 
 // One field list for both directions keeps the C struct and PlannerConfig in step.
 // clang-format off
@@ -202,7 +203,7 @@ void to_c(const fg::PlannerConfig& p, fg_config& c) {
 }
 
 // Flags must be 0 or 1 and the rule a known value: anything else is invalid_config.
-fg_status from_c(const fg_config& c, fg::PlannerConfig& p, const char** field) {
+[[nodiscard]] fg_status from_c(const fg_config& c, fg::PlannerConfig& p, const char** field) {
 #define X(f) p.f = c.f;
   FG_CONFIG_FIELDS(X)
 #undef X
@@ -232,7 +233,7 @@ fg_status from_c(const fg_config& c, fg::PlannerConfig& p, const char** field) {
   return to_c(fg::validate(p, field));
 }
 
-fg_status check_header(const fg_config* cfg, const char** field) {
+[[nodiscard]] fg_status check_header(const fg_config* cfg, const char** field) {
   if (cfg == nullptr) return FG_ERR_INVALID_ARGUMENT;
   if (cfg->struct_size != sizeof(fg_config)) {
     if (field != nullptr) *field = "struct_size";
@@ -259,7 +260,7 @@ fg::Pose to_pose(const fg_pose& in) {
 // Roles outside the enum are refused before any cast can wrap them onto a valid one.
 bool role_ok(int32_t role) { return role >= 0 && static_cast<uint32_t>(role) < fg::kMaxSensors; }
 
-fg_status fail(fg_workspace* ws, fg_status s, const char* message) {
+[[nodiscard]] fg_status fail(fg_workspace* ws, fg_status s, const char* message) {
   ws->message = message;
   return s;
 }
@@ -415,7 +416,7 @@ fg_status fg_add_depth_image(fg_workspace* ws, int32_t role, const uint16_t* dep
 
 namespace {
 // The checks both point calls make before the planner's own; FG_OK to go on.
-fg_status points_call_ok(fg_workspace* ws, int32_t role, size_t count, const fg_pose* world_T_sensor) {
+[[nodiscard]] fg_status points_call_ok(fg_workspace* ws, int32_t role, size_t count, const fg_pose* world_T_sensor) {
   if (!valid(ws)) return FG_ERR_NOT_A_WORKSPACE;
   if (!role_ok(role)) return fail(ws, FG_ERR_INVALID_SENSOR, "unknown sensor role");
   if (world_T_sensor == nullptr) return fail(ws, FG_ERR_INVALID_ARGUMENT, "pose pointer is null");
@@ -449,10 +450,10 @@ fg_status fg_plan(fg_workspace* ws, fg_grasp* out) {
   if (!valid(ws)) return FG_ERR_NOT_A_WORKSPACE;
   if (out == nullptr) return fail(ws, FG_ERR_INVALID_ARGUMENT, "grasp output pointer is null");
   fg::PlanResult r;
-  ws->planner.plan(r);
+  const fg::Status s = ws->planner.plan(r);  // the same as r.status
   fill_grasp(r, *out);
   ws->message = r.message;
-  return to_c(r.status);
+  return to_c(s);
 }
 
 fg_status fg_task_config_default(fg_task_config* cfg) {

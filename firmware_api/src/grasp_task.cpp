@@ -248,9 +248,9 @@ TaskState GraspTask::step_plan(Planner& planner, const TaskHal&, uint64_t now) {
   check_.set_current_joints(q_capture_);
   GraspCheck* const callers_check = planner.grasp_check();
   planner.set_grasp_check(&check_);
-  planner.plan(plan_);
+  const Status planned = planner.plan(plan_);  // the same as plan_.status
   planner.set_grasp_check(callers_check);
-  if (plan_.status != Status::ok) {
+  if (planned != Status::ok) {
     if (plan_.reason == NoGraspReason::unreachable) return fail(TaskFailure::unreachable, plan_.message);
     return fail(TaskFailure::no_grasp, plan_.message);
   }

@@ -2,14 +2,15 @@
 
 #include <cmath>
 
+#include "fg/core/constants.hpp"
+
 namespace fg::robot {
 
 Ur5Params ur5_nominal() {
-  constexpr float kPi = 3.14159265358979f;
   Ur5Params p{};
   const float d[6] = {0.089159f, 0.f, 0.f, 0.10915f, 0.09465f, 0.0823f};
   const float a[6] = {0.f, -0.425f, -0.39225f, 0.f, 0.f, 0.f};
-  const float alpha[6] = {kPi / 2, 0.f, 0.f, kPi / 2, -kPi / 2, 0.f};
+  const float alpha[6] = {kPiF / 2, 0.f, 0.f, kPiF / 2, -kPiF / 2, 0.f};
   for (int i = 0; i < 6; ++i) {
     p.d[i] = d[i];
     p.a[i] = a[i];

@@ -15,11 +15,11 @@
 #include <Eigen/Cholesky>
 #include <cmath>
 
+#include "fg/core/constants.hpp"
+
 namespace fg::robot {
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kTwoPi = 2.0 * kPi;
 constexpr double kHalfPi = 0.5 * kPi;
 constexpr double kLimitAbsMax = 1000.0;  // rad: bounds the 2pi-shift arithmetic
@@ -466,7 +466,7 @@ void clear(IkSolutions& out) {
   out.dropped_accept = 0;
 }
 
-IkStatus finish(IkSolutions& out, IkStatus s) {
+[[nodiscard]] IkStatus finish(IkSolutions& out, IkStatus s) {
   out.status = s;
   return s;
 }

@@ -7,11 +7,12 @@
 #include <random>
 #include <vector>
 
+#include "fg/core/constants.hpp"
 #include "fg/core/types.hpp"
 
 namespace fg::test {
 
-constexpr double kPi = 3.14159265358979;
+using fg::kPi;
 
 // A point from double coordinates (the constructed scenes are laid out in double).
 inline fg::Vec3 v3(double x, double y, double z) {

@@ -31,6 +31,7 @@
 #include <memory>
 #include <vector>
 
+#include "fg/core/constants.hpp"
 #include "fg/core/planner.hpp"
 
 namespace {
@@ -44,7 +45,7 @@ using fg::Vec3;
 using fg::ViewDetail;
 using fg::ViewRecord;
 
-constexpr double kPi = 3.14159265358979323846;
+using fg::kPi;
 constexpr double kStep = 0.002;  // surface sampling (m)
 
 struct P2 {

@@ -686,6 +686,15 @@ TEST_F(CliContract, UnknownSetOption) {
   expect_invalid(r, "no_such_option", {"unknown option"});
 }
 
+TEST_F(CliContract, AnOptionHasOneName) {
+  // The name --set takes is the one validation reports and the C API's field carries
+  // (scan_delta, scan_delta_m); a name an earlier version used says what it is now.
+  expect_invalid(plan(manifest(example_manifest()), {"--set", "scan_delta=-1"}), "scan_delta", {"range"});
+  expect_invalid(plan(manifest(example_manifest()), {"--set", "dx_threshold=-1"}), "dx_threshold", {"range"});
+  expect_invalid(plan(manifest(example_manifest()), {"--set", "delta=0.002"}), "\"delta\"", {"named scan_delta"});
+  expect_invalid(plan(manifest(example_manifest()), {"--set", "dx_th=0.004"}), "\"dx_th\"", {"named dx_threshold"});
+}
+
 TEST_F(CliContract, BadValueForKnownSetOption) {
   expect_invalid(plan(manifest(example_manifest()), {"--set", "voxel_leaf=abc"}), "voxel_leaf",
                  {"not a finite number"});

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "fg/core/constants.hpp"
 #include "fg/core/planner.hpp"
 #include "sim/grasp_judge.hpp"
 #include "sim/pinhole.hpp"
@@ -23,7 +24,7 @@ using namespace fg::sim;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using fg::kPi;
 constexpr double kDeg = kPi / 180.0;
 
 struct Planned {

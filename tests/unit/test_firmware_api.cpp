@@ -63,7 +63,8 @@ TEST_P(FirmwareApiScenes, SameAnswerAsThePlanner) {
                                  d.poses[i]),
               fg::Status::ok);
   fg::PlanResult want;
-  oracle->plan(want);
+  const fg::Status want_status = oracle->plan(want);
+  EXPECT_EQ(want_status, want.status);
 
   auto mem = std::make_unique<Memory>();
   fg_config cfg;
@@ -162,7 +163,7 @@ TEST(FirmwareApi, WorkspaceBudgetAndStorageMacro) {
   static FG_WORKSPACE_STORAGE(storage);
   EXPECT_EQ(reinterpret_cast<uintptr_t>(storage) % FG_WORKSPACE_ALIGN, 0u);
   fg_config cfg;
-  fg_config_default(&cfg);
+  ASSERT_EQ(fg_config_default(&cfg), FG_OK);
   fg_workspace* ws = nullptr;
   EXPECT_EQ(fg_init(storage, sizeof storage, &cfg, &ws), FG_OK);
   EXPECT_EQ(static_cast<void*>(ws), static_cast<void*>(storage));

@@ -15,6 +15,7 @@
 #include <random>
 #include <vector>
 
+#include "fg/core/constants.hpp"
 #include "fg/core/plane.hpp"
 
 namespace {
@@ -23,7 +24,7 @@ using fg::Plane;
 using fg::PlaneParams;
 using fg::Vec3;
 
-constexpr double kPi = 3.14159265358979323846;
+using fg::kPi;
 constexpr double kDeg = kPi / 180.0;
 
 struct Scene {

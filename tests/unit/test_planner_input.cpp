@@ -19,6 +19,7 @@
 #include <tuple>
 #include <vector>
 
+#include "fg/core/constants.hpp"
 #include "fg/core/planner.hpp"
 #include "synthetic_scene.hpp"
 
@@ -36,7 +37,7 @@ using fg::Status;
 using fg::Vec3;
 
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
-constexpr double kPi = 3.14159265358979323846;
+using fg::kPi;
 
 std::unique_ptr<fg::Planner> make_planner(const PlannerConfig& cfg = PlannerConfig{}) {
   auto p = std::make_unique<fg::Planner>();
@@ -183,8 +184,8 @@ TEST(PlannerInput, StridesLargerThanAPointAndUnaligned) {
         ASSERT_EQ(std::memcmp(ca.data(), cb.data(), sizeof(float) * 3), 0) << v;
       }
       PlanResult ra, rb;
-      a->plan(ra);
-      b->plan(rb);
+      EXPECT_EQ(a->plan(ra), ra.status);
+      EXPECT_EQ(b->plan(rb), rb.status);
       EXPECT_EQ(ra.points.after_filter, n);
       EXPECT_EQ(ra.points.after_filter, rb.points.after_filter);
       EXPECT_EQ(ra.points.voxels, rb.points.voxels);
@@ -210,7 +211,7 @@ TEST(PlannerInput, PlanarArraysArgumentsAndCounts) {
   // The NaN point is counted as offered and not finite.
   EXPECT_EQ(pl->add_points_planar(SensorRole::hand, x, y, z, 2, Pose{}), Status::ok);
   PlanResult r;
-  pl->plan(r);
+  EXPECT_EQ(pl->plan(r), r.status);
   EXPECT_EQ(r.points.input, 2u);
   EXPECT_EQ(r.points.finite, 1u);
 }
@@ -230,8 +231,8 @@ TEST(PlannerInput, PlanarArraysPlanLikeTriples) {
       b->add_points_planar(SensorRole::head, xs.data(), ys.data(), zs.data(), static_cast<uint32_t>(pts.size()), pose),
       Status::ok);
   PlanResult ra, rb;
-  a->plan(ra);
-  b->plan(rb);
+  EXPECT_EQ(a->plan(ra), ra.status);
+  EXPECT_EQ(b->plan(rb), rb.status);
   ASSERT_EQ(ra.status, Status::ok) << ra.message;
   EXPECT_EQ(rb.status, ra.status);
   EXPECT_EQ(rb.points.input, ra.points.input);
@@ -358,7 +359,7 @@ TEST(PlannerInput, IngestMatchesABruteForceForEveryCountAndInputKind) {
           }
           EXPECT_EQ(std::memcmp(sight.data(), pl->sight_map(SensorRole::head), sight.size() * 2), 0);
           PlanResult r;
-          pl->plan(r);
+          EXPECT_EQ(pl->plan(r), r.status);
           EXPECT_EQ(r.points.input, n);
           EXPECT_EQ(r.points.finite, finite);
           EXPECT_EQ(r.points.after_filter, kept);
@@ -422,7 +423,7 @@ TEST(PlannerInput, CropShrinksWhenTheCloudNeedsMoreVoxelsThanTheGrid) {
     means.push_back(g.centroid(i).cast<double>());
   }
   PlanResult r;
-  pl->plan(r);
+  EXPECT_EQ(pl->plan(r), r.status);
   EXPECT_NE(r.status, Status::capacity_exceeded) << r.message;
   const fg::CropUsed& c = r.crop;
   EXPECT_GE(c.shrinks, 1u);
@@ -510,7 +511,9 @@ TEST(PlannerInput, IngestWidthsGiveTheSameGridBitForBit) {
                                     : pl->add_depth_image(SensorRole::hand, depth.data(), w, h, k, pose);
       ASSERT_EQ(st, Status::ok);
       for (uint32_t i = 0; i < pl->voxels().size(); ++i) voxels[wide].push_back(pl->voxels().centroid(i));
-      if (kind == 1) pl->plan(r[wide]);
+      if (kind == 1) {
+        EXPECT_EQ(pl->plan(r[wide]), r[wide].status);
+      }
     }
   }
   fg::Planner::set_ingest_lanes(0);
@@ -559,8 +562,8 @@ void expect_depth_matches_its_points(const std::vector<uint16_t>& depth, uint16_
                         sizeof(uint16_t) * fg::kSightBins * fg::kSightBins),
             0);
   PlanResult ra, rb;
-  a->plan(ra);
-  b->plan(rb);
+  EXPECT_EQ(a->plan(ra), ra.status);
+  EXPECT_EQ(b->plan(rb), rb.status);
   EXPECT_EQ(ra.points.input, static_cast<uint32_t>(w) * h);
   EXPECT_EQ(ra.points.finite, rb.points.finite);
   EXPECT_EQ(ra.points.after_filter, rb.points.after_filter);
@@ -863,7 +866,7 @@ TEST(PlannerInput, RangeFilterAndCropBoxCounts) {
   auto pl = make_planner();
   ASSERT_EQ(add(*pl, pts), Status::ok);
   PlanResult r;
-  pl->plan(r);
+  EXPECT_EQ(pl->plan(r), r.status);
   EXPECT_EQ(r.points.input, 9u);
   EXPECT_EQ(r.points.finite, 8u);
   EXPECT_EQ(r.points.after_filter, 2u);
@@ -990,7 +993,7 @@ TEST(PlannerScene, BoxOnTableWorldFrameIdentityPose) {
   auto pl = make_planner(world_frame_config());
   ASSERT_EQ(add(*pl, pts), Status::ok);
   PlanResult r;
-  pl->plan(r);
+  EXPECT_EQ(pl->plan(r), r.status);
   expect_box_grasp(r, 0.07f, 0.05f, Vec3::UnitY());
   EXPECT_TRUE(pl->plane_found());
   EXPECT_GT(r.points.object, 100u);
@@ -1006,7 +1009,7 @@ TEST(PlannerScene, BoxWithItsNarrowSideAlongXIdentityPose) {
   auto pl = make_planner(world_frame_config());
   ASSERT_EQ(add(*pl, pts), Status::ok);
   PlanResult r;
-  pl->plan(r);
+  EXPECT_EQ(pl->plan(r), r.status);
   ASSERT_EQ(r.status, Status::ok) << r.message;
   const Vec3 axis = std::fabs(r.grasp.closing.x()) > std::fabs(r.grasp.closing.y()) ? Vec3::UnitX() : Vec3::UnitY();
   expect_box_grasp(r, 0.05f, 0.07f, axis);
@@ -1020,7 +1023,7 @@ TEST(PlannerScene, BoxSeenFromTheSideOfItsNarrowAxis) {
   auto pl = make_planner();
   ASSERT_EQ(add(*pl, to_sensor(world, pose), pose), Status::ok);
   PlanResult r;
-  pl->plan(r);
+  EXPECT_EQ(pl->plan(r), r.status);
   expect_box_grasp(r, 0.05f, 0.07f, Vec3::UnitX());
 }
 
@@ -1032,7 +1035,7 @@ TEST(PlannerScene, BoxOnTableSeenFromASensorAboveAndInFront) {
   auto pl = make_planner();
   ASSERT_EQ(add(*pl, to_sensor(world, pose), pose), Status::ok);
   PlanResult r;
-  pl->plan(r);
+  EXPECT_EQ(pl->plan(r), r.status);
   EXPECT_EQ(r.points.after_filter, r.points.finite);
   expect_box_grasp(r, 0.07f, 0.05f, Vec3::UnitY());
 }
@@ -1068,10 +1071,10 @@ TEST(PlannerScene, RepeatedPlansAreBitIdentical) {
   auto b = make_planner(cfg);
   PlanResult r1, r2, r3;
   ASSERT_EQ(add(*a, pts), Status::ok);
-  a->plan(r1);
-  a->plan(r2);  // the same input again, without a reset
+  EXPECT_EQ(a->plan(r1), r1.status);
+  EXPECT_EQ(a->plan(r2), r2.status);  // the same input again, without a reset
   ASSERT_EQ(add(*b, pts), Status::ok);
-  b->plan(r3);  // another planner
+  EXPECT_EQ(b->plan(r3), r3.status);  // another planner
   ASSERT_EQ(r1.status, Status::ok) << r1.message;
   for (const PlanResult* r : {&r2, &r3}) {
     EXPECT_EQ(r->status, r1.status);
@@ -1095,7 +1098,7 @@ TEST(PlannerScene, RepeatedPlansAreBitIdentical) {
   a->reset();
   ASSERT_EQ(add(*a, pts), Status::ok);
   PlanResult r4;
-  a->plan(r4);
+  EXPECT_EQ(a->plan(r4), r4.status);
   EXPECT_EQ(std::memcmp(r1.grasp.position.data(), r4.grasp.position.data(), 12), 0);
   EXPECT_EQ(std::memcmp(r1.grasp.closing.data(), r4.grasp.closing.data(), 12), 0);
   EXPECT_EQ(std::memcmp(&r1.grasp.width, &r4.grasp.width, 4), 0);
@@ -1200,7 +1203,7 @@ TEST(PlannerDepth, HolesAndOutOfRangePixels) {
   auto pl = make_planner();
   ASSERT_EQ(pl->add_depth_image(SensorRole::hand, img.depth.data(), 64, 48, img.k, camera_down()), Status::ok);
   PlanResult r;
-  pl->plan(r);
+  EXPECT_EQ(pl->plan(r), r.status);
   EXPECT_EQ(r.points.input, total);
   EXPECT_EQ(r.points.finite, total - holes);
   EXPECT_EQ(r.points.after_filter, total - holes - near - far - outside + outside_kept);
@@ -1213,7 +1216,7 @@ TEST(PlannerDepth, BothSensorsAddUp) {
   std::vector<Vec3> pts = {Vec3(0.5f, 0.f, 1.f), Vec3(0.5f, 0.1f, 1.f), Vec3(kNaN, 0.f, 1.f)};
   ASSERT_EQ(add(*pl, pts, Pose{}, SensorRole::hand), Status::ok);
   PlanResult r;
-  pl->plan(r);
+  EXPECT_EQ(pl->plan(r), r.status);
   EXPECT_EQ(r.points.input, 64u * 48u + 3u);
   EXPECT_EQ(r.points.finite, 64u * 48u + 2u);
   EXPECT_EQ(r.points.after_filter, 64u * 48u + 2u);
@@ -1259,7 +1262,7 @@ TEST(PlannerDepth, BoxOnTableRenderedFromAbove) {
   auto pl = make_planner();
   ASSERT_EQ(pl->add_depth_image(SensorRole::head, depth.data(), W, H, k, pose), Status::ok);
   PlanResult r;
-  pl->plan(r);
+  EXPECT_EQ(pl->plan(r), r.status);
   ASSERT_EQ(r.status, Status::ok) << r.message;
   const fg::Grasp& g = r.grasp;
   EXPECT_GE(g.position.x(), 0.47f);
@@ -1336,7 +1339,7 @@ TEST(PlannerFriction, RoundSideSeenAtAGrazeKeepsItsGrasp) {
     auto pl = make_planner();
     ASSERT_EQ(add(*pl, to_sensor(world, pose), pose), Status::ok);
     PlanResult r;
-    pl->plan(r);
+    EXPECT_EQ(pl->plan(r), r.status);
     ASSERT_EQ(r.status, Status::ok) << "seed " << seed << ": " << r.message;
     const fg::Grasp& g = r.grasp;
     // Antipodal on the true cylinder: the closing horizontal, and the pads' footprint
@@ -1369,7 +1372,7 @@ TEST(PlannerFriction, ATurnedPrismIsGraspedOnItsFacesNotItsEdges) {
     auto pl = make_planner();
     ASSERT_EQ(add(*pl, to_sensor(world, pose), pose), Status::ok);
     PlanResult r;
-    pl->plan(r);
+    EXPECT_EQ(pl->plan(r), r.status);
     if (r.status != Status::ok) {
       EXPECT_EQ(r.status, Status::no_grasp) << "yaw " << yaw_deg;
       continue;
@@ -1429,7 +1432,7 @@ TEST(PlannerSupportFamilies, ABoxSeenOnItsTopAndOneWideFaceIsGraspedAcrossItsNar
     auto pl = make_planner();
     ASSERT_EQ(add(*pl, to_sensor(world, pose), pose), Status::ok);
     PlanResult r;
-    pl->plan(r);
+    EXPECT_EQ(pl->plan(r), r.status);
     if (r.status != Status::ok) continue;
     ++planned;
     EXPECT_GE(std::fabs(r.grasp.closing.x()), cone_cos)

@@ -11,6 +11,7 @@
 #include <map>
 #include <vector>
 
+#include "fg/core/constants.hpp"
 #include "sim/grasp_judge.hpp"
 #include "sim/scene_export.hpp"
 #include "sim/scene_gen.hpp"
@@ -20,7 +21,7 @@ using namespace fg::sim;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using fg::kPi;
 constexpr double kDeg = kPi / 180.0;
 
 // Points on an object's outer surface: the first hits of rays from a sphere around it

@@ -5,6 +5,7 @@
 
 #include <cmath>
 
+#include "fg/core/constants.hpp"
 #include "fg/robot/ur5.hpp"
 #include "fg/robot/ur5_ik.hpp"
 #include "sim/sim_hal.hpp"
@@ -14,7 +15,7 @@ using fg::Status;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using fg::kPi;
 
 // Advances the clock and ticks the devices together, in steps of dt_us, for total_us.
 void run(SimClock& clock, SimArm* arm, SimGripper* gripper, uint64_t total_us, uint64_t dt_us = 1000) {

@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "fg/core/constants.hpp"
 #include "sim/grasp_judge.hpp"
 #include "sim/scene_gen.hpp"
 
@@ -11,7 +12,7 @@ using namespace fg::sim;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using fg::kPi;
 
 World world_with(const Object& target) {
   World w;

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "fg/core/constants.hpp"
 #include "sim/depth_render.hpp"
 #include "sim/obj_mesh.hpp"
 #include "sim/scene_export.hpp"
@@ -21,7 +22,7 @@ using namespace fg::sim;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using fg::kPi;
 const std::string kYcbDir = std::string(FG_SHARED_DIR) + "/data/meshes/ycb/";
 
 Rigid random_pose(Rng& rng) {

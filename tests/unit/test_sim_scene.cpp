@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "fg/core/constants.hpp"
 #include "io/pcd.hpp"
 #include "io/scene.hpp"
 #include "sim/grasp_judge.hpp"
@@ -17,7 +18,7 @@ using namespace fg::sim;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using fg::kPi;
 
 std::string temp_dir(const std::string& name) {
   const auto d = std::filesystem::temp_directory_path() / ("fg_test_sim_" + name + "_" + std::to_string(::getpid()));

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <random>
 
+#include "fg/core/constants.hpp"
 #include "sim/sim_rng.hpp"
 #include "sim/sim_world.hpp"
 
@@ -12,7 +13,7 @@ using namespace fg::sim;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using fg::kPi;
 
 Rigid random_pose(Rng& rng) {
   Rigid p =

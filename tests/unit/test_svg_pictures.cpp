@@ -166,7 +166,7 @@ class SvgPictures : public ::testing::Test {
                                    3 * sizeof(float), fg::Pose{}),
               Status::ok)
         << planner_->last_message();
-    planner_->plan(result_);
+    EXPECT_EQ(planner_->plan(result_), result_.status);
     ASSERT_TRUE(result_.status == Status::ok || result_.status == Status::no_grasp) << result_.message;
   }
 
@@ -279,7 +279,7 @@ TEST_F(SvgPictures, UnwritableFolderGivesFalseAndAMessage) {
 TEST_F(SvgPictures, NothingPlannedStillGivesPictures) {
   // plan() without data: no object, no viewpoint; the pictures say so instead of failing.
   PlanResult r;
-  planner_->plan(r);
+  EXPECT_EQ(planner_->plan(r), r.status);
   EXPECT_EQ(r.status, Status::no_input);
   std::string error;
   ASSERT_TRUE(fg::host::write_pictures(*planner_, r, dir_.string(), error)) << error;

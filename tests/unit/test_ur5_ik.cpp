@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "fg/core/constants.hpp"
 #include "fg/core/prng.hpp"
 #include "fg/robot/ur5.hpp"
 #include "fg/robot/ur5_ik.hpp"
@@ -27,8 +28,8 @@ using fg::robot::Ur5Params;
 
 namespace {
 
-constexpr double kPi = M_PI;
-constexpr double kTwoPi = 2.0 * M_PI;
+using fg::kPi;
+constexpr double kTwoPi = 2.0 * kPi;
 
 double uniform(fg::Prng& rng, double lo, double hi) {
   const double u = static_cast<double>(rng.next() >> 11) * (1.0 / 9007199254740992.0);
@@ -738,8 +739,9 @@ TEST(Ur5Ik, DeterministicAndRowsBeyondCountZero) {
     random_q(rng, q);
     const PoseD T = fk(p, q);
     IkSolutions a, b;
-    fg::robot::ur5_inverse(p, T, a);
-    fg::robot::ur5_inverse(p, T, b);
+    const fg::robot::IkStatus sa = fg::robot::ur5_inverse(p, T, a);
+    const fg::robot::IkStatus sb = fg::robot::ur5_inverse(p, T, b);
+    ASSERT_EQ(sa, sb);
     ASSERT_EQ(a.count, b.count);
     for (int r = 0; r < IkSolutions::kMax; ++r)
       for (int i = 0; i < 6; ++i) {

@@ -540,7 +540,7 @@ void set_views_max_options(CaseInput& out) {
   set(out, "dtheta", 0.0087f, out.cfg.dtheta_rad);
   set(out, "extension_dtheta", 0.0087f, out.cfg.extension_dtheta_rad);
   set(out, "approach_view_max", 3.1416f, out.cfg.approach_view_max_rad);
-  set(out, "delta", 0.0005f, out.cfg.scan_delta_m);
+  set(out, "scan_delta", 0.0005f, out.cfg.scan_delta_m);
   set(out, "hull_cell", 0.0005f, out.cfg.hull_cell_m);
   set(out, "candidates_per_view", 16u, out.cfg.candidates_per_view);
 }
@@ -622,7 +622,7 @@ bool fallback_views_max(CaseInput& out, uint32_t points, std::string& err) {
 bool candidates_max(CaseInput& out, uint32_t points, std::string& err) {
   set(out, "dtheta", 0.0087f, out.cfg.dtheta_rad);
   set(out, "approach_view_max", 3.1416f, out.cfg.approach_view_max_rad);
-  set(out, "delta", 0.0005f, out.cfg.scan_delta_m);
+  set(out, "scan_delta", 0.0005f, out.cfg.scan_delta_m);
   set(out, "candidates_per_view", 16u, out.cfg.candidates_per_view);
   Builder b(out.cfg, 0.8f);
   const Grid& g = b.grid();

@@ -19,7 +19,7 @@
 #define CALLGRIND_DUMP_STATS_AT(s) ((void)(s))
 #endif
 
-// The real clock (platform/host/services) and the wrapper the linker routes the
+// The real clock (platform/targets/host) and the wrapper the linker routes the
 // planner's calls to (-Wl,--wrap=_ZN2fg8platform12monotonic_usEv).
 extern "C" uint64_t __real__ZN2fg8platform12monotonic_usEv();
 extern "C" uint64_t __wrap__ZN2fg8platform12monotonic_usEv();

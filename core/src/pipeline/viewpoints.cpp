@@ -4,11 +4,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include "fg/core/constants.hpp"
 #include "fg/core/pipeline/object_frame.hpp"
 
 namespace fg {
 namespace {
-constexpr float kPi = 3.14159265358979f;
 // Approaches pointing up more steeply than this come from below the object: skipped.
 constexpr float kMaxApproachUp = 0.5f;
 // The families about the support plane's horizontal axes close within 30 deg of it.
@@ -65,8 +65,8 @@ bool steepest_theta(const Vec3& axis, const Vec3& X0, const Vec3& n, float step,
   if (across.norm() <= kSteepestReach) return false;
   const Vec3 Z0 = X0.cross(axis);
   float th = std::atan2(across.dot(axis.cross(Z0)), across.dot(Z0));
-  if (th < 0.f) th += 2.f * kPi;
-  if (std::fabs(std::remainder(th, step)) <= kSameViewRad || th >= 2.f * kPi - kSameViewRad) return false;
+  if (th < 0.f) th += 2.f * kPiF;
+  if (std::fabs(std::remainder(th, step)) <= kSameViewRad || th >= 2.f * kPiF - kSameViewRad) return false;
   theta = th;
   return true;
 }
@@ -100,9 +100,9 @@ uint32_t add_view_family(const ViewContext& ctx, const FamilySpec& spec, ViewLis
   uint32_t added = 0;
   for (uint32_t s = 0; s <= steps + (add_end ? 1u : 0u) && views.n < kMaxViewpoints; ++s) {
     const float th = s > steps ? to : from + static_cast<float>(s) * step;
-    if (circle && th >= 2.f * kPi - 1e-4f) break;
+    if (circle && th >= 2.f * kPiF - 1e-4f) break;
     if (spec.skip_arc) {
-      const float wrapped = th > kPi ? th - 2.f * kPi : th;
+      const float wrapped = th > kPiF ? th - 2.f * kPiF : th;
       if (wrapped >= spec.arc_from - 1e-4f && wrapped <= spec.arc_to + 1e-4f) continue;
     }
     ViewRecord& v = views.views[views.n];

@@ -37,6 +37,18 @@ extern "C" {
 #error "fg_limits.h of the build configuration must define FG_WORKSPACE_SIZE"
 #endif
 /** Alignment the workspace memory needs (bytes). */
+/* Every call returns a status the caller must read: the compiler warns when one is
+ * dropped. Define FG_NODISCARD empty before including this header to turn that off. */
+#ifndef FG_NODISCARD
+#if defined(__cplusplus) && __cplusplus >= 201703L
+#define FG_NODISCARD [[nodiscard]]
+#elif defined(__GNUC__) || defined(__clang__)
+#define FG_NODISCARD __attribute__((warn_unused_result))
+#else
+#define FG_NODISCARD
+#endif
+#endif
+
 #define FG_WORKSPACE_ALIGN 16u
 /** A buffer that always fits: `static FG_WORKSPACE_STORAGE(mem);` then fg_init(mem, sizeof mem, ...). */
 #if defined(__GNUC__)
@@ -193,43 +205,43 @@ const char *fg_status_str(int32_t status);
 const char *fg_reason_str(int32_t reason);
 
 /** Fills the defaults of docs/configuration.md, struct_size and abi_version. */
-fg_status fg_config_default(fg_config *cfg);
+FG_NODISCARD fg_status fg_config_default(fg_config *cfg);
 
 /** Checks every value of cfg without a workspace; on an error, *field (when field is
  *  not NULL) names the first offending field as docs/configuration.md and
  *  `forcegrasp config` name its option: without the unit suffix ("voxel_leaf" for
  *  voxel_leaf_m, "gripper.max_opening"), static text; "" when all is well. */
-fg_status fg_config_check(const fg_config *cfg, const char **field);
+FG_NODISCARD fg_status fg_config_check(const fg_config *cfg, const char **field);
 
 /** Builds a workspace in `memory` (size bytes, FG_WORKSPACE_ALIGN-aligned) and checks
  *  cfg (struct_size, abi_version, every value). On success *out points into memory;
  *  the memory is the workspace until the caller reuses it (no fg_deinit needed).
  *  On failure *out is NULL (when out is not NULL). */
-fg_status fg_init(void *memory, size_t size, const fg_config *cfg, fg_workspace **out);
+FG_NODISCARD fg_status fg_init(void *memory, size_t size, const fg_config *cfg, fg_workspace **out);
 
 /** Starts the next capture: forgets the sensor data of the previous one. */
-fg_status fg_reset(fg_workspace *ws);
+FG_NODISCARD fg_status fg_reset(fg_workspace *ws);
 
 /** Adds one sensor's depth image (uint16 millimetres, 0 = no return, row-major,
  *  width x height) for this capture. role: an fg_sensor_role, each at most once per
  *  capture (others: FG_ERR_INVALID_SENSOR). */
-fg_status fg_add_depth_image(fg_workspace *ws, int32_t role, const uint16_t *depth_mm, uint16_t width, uint16_t height,
-                             const fg_intrinsics *k, const fg_pose *world_T_sensor);
+FG_NODISCARD fg_status fg_add_depth_image(fg_workspace *ws, int32_t role, const uint16_t *depth_mm, uint16_t width,
+                                          uint16_t height, const fg_intrinsics *k, const fg_pose *world_T_sensor);
 
 /** Adds one sensor's points: count xyz triples of float (sensor frame, metres), the
  *  first float of point i at xyz + i * stride_bytes (stride >= 12; any alignment).
  *  NaN points are skipped. role: an fg_sensor_role, each at most once per capture. */
-fg_status fg_add_points(fg_workspace *ws, int32_t role, const float *xyz, size_t count, size_t stride_bytes,
-                        const fg_pose *world_T_sensor);
+FG_NODISCARD fg_status fg_add_points(fg_workspace *ws, int32_t role, const float *xyz, size_t count,
+                                     size_t stride_bytes, const fg_pose *world_T_sensor);
 
 /** The same for planar buffers (structure of arrays): point i is (x[i], y[i], z[i]).
  *  Null arrays only with count 0. */
-fg_status fg_add_points_planar(fg_workspace *ws, int32_t role, const float *x, const float *y, const float *z,
-                               size_t count, const fg_pose *world_T_sensor);
+FG_NODISCARD fg_status fg_add_points_planar(fg_workspace *ws, int32_t role, const float *x, const float *y,
+                                            const float *z, size_t count, const fg_pose *world_T_sensor);
 
 /** Plans a grasp on this capture. FG_OK: *out holds the grasp. FG_NO_GRASP:
  *  out->reason says why. Errors leave out's counts and times filled where known. */
-fg_status fg_plan(fg_workspace *ws, fg_grasp *out);
+FG_NODISCARD fg_status fg_plan(fg_workspace *ws, fg_grasp *out);
 
 /** The last call's message naming the problem (static text, never NULL). */
 const char *fg_last_message(const fg_workspace *ws);
@@ -330,19 +342,19 @@ typedef struct fg_task_status {
 
 /** Defaults: identity poses, both sensors, tcp 0.15 m, lift 0.10 m, 40 N, speed 0.25,
  *  tolerance 2 mrad, timeouts 2 s (capture), 20 s (each motion), 3 s (gripper). */
-fg_status fg_task_config_default(fg_task_config *cfg);
+FG_NODISCARD fg_status fg_task_config_default(fg_task_config *cfg);
 
 /** Starts a grasp: checks cfg (struct_size and values) and hal (every callback set).
  *  The workspace's planner does the planning: one task per workspace at a time. A
  *  refused start also ends the previous task (fg_task_step: FG_ERR_INVALID_SEQUENCE). */
-fg_status fg_task_start(fg_workspace *ws, const fg_task_config *cfg, const fg_hal_ops *hal);
+FG_NODISCARD fg_status fg_task_start(fg_workspace *ws, const fg_task_config *cfg, const fg_hal_ops *hal);
 
 /** One control tick. FG_OK while the task runs and when it has ended (out->state says
  *  which); FG_ERR_INVALID_SEQUENCE before fg_task_start. out may be NULL. */
-fg_status fg_task_step(fg_workspace *ws, fg_task_status *out);
+FG_NODISCARD fg_status fg_task_step(fg_workspace *ws, fg_task_status *out);
 
 /** Stops the arm and ends a running task as failed. */
-fg_status fg_task_abort(fg_workspace *ws);
+FG_NODISCARD fg_status fg_task_abort(fg_workspace *ws);
 
 #ifdef __cplusplus
 }

@@ -49,8 +49,8 @@ std::vector<ConfigOption> config_options(PlannerConfig& c) {
       {"extend_search", "search other viewpoint families when the arc fails", K::flag, &c.extend_search},
       {"approach_view_max", "approaches stay within this angle of a sensor's sight line (rad)", K::real,
        &c.approach_view_max_rad},
-      {"delta", "scan line spacing (m)", K::real, &c.scan_delta_m},
-      {"dx_th", "discontinuity threshold (m)", K::real, &c.dx_threshold_m},
+      {"scan_delta", "scan line spacing (m)", K::real, &c.scan_delta_m},
+      {"dx_threshold", "discontinuity threshold (m)", K::real, &c.dx_threshold_m},
       {"width_margin", "lines must be narrower than max_opening - margin (m)", K::real, &c.width_margin_m},
       {"hull_cell", "concave hull raster cell (m)", K::real, &c.hull_cell_m},
       {"hull_closing_cells", "concave hull closing radius (cells)", K::count, &c.hull_closing_cells},
@@ -72,6 +72,17 @@ std::vector<ConfigOption> config_options(PlannerConfig& c) {
 }
 
 namespace {
+// "option NAME: "VALUE" WHY": the message of a value an option does not take.
+std::string bad_value(const std::string& name, const std::string& value, const char* why) {
+  std::string e = "option ";
+  e += name;
+  e += ": \"";
+  e += value;
+  e += "\" ";
+  e += why;
+  return e;
+}
+
 bool parse_real(const std::string& s, float& out) {
   if (s.empty()) return false;
   errno = 0;
@@ -90,7 +101,7 @@ bool set_config_option(PlannerConfig& cfg, const std::string& name, const std::s
       case ConfigOption::real: {
         float v = 0;
         if (!parse_real(value, v)) {
-          error = "option " + name + ": \"" + value + "\" is not a finite number";
+          error = bad_value(name, value, "is not a finite number");
           return false;
         }
         *static_cast<float*>(o.field) = v;
@@ -102,7 +113,7 @@ bool set_config_option(PlannerConfig& cfg, const std::string& name, const std::s
         const unsigned long long v = std::strtoull(value.c_str(), &end, 10);
         if (value.empty() || value[0] == '-' || errno != 0 || end != value.c_str() + value.size() ||
             v > 0xFFFFFFFFull) {
-          error = "option " + name + ": \"" + value + "\" is not a whole number";
+          error = bad_value(name, value, "is not a whole number");
           return false;
         }
         *static_cast<uint32_t*>(o.field) = static_cast<uint32_t>(v);
@@ -114,7 +125,7 @@ bool set_config_option(PlannerConfig& cfg, const std::string& name, const std::s
         else if (value == "false" || value == "0" || value == "off")
           *static_cast<bool*>(o.field) = false;
         else {
-          error = "option " + name + ": \"" + value + "\" is not true or false";
+          error = bad_value(name, value, "is not true or false");
           return false;
         }
         return true;
@@ -124,13 +135,17 @@ bool set_config_option(PlannerConfig& cfg, const std::string& name, const std::s
         else if (value == "largest")
           *static_cast<TargetRule*>(o.field) = TargetRule::largest;
         else {
-          error = "option " + name + ": \"" + value + "\" is not nearest or largest";
+          error = bad_value(name, value, "is not nearest or largest");
           return false;
         }
         return true;
     }
   }
   error = "unknown option \"" + name + "\"";
+  // Names an earlier version used: say what the option is called now.
+  static const char* const kRenamed[][2] = {{"delta", "scan_delta"}, {"dx_th", "dx_threshold"}};
+  for (const auto& r : kRenamed)
+    if (name == r[0]) error += std::string(" (it is named ") + r[1] + ")";
   return false;
 }
 
@@ -197,12 +212,17 @@ bool load_config_file(PlannerConfig& cfg, const std::string& path, std::string& 
     } else if (it->is_string())
       value = it->get<std::string>();
     else {
-      error = path + ": option " + it.key() + " must be a number, boolean or string";
+      error = path;
+      error += ": option ";
+      error += it.key();
+      error += " must be a number, boolean or string";
       return false;
     }
     std::string e;
     if (!set_config_option(cfg, it.key(), value, e)) {
-      error = path + ": " + e;
+      error = path;
+      error += ": ";
+      error += e;
       return false;
     }
   }

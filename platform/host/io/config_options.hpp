@@ -20,12 +20,13 @@ struct ConfigOption {
 std::vector<ConfigOption> config_options(PlannerConfig& cfg);
 
 //! Sets one option from text; false with a message naming the option and the problem.
-bool set_config_option(PlannerConfig& cfg, const std::string& name, const std::string& value, std::string& error);
+[[nodiscard]] bool set_config_option(PlannerConfig& cfg, const std::string& name, const std::string& value,
+                                     std::string& error);
 
 //! Every option with its default value, as a JSON object (a valid --config file).
 nlohmann::json default_config_json();
 
 //! Applies a JSON object of options (numbers, booleans, or strings for target_rule).
-bool load_config_file(PlannerConfig& cfg, const std::string& path, std::string& error);
+[[nodiscard]] bool load_config_file(PlannerConfig& cfg, const std::string& path, std::string& error);
 
 }  // namespace fg::host

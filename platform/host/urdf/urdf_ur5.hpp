@@ -13,6 +13,6 @@ namespace fg::host {
 //! turn are those of the layout, which is checked (joint axes, origin rotations, zero
 //! offsets where the layout has none, to 1e-6). A calibrated URDF in the same layout
 //! gives its own lengths. False with `error` naming the file and the problem.
-bool read_ur5_urdf(const std::string& path, robot::Ur5Params& out, std::string& error);
+[[nodiscard]] bool read_ur5_urdf(const std::string& path, robot::Ur5Params& out, std::string& error);
 
 }  // namespace fg::host

@@ -57,8 +57,8 @@ struct CellBitmap {
 //! `n_words` words of `words` (false, and nothing usable, otherwise: a box of stray
 //! voxels far apart, or no such voxel). `list`: scratch of grid.size() entries (the
 //! clustering's queue will do). One pass over the voxels' states, then over the set's.
-bool build_cell_bitmap(const VoxelGrid& grid, const uint8_t* state, uint8_t from, uint32_t* list, uint64_t* words,
-                       uint32_t n_words, CellBitmap& out);
+[[nodiscard]] bool build_cell_bitmap(const VoxelGrid& grid, const uint8_t* state, uint8_t from, uint32_t* list,
+                                     uint64_t* words, uint32_t n_words, CellBitmap& out);
 
 //! Labels the connected components of the voxels whose state is kVoxelFree, picks the
 //! target (nearest centroid to the centre in x-y, or the largest; ties go to the

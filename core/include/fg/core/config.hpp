@@ -73,6 +73,6 @@ struct PlannerConfig {
 
 //! Checks every field; on failure returns invalid_config and points `field` at the
 //! name of the first offending field (a static string).
-Status validate(const PlannerConfig& cfg, const char** field);
+[[nodiscard]] Status validate(const PlannerConfig& cfg, const char** field);
 
 }  // namespace fg

@@ -14,12 +14,12 @@ namespace fg {
 //! (evals zero, evecs identity) if A has a non-finite entry or an eigenvalue
 //! overflows float. At most 32 Jacobi sweeps: bounded time. No sign convention for
 //! the eigenvectors beyond det = +1.
-bool eigen_sym3(const Mat3& A, Vec3& evals, Mat3& evecs);
+[[nodiscard]] bool eigen_sym3(const Mat3& A, Vec3& evals, Mat3& evecs);
 
 //! PCA of n points: centroid, covariance (divided by n) eigenvalues (ascending,
 //! clamped at >= 0) and eigenvectors (columns, as eigen_sym3). Accumulates in double
 //! about a first-point shift for accuracy. Returns false for n == 0, a null pointer
 //! or any non-finite point (centroid and evals zero, evecs identity).
-bool pca(const Vec3* points, uint32_t n, Vec3& centroid, Vec3& evals, Mat3& evecs);
+[[nodiscard]] bool pca(const Vec3* points, uint32_t n, Vec3& centroid, Vec3& evals, Mat3& evecs);
 
 }  // namespace fg

@@ -39,7 +39,7 @@ void mark_graspable(ScanLine* lines, uint32_t n, float min_width, float max_widt
 
 //! Least squares x = a * y + b (paper eq. 6 in the well-conditioned form). false when
 //! n < 2 or the y values are all equal.
-bool fit_x_of_y(const float* y, const float* x, uint32_t n, float& a, float& b);
+[[nodiscard]] bool fit_x_of_y(const float* y, const float* x, uint32_t n, float& a, float& b);
 
 //! beta = |atan(a_left) - atan(a_right)|, the angle between the two fitted sides.
 float side_angle(float a_left, float a_right);

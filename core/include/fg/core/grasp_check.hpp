@@ -38,7 +38,7 @@ struct GraspQuery {
 
 class GraspCheck {
  public:
-  GraspVerdict check(const GraspQuery& q) { return do_check(q); }
+  [[nodiscard]] GraspVerdict check(const GraspQuery& q) { return do_check(q); }
   //! The planner calls this once at the start of each plan(), before any check():
   //! the scene of this plan, and a fresh per-plan work budget where the check keeps one.
   void begin_plan() { do_begin_plan(); }
@@ -50,7 +50,7 @@ class GraspCheck {
   ~GraspCheck() = default;  // not owned through this interface
 
  private:
-  virtual GraspVerdict do_check(const GraspQuery& q) = 0;
+  [[nodiscard]] virtual GraspVerdict do_check(const GraspQuery& q) = 0;
   virtual void do_begin_plan() {}
 };
 

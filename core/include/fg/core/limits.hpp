@@ -73,5 +73,9 @@ static_assert(kSightBins >= 16 && kSightBins <= 1024, "sight map size out of ran
 static_assert(kVoxelCacheBits >= 4 && kVoxelCacheBits <= 16, "voxel cache size out of range");
 
 //! floor(log2(v)) for v >= 1 (0 for v <= 1), at compile time: power-of-two sizing.
-constexpr uint32_t floor_log2(uint64_t v) { return v <= 1 ? 0 : 1 + floor_log2(v / 2); }
+constexpr uint32_t floor_log2(uint64_t v) {
+  uint32_t n = 0;
+  for (; v > 1; v /= 2) ++n;
+  return n;
+}
 }  // namespace fg

@@ -25,7 +25,7 @@ struct PlaneParams {
 //! Finds the dominant near-horizontal plane of `pts`. Hypotheses are scored on an
 //! evenly strided subset of at most 4096 points (bounded time for any n); the winner
 //! is refitted by PCA on all its inliers. Returns false when no plane has enough inliers.
-bool ransac_plane(const Vec3* pts, uint32_t n, const PlaneParams& params, Plane& out, uint32_t& inliers);
+[[nodiscard]] bool ransac_plane(const Vec3* pts, uint32_t n, const PlaneParams& params, Plane& out, uint32_t& inliers);
 
 //! The points within `thr` of the plane (nrm, d) (|n . p + d| <= thr; NaN points are
 //! never in): ransac_plane's final count.
@@ -34,6 +34,6 @@ uint32_t count_plane_inliers(const Vec3* pts, uint32_t n, const Vec3& nrm, float
 //! Replaces (nrm, d) by the least-squares plane through its inliers (PCA, smallest
 //! axis, nrm pointing up): ransac_plane's refit. False, leaving them unchanged, when
 //! fewer than 3 points are inliers or the fit is not finite.
-bool refit_plane(const Vec3* pts, uint32_t n, float thr, Vec3& nrm, float& d);
+[[nodiscard]] bool refit_plane(const Vec3* pts, uint32_t n, float thr, Vec3& nrm, float& d);
 
 }  // namespace fg

@@ -9,6 +9,7 @@
 #include "fg/core/config.hpp"
 #include "fg/core/grasp_check.hpp"
 #include "fg/core/limits.hpp"
+#include "fg/core/pinhole.hpp"
 #include "fg/core/pipeline/candidates.hpp"
 #include "fg/core/pipeline/grasp_checks.hpp"
 #include "fg/core/pipeline/object_frame.hpp"
@@ -28,10 +29,6 @@ namespace fg {
 namespace ingest {
 struct State;
 }
-
-struct PinholeIntrinsics {
-  float fx = 525.f, fy = 525.f, cx = 319.5f, cy = 239.5f;
-};
 
 struct Grasp {
   Vec3 position = Vec3::Zero();   //!< world, centre between the pads
@@ -103,7 +100,7 @@ class Planner {
   Planner& operator=(const Planner&) = delete;
 
   //! Validates and installs cfg (invalid_config names the field via *field), and resets.
-  Status configure(const PlannerConfig& cfg, const char** field = nullptr);
+  [[nodiscard]] Status configure(const PlannerConfig& cfg, const char** field = nullptr);
   const PlannerConfig& config() const { return cfg_; }
 
   //! A check of the layers above (robot: IK, the whole tool) asked about every
@@ -120,18 +117,18 @@ class Planner {
   //! box are dropped and counted. Each role may be added once per plan. When the merged
   //! cloud would need more than kMaxVoxels voxels the crop box shrinks (crop_shrink_min,
   //! PlanResult::crop); capacity_exceeded only when it cannot shrink further.
-  Status add_points(SensorRole role, const float* xyz, uint32_t count, uint32_t stride_bytes,
-                    const Pose& world_T_sensor);
+  [[nodiscard]] Status add_points(SensorRole role, const float* xyz, uint32_t count, uint32_t stride_bytes,
+                                  const Pose& world_T_sensor);
 
   //! The same for a structure of arrays: point i is (x[i], y[i], z[i]) (a sensor SDK's
   //! planar buffers, a PCD file's binary_compressed block as decompressed: no copy into
   //! x y z triples first).
-  Status add_points_planar(SensorRole role, const float* x, const float* y, const float* z, uint32_t count,
-                           const Pose& world_T_sensor);
+  [[nodiscard]] Status add_points_planar(SensorRole role, const float* x, const float* y, const float* z,
+                                         uint32_t count, const Pose& world_T_sensor);
 
   //! Adds a depth image (uint16 millimetres, 0 = no reading, row-major width x height).
-  Status add_depth_image(SensorRole role, const uint16_t* depth_mm, uint16_t width, uint16_t height,
-                         const PinholeIntrinsics& k, const Pose& world_T_sensor);
+  [[nodiscard]] Status add_depth_image(SensorRole role, const uint16_t* depth_mm, uint16_t width, uint16_t height,
+                                       const PinholeIntrinsics& k, const Pose& world_T_sensor);
 
   //! The ingest's vector width for every planner of the process: 0 (the default) the
   //! widest this CPU runs (8 lanes on x86-64 with AVX2, else 4), 4 the path of every
@@ -147,7 +144,7 @@ class Planner {
   //! viewpoints, candidates, rejections and stage times then cover both searches; when
   //! both fail, its reason, message and points are the first target's, while the
   //! inspection below shows the last search (the fall-back cluster).
-  Status plan(PlanResult& out);
+  [[nodiscard]] Status plan(PlanResult& out);
 
   //! The message of the last add_* or plan failure (static text).
   const char* last_message() const { return message_; }
@@ -169,19 +166,19 @@ class Planner {
   int32_t chosen_view() const { return chosen_view_; }
   const Vec3& object_centroid() const { return frame_.centroid; }
   //! Recomputes the silhouette, contour, scan lines and best window of a viewpoint.
-  Status analyze_view(uint32_t view_index, ViewDetail& out);
+  [[nodiscard]] Status analyze_view(uint32_t view_index, ViewDetail& out);
 
  private:
-  Status check_pose(const Pose& p);
-  Status ingest_begin(SensorRole role, const Pose& world_T_sensor);
-  Status end_ingest(uint32_t offered, uint32_t finite, uint32_t kept, uint64_t t0, Status st);
+  [[nodiscard]] Status check_pose(const Pose& p);
+  [[nodiscard]] Status ingest_begin(SensorRole role, const Pose& world_T_sensor);
+  [[nodiscard]] Status end_ingest(uint32_t offered, uint32_t finite, uint32_t kept, uint64_t t0, Status st);
   // Before a block of n points: room for n more voxels, the crop box shrunk if need be
   // (at crop_shrink_min the block is added as far as the grid holds it).
   void make_room(ingest::State& in, uint32_t n);
   void shrink_crop(ingest::State& in);
   // The loop both point layouts share: coordinate k of point i at base[k] + i * stride.
-  Status add_coordinates(SensorRole role, const uint8_t* const base[3], uint32_t count, uint32_t stride_bytes,
-                         const Pose& world_T_sensor);
+  [[nodiscard]] Status add_coordinates(SensorRole role, const uint8_t* const base[3], uint32_t count,
+                                       uint32_t stride_bytes, const Pose& world_T_sensor);
   // The target's voxels (object_voxel_[0, size)) become the object points, and the
   // checks' near list is built around them in `storage`.
   void load_target(uint32_t size, uint32_t* storage);

@@ -83,7 +83,7 @@ struct TaskHal {
 class GraspTask {
  public:
   //! Checks the configuration and starts a grasp (state capturing).
-  Status start(const TaskConfig& cfg);
+  [[nodiscard]] Status start(const TaskConfig& cfg);
   //! One control tick. Blocks only in `planning` (one plan, milliseconds).
   TaskState step(Planner& planner, const TaskHal& hal);
   //! Stops the arm and ends a running task as failed(aborted) (e.g. an operator stop).

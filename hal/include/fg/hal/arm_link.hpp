@@ -21,13 +21,13 @@ class ArmLink {
   //! Moves to `q` (rad) at `speed_fraction` (0, 1] of its maximum joint speed.
   //! invalid_argument for a non-finite target or speed; the driver refuses targets
   //! outside its limits the same way.
-  Status move_joints(const double q[6], double speed_fraction) {
+  [[nodiscard]] Status move_joints(const double q[6], double speed_fraction) {
     for (int i = 0; i < 6; ++i)
       if (!std::isfinite(q[i])) return Status::invalid_argument;
     if (!(speed_fraction > 0.0 && speed_fraction <= 1.0)) return Status::invalid_argument;
     return do_move_joints(q, speed_fraction);
   }
-  Status read_state(ArmState& out) { return do_read_state(out); }
+  [[nodiscard]] Status read_state(ArmState& out) { return do_read_state(out); }
   //! Stops any motion (always accepted).
   void stop() { do_stop(); }
 
@@ -37,8 +37,8 @@ class ArmLink {
   ~ArmLink() = default;
 
  private:
-  virtual Status do_move_joints(const double q[6], double speed_fraction) = 0;
-  virtual Status do_read_state(ArmState& out) = 0;
+  [[nodiscard]] virtual Status do_move_joints(const double q[6], double speed_fraction) = 0;
+  [[nodiscard]] virtual Status do_read_state(ArmState& out) = 0;
   virtual void do_stop() = 0;
 };
 

@@ -3,7 +3,7 @@
 #pragma once
 #include <cstdint>
 
-#include "fg/core/planner.hpp"
+#include "fg/core/pinhole.hpp"
 #include "fg/core/status.hpp"
 
 namespace fg::hal {
@@ -23,9 +23,9 @@ enum class CaptureState : uint8_t { idle, busy, ready, failed };
 class DepthSensor {
  public:
   //! Starts a capture; Status::ok when accepted.
-  Status request_capture() { return do_request_capture(); }
+  [[nodiscard]] Status request_capture() { return do_request_capture(); }
   //! Progress of the last request; on `ready`, `out` views the frame.
-  CaptureState poll(DepthFrame& out) {
+  [[nodiscard]] CaptureState poll(DepthFrame& out) {
     const CaptureState s = do_poll(out);
     if (s == CaptureState::ready && (out.depth_mm == nullptr || out.width == 0 || out.height == 0))
       return CaptureState::failed;  // a driver bug is a failed capture, not a crash
@@ -38,8 +38,8 @@ class DepthSensor {
   ~DepthSensor() = default;
 
  private:
-  virtual Status do_request_capture() = 0;
-  virtual CaptureState do_poll(DepthFrame& out) = 0;
+  [[nodiscard]] virtual Status do_request_capture() = 0;
+  [[nodiscard]] virtual CaptureState do_poll(DepthFrame& out) = 0;
 };
 
 }  // namespace fg::hal

@@ -18,16 +18,16 @@ struct GripperState {
 class Gripper {
  public:
   //! Opens (or moves) to `width_m`; invalid_argument when not finite or negative.
-  Status open_to(float width_m) {
+  [[nodiscard]] Status open_to(float width_m) {
     if (!(std::isfinite(width_m) && width_m >= 0.f)) return Status::invalid_argument;
     return do_open_to(width_m);
   }
   //! Closes until contact or fully closed, with at most `force_n` newtons.
-  Status close(float force_n) {
+  [[nodiscard]] Status close(float force_n) {
     if (!(std::isfinite(force_n) && force_n > 0.f)) return Status::invalid_argument;
     return do_close(force_n);
   }
-  Status read_state(GripperState& out) { return do_read_state(out); }
+  [[nodiscard]] Status read_state(GripperState& out) { return do_read_state(out); }
 
  protected:
   // Not deleted through the interface: no virtual destructor, so no operator delete
@@ -35,9 +35,9 @@ class Gripper {
   ~Gripper() = default;
 
  private:
-  virtual Status do_open_to(float width_m) = 0;
-  virtual Status do_close(float force_n) = 0;
-  virtual Status do_read_state(GripperState& out) = 0;
+  [[nodiscard]] virtual Status do_open_to(float width_m) = 0;
+  [[nodiscard]] virtual Status do_close(float force_n) = 0;
+  [[nodiscard]] virtual Status do_read_state(GripperState& out) = 0;
 };
 
 }  // namespace fg::hal

@@ -1,5 +1,5 @@
 // Per-target services the embedded side calls. Each target provides one
-// implementation (platform/host/services for Linux hosts).
+// implementation (platform/targets/host for Linux hosts).
 #pragma once
 #include <cstdint>
 

@@ -46,10 +46,12 @@ PoseD tool0_pose(const MotionConfig& cfg, const Vec3& centre, const Vec3& approa
 //! motion starts standoff_m behind that pre-grasp) from
 //! the current joints `q_now`: ok, unreachable (no solution inside the limits for one
 //! of the three poses, both ways round) or invalid_argument (non-finite input).
-IkStatus plan_grasp_motion(const MotionConfig& cfg, const Vec3& position, const Vec3& approach, const Vec3& closing,
-                           const Vec3& pregrasp, const double q_now[6], GraspMotion& out);
+[[nodiscard]] IkStatus plan_grasp_motion(const MotionConfig& cfg, const Vec3& position, const Vec3& approach,
+                                         const Vec3& closing, const Vec3& pregrasp, const double q_now[6],
+                                         GraspMotion& out);
 //! Same, one way round only: `turned` false keeps the closing direction, true reverses it.
-IkStatus plan_grasp_motion(const MotionConfig& cfg, const Vec3& position, const Vec3& approach, const Vec3& closing,
-                           const Vec3& pregrasp, const double q_now[6], bool turned, GraspMotion& out);
+[[nodiscard]] IkStatus plan_grasp_motion(const MotionConfig& cfg, const Vec3& position, const Vec3& approach,
+                                         const Vec3& closing, const Vec3& pregrasp, const double q_now[6], bool turned,
+                                         GraspMotion& out);
 
 }  // namespace fg::robot

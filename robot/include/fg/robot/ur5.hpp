@@ -22,7 +22,7 @@ Ur5Params ur5_nominal();
 
 //! world_T_tool0 for joint angles q (radians, shoulder_pan .. wrist_3).
 //! Returns false (and leaves out untouched) if any q is non-finite.
-bool ur5_forward(const Ur5Params& p, const float q[6], Pose& world_T_tool0);
+[[nodiscard]] bool ur5_forward(const Ur5Params& p, const float q[6], Pose& world_T_tool0);
 
 //! The default wrist-sensor mount (tool0_T_sensor) used when a scene gives joints
 //! without "hand_eye": optical axis along tool0 +z, 0.08 m off the flange axis along

@@ -127,11 +127,11 @@ struct IkSolutions {
 
 //! All solutions for world_T_tool0 (out.status is the return value). Never writes NaN;
 //! deterministic. Stack: about 5 KB deep (gcc -fstack-usage, x86-64, -O3).
-IkStatus ur5_inverse(const Ur5Params& p, const PoseD& world_T_tool0, IkSolutions& out,
-                     const IkOptions& opt = IkOptions{});
+[[nodiscard]] IkStatus ur5_inverse(const Ur5Params& p, const PoseD& world_T_tool0, IkSolutions& out,
+                                   const IkOptions& opt = IkOptions{});
 //! Same, from the float pose of fg::Pose (its rotation is re-orthonormalised in double).
-IkStatus ur5_inverse(const Ur5Params& p, const Pose& world_T_tool0, IkSolutions& out,
-                     const IkOptions& opt = IkOptions{});
+[[nodiscard]] IkStatus ur5_inverse(const Ur5Params& p, const Pose& world_T_tool0, IkSolutions& out,
+                                   const IkOptions& opt = IkOptions{});
 
 //! world_T_tool0 in double for double joints: the chain of ur5_forward(), and the model
 //! the IK solves. One difference: a twist alpha within 1e-6 rad of a multiple of pi/2
@@ -139,7 +139,7 @@ IkStatus ur5_inverse(const Ur5Params& p, const Pose& world_T_tool0, IkSolutions&
 //! 4.4e-8 rad off, the URDF's 1.570796325 is 1.8e-9 off), and a base rotation within
 //! 1e-5 of orthonormal is re-orthonormalised; for the nominal UR5 the two differ by
 //! <= 5e-8 m and 1.3e-7 rad. Returns false (out untouched) if any q is non-finite.
-bool ur5_forward_d(const Ur5Params& p, const double q[6], PoseD& world_T_tool0);
+[[nodiscard]] bool ur5_forward_d(const Ur5Params& p, const double q[6], PoseD& world_T_tool0);
 
 struct IkChoice {
   IkStatus status;  //!< ok, unreachable (no solution inside the limits) or invalid_argument

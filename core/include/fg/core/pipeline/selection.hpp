@@ -45,7 +45,7 @@ class Selection {
  private:
   //! A candidate's checks with its repairs (a closing turned towards the contact
   //! normals, a round body's tangents), then the robot layer's check. It may replace c.
-  CheckVerdict judge(Candidate& c, bool first, GraspChecks& checks, GraspCheck* robot);
+  [[nodiscard]] CheckVerdict judge(Candidate& c, bool first, GraspChecks& checks, GraspCheck* robot);
 
   uint16_t order_[kMaxCandidates];
   uint16_t deferred_[kMaxCandidates];  // deferred by the first pass, in the order met

@@ -33,7 +33,7 @@ struct SensorViews {
   Sight visibility(const Vec3& q) const;
   //! Sensor r saw a return more than kSightMargin in front of q, along q's ray: true,
   //! with that return's point (world) in `hit`.
-  bool hidden_by(uint32_t r, const Vec3& q, Vec3& hit) const;
+  [[nodiscard]] bool hidden_by(uint32_t r, const Vec3& q, Vec3& hit) const;
 
   //! Metres: a return this close to a point neither frees nor hides it (voxel
   //! centroids and sensor noise).

@@ -75,7 +75,7 @@ void sensor_arc(const ViewContext& ctx, const Vec3& Y, const Vec3& X0, float& fr
 //! X0, of the circle's steepest approach (straight down the support plane's normal `n`
 //! when the axis lies along the plane); false when the circle passes farther than 60 deg
 //! from straight down, or one of its steps of `step` lies within half a degree of it.
-bool steepest_theta(const Vec3& axis, const Vec3& X0, const Vec3& n, float step, float& theta);
+[[nodiscard]] bool steepest_theta(const Vec3& axis, const Vec3& X0, const Vec3& n, float step, float& theta);
 
 //! Rodrigues: v turned by theta about the unit axis.
 Vec3 rotate_about(const Vec3& v, const Vec3& axis_unit, float theta);

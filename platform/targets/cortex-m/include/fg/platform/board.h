@@ -1,4 +1,4 @@
-/* Board hooks of the Cortex-M platform (platform/cortex-m). The platform library
+/* Board hooks of the Cortex-M platform (platform/targets/cortex-m). The platform library
  * defines each one weak; a firmware overrides it by defining a function of the same
  * name (C linkage). Plain C so a C firmware can include it. */
 #ifndef FG_PLATFORM_BOARD_H

@@ -150,9 +150,9 @@ int main() {
   }
 
   fg_config cfg;
-  fg_config_default(&cfg);
   fg_workspace* ws = nullptr;
-  const fg_status init = fg_init(g_workspace_memory, sizeof g_workspace_memory, &cfg, &ws);
+  fg_status init = fg_config_default(&cfg);
+  if (init == FG_OK) init = fg_init(g_workspace_memory, sizeof g_workspace_memory, &cfg, &ws);
   if (init != FG_OK) {
     TextLine line;
     line << "fg_init failed: " << fg_status_str(init);

@@ -1,4 +1,4 @@
-# Post-link check of the bare-metal image (cmake -P, from platform/cortex-m/CMakeLists.txt):
+# Post-link check of the bare-metal image (cmake -P, from platform/targets/cortex-m/CMakeLists.txt):
 # fails, and deletes the ELF, if it holds any symbol of the heap, the exception runtime
 # or RTTI; then prints the section sizes and the planner workspace.
 # Inputs: NM, SIZE (arm-none-eabi-nm / -size), ELF.
