@@ -244,8 +244,8 @@ struct DfsResult {
 //! interior (off the raster's outer ring): the callers make the ring fail its test
 //! (background for a foreground flood, marked before a background flood), so a
 //! neighbour is one index offset away, with no bounds test.
-DfsResult flood(uint8_t* g, const CellCounts* counts, uint32_t w, uint32_t h, uint32_t start, bool want_fg,
-                int dir_step, uint8_t mark) {
+[[nodiscard]] DfsResult flood(uint8_t* g, const CellCounts* counts, uint32_t w, uint32_t h, uint32_t start,
+                              bool want_fg, int dir_step, uint8_t mark) {
   DfsResult res{0, false, true};
   const uint64_t cells = static_cast<uint64_t>(w) * h;
   const uint64_t max_steps = 2 * cells + 2;
@@ -304,13 +304,13 @@ void run_union(HullRun* runs, uint32_t a, uint32_t b) {
 //! that touch them (overlap, or meet diagonally). n_runs receives the count; false
 //! when the raster has more runs than `runs` holds (nothing else is then valid).
 //! The sums must stay below 2^31 (bit 31 marks an uncounted cell).
-bool label_runs(const uint8_t* g, const CellCounts& counts, uint32_t w, uint32_t h, HullRun* runs, uint32_t* row_first,
-                uint32_t& n_runs) {
+[[nodiscard]] bool label_runs(const uint8_t* g, const CellCounts& counts, uint32_t w, uint32_t h, HullRun* runs,
+                              uint32_t* row_first, uint32_t& n_runs) {
   n_runs = 0;
   for (uint32_t j = 0; j < h; ++j) {
     row_first[j] = n_runs;
-    const uint8_t* line = g + j * w;
-    const uint8_t* cnt = counts.counts + j * w;
+    const uint8_t* line = g + static_cast<size_t>(j) * w;
+    const uint8_t* cnt = counts.counts + static_cast<size_t>(j) * w;
     for (uint32_t i = 0; i < w;) {
 #if defined(__SSE2__)
       // Background skipped 16 cells at a time, to the first foreground one.
@@ -457,12 +457,14 @@ Status convex_hull_2d(const Vec2* points, uint32_t n, Vec2* scratch, Vec2* out, 
 }
 
 // ------------------------------------------------------------------------------------
-Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& params, ConcaveHullScratch& scratch,
-                       Vec2* out, uint32_t out_capacity, uint32_t& out_n, float& out_cell_m, bool& all_inside) {
-  out_n = 0;
-  out_cell_m = 0.0f;
-  all_inside = false;
-  constexpr uint32_t kDim = kHullGridDim;
+// The concave hull's steps, in the order concave_hull_2d takes them.
+namespace {
+
+constexpr uint32_t kDim = kHullGridDim;
+
+//! Every argument the concave hull refuses: invalid_argument, else ok.
+[[nodiscard]] Status check_concave_args(const Vec2* points, uint32_t n, const ConcaveHullParams& params,
+                                        const Vec2* out, uint32_t out_capacity) {
   constexpr uint32_t kMaxClosing = (kDim - 5) / 2;
   if (n > 0 && points == nullptr) return Status::invalid_argument;
   if (out == nullptr && out_capacity > 0) return Status::invalid_argument;
@@ -474,14 +476,18 @@ Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& 
         std::isfinite(params.ymax) && params.xmin <= params.xmax && params.ymin <= params.ymax)) {
     return Status::invalid_argument;
   }
-  // Bounding box of the finite points (or the caller's).
-  uint32_t first = 0;
-  if (!params.bounds_given)
-    while (first < n && !is_finite(points[first])) ++first;
-  if (first == n) {
-    all_inside = true;
-    return Status::ok;
-  }
+  return Status::ok;
+}
+
+//! The finite points' bounding box (or the caller's), and how many points are finite.
+struct PointBounds {
+  uint32_t finite;
+  float xmin, ymin, xmax, ymax;
+};
+
+//! The bounding box of the finite points from points[first], the first finite one (or
+//! the caller's box, every point then counted finite).
+PointBounds bounding_box(const Vec2* points, uint32_t n, uint32_t first, const ConcaveHullParams& params) {
   uint32_t finite = params.bounds_given ? n : 1;
   float xmin = points[first].x, xmax = xmin, ymin = points[first].y, ymax = ymin;
   if (params.bounds_given) {
@@ -527,12 +533,18 @@ Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& 
     xmax = hi[2] > hi[0] ? hi[2] : hi[0];
     ymax = hi[3] > hi[1] ? hi[3] : hi[1];
   }
+  return PointBounds{finite, xmin, ymin, xmax, ymax};
+}
 
+//! The raster's cell size and placement over the bounding box b (corners not yet
+//! tabulated), and the float cell size in cell_f. numeric_failure when the cell or the
+//! raster's corners overflow float; internal_error when the raster would not fit.
+[[nodiscard]] Status place_raster(const PointBounds& b, uint32_t r, float cell_m, Raster& ras, float& cell_f) {
+  const float xmin = b.xmin, ymin = b.ymin, xmax = b.xmax, ymax = b.ymax;
   // Cell size: large enough that the occupied span plus a margin of r + 1 empty
   // cells on every side fits the kDim x kDim raster, and at least two float ulps of
   // the coordinates (so the float cell corners are strictly increasing even for
   // points far from the origin).
-  const uint32_t r = params.closing_cells;
   const uint32_t avail = kDim - 2 * r - 4;
   const double ext_x = static_cast<double>(xmax) - xmin;
   const double ext_y = static_cast<double>(ymax) - ymin;
@@ -540,7 +552,7 @@ Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& 
                                   std::max(std::fabs(static_cast<double>(ymin)), std::fabs(static_cast<double>(ymax))));
   const double ulp = max_abs > 0.0 ? std::ldexp(1.0, std::ilogb(2.0 * max_abs) - 23) : 0.0;
   const double need = std::max(std::max(ext_x, ext_y) / static_cast<double>(avail), 2.0 * ulp);
-  float cell_f = params.cell_m;
+  cell_f = cell_m;
   if (need > static_cast<double>(cell_f)) {
     cell_f = static_cast<float>(need);
     if (static_cast<double>(cell_f) < need) {
@@ -554,7 +566,7 @@ Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& 
   const uint32_t mx = static_cast<uint32_t>(std::floor(ext_x / cell + 0.5)) + 1;
   const uint32_t my = static_cast<uint32_t>(std::floor(ext_y / cell + 0.5)) + 1;
   const uint32_t margin = r + 1;
-  Raster ras{};
+  ras = Raster{};
   ras.cell = cell;
   ras.inv_cell = 1.0 / cell;
   ras.w = mx + 2 * margin;
@@ -566,31 +578,58 @@ Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& 
       !std::isfinite(ras.vy(ras.h))) {
     return Status::numeric_failure;  // the raster's corners are beyond the float range
   }
-  out_cell_m = cell_f;
+  return Status::ok;
+}
 
-  ras.corners(scratch.corner_x, scratch.corner_y);
-  const uint32_t w = ras.w;
-  const uint32_t h = ras.h;
-  const uint32_t cells = w * h;
-  uint8_t* const g = scratch.raster;
-  uint8_t* const counts = scratch.raster + ConcaveHullScratch::kRasterCells;
-  for (uint32_t k = 0; k < cells; ++k) {
-    g[k] = 0;
-    counts[k] = 0;
+//! The raster and the scratch memory the steps below share: the cell flags g, the
+//! per-cell counts, the closing's two bit images and the full cells' table.
+struct HullGrid {
+  Raster ras;
+  uint32_t w, h, cells;
+  uint8_t* g;
+  uint8_t* counts;
+  BitRows occ, tmp;
+  ConcaveHullScratch::FullCell* full;
+  uint32_t n_full;
+
+  //! The raster `placed` with its corners tabulated in the scratch, every cell's flags
+  //! and count cleared, and the occupancy image empty.
+  HullGrid(const Raster& placed, ConcaveHullScratch& scratch)
+      : ras(placed),
+        w(placed.w),
+        h(placed.h),
+        cells(placed.w * placed.h),
+        g(scratch.raster),
+        counts(scratch.raster + ConcaveHullScratch::kRasterCells),
+        occ{},
+        tmp{},
+        full(scratch.full),
+        n_full(0) {
+    ras.corners(scratch.corner_x, scratch.corner_y);
+    for (uint32_t k = 0; k < cells; ++k) {
+      g[k] = 0;
+      counts[k] = 0;
+    }
+    const uint32_t words = (w + 63) / 64;
+    const uint32_t tail_bits = w - (words - 1) * 64;
+    occ = BitRows{scratch.rows[0], words, h, tail_bits == 64 ? ~uint64_t{0} : (uint64_t{1} << tail_bits) - 1};
+    tmp = BitRows{scratch.rows[1], words, h, occ.last_mask};
+    for (uint32_t k = 0; k < words * h; ++k) occ.bits[k] = 0;
   }
-  const uint32_t words = (w + 63) / 64;
-  const uint32_t tail_bits = w - (words - 1) * 64;
-  const BitRows occ{scratch.rows[0], words, h, tail_bits == 64 ? ~uint64_t{0} : (uint64_t{1} << tail_bits) - 1};
-  const BitRows tmp{scratch.rows[1], words, h, occ.last_mask};
-  for (uint32_t k = 0; k < words * h; ++k) occ.bits[k] = 0;
-  // Bin the points: per point only its cell's count, saturated at 255 (almost always
-  // the first branch); a cell reaching 255 points takes a slot of the full cells'
-  // table (its slot + 1 in the cell's high bits) while there is one, and the table's
-  // counts are exact. Component sums stay below 2^31 (label_runs) when n does.
-  ConcaveHullScratch::FullCell* const full = scratch.full;
+};
+
+//! Bins the points: per point only its cell's count, saturated at 255 (almost always
+//! the first branch); a cell reaching 255 points takes a slot of the full cells'
+//! table (its slot + 1 in the cell's high bits) while there is one, and the table's
+//! counts are exact. Component sums stay below 2^31 (label_runs) when n does.
+void bin_points(HullGrid& grid, const Vec2* points, uint32_t n, bool all_finite) {
+  const Raster& ras = grid.ras;
+  const uint32_t w = grid.w, h = grid.h;
+  uint8_t* const g = grid.g;
+  uint8_t* const counts = grid.counts;
+  ConcaveHullScratch::FullCell* const full = grid.full;
   const uint32_t full_capacity = n < 0x80000000u ? ConcaveHullScratch::kMaxFullCells : 0;
   uint32_t n_full = 0;
-  const bool all_finite = finite == n;
   auto bin = [&](uint32_t k) {
     const uint8_t c = counts[k];
     if (c < 254) {
@@ -632,39 +671,50 @@ Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& 
     for (uint32_t i = 0; i < n; ++i)
       if (is_finite(points[i])) bin(ras.index_of(points[i]));
   }
-  // The occupied cells (a count above 0) as the rows' bits.
-  for (uint32_t j = 0; j < h; ++j) {
-    const uint8_t* count_line = counts + j * w;
-    uint64_t* bits = occ.row(j);
+  grid.n_full = n_full;
+}
+
+//! The occupied cells (a count above 0) as the occupancy image's bits.
+void mark_occupied(const HullGrid& grid) {
+  for (uint32_t j = 0; j < grid.h; ++j) {
+    const uint8_t* count_line = grid.counts + static_cast<size_t>(j) * grid.w;
+    uint64_t* bits = grid.occ.row(j);
     uint32_t c = 0;
 #if defined(__SSE2__)
-    for (; c + 16 <= w; c += 16) bits[c / 64] |= static_cast<uint64_t>(nonzero_bytes16(count_line + c)) << (c % 64);
+    for (; c + 16 <= grid.w; c += 16)
+      bits[c / 64] |= static_cast<uint64_t>(nonzero_bytes16(count_line + c)) << (c % 64);
 #endif
-    for (; c + 8 <= w; c += 8) bits[c / 64] |= static_cast<uint64_t>(nonzero_bytes8(count_line + c)) << (c % 64);
-    for (; c < w; ++c)
+    for (; c + 8 <= grid.w; c += 8) bits[c / 64] |= static_cast<uint64_t>(nonzero_bytes8(count_line + c)) << (c % 64);
+    for (; c < grid.w; ++c)
       if (count_line[c] != 0) bits[c / 64] |= uint64_t{1} << (c % 64);
   }
-  // Sorted by cell, for the look-ups of the component counts (at most a few dozen).
+}
+
+//! The full cells' table sorted by cell (insertion sort: at most a few dozen), for the
+//! look-ups of the component counts.
+void sort_full_cells(ConcaveHullScratch::FullCell* full, uint32_t n_full) {
   for (uint32_t a = 1; a < n_full; ++a) {
     const ConcaveHullScratch::FullCell e = full[a];
     uint32_t b = a;
     for (; b > 0 && full[b - 1].cell > e.cell; --b) full[b] = full[b - 1];
     full[b] = e;
   }
-  const CellCounts cell_counts{counts, full, n_full};
+}
 
-  // Closing (dilate then erode) with a (2r+1)^2 square, separably, on bit rows (the
-  // occupancy image is overwritten by the steps, ending as the closed image); OR the
-  // occupied cells back in (a no-op with the margin, kept so the guarantee never rests
-  // on it).
-  tmp.along_rows(occ, r, false);
-  occ.across_rows(tmp, r, false);
-  tmp.along_rows(occ, r, true);
-  occ.across_rows(tmp, r, true);
-  for (uint32_t j = 0; j < h; ++j) {
-    const uint64_t* closed = occ.row(j);
-    const uint8_t* count_line = counts + j * w;
-    uint8_t* line = g + j * w;
+//! Closing (dilate then erode) with a (2r+1)^2 square, separably, on bit rows (the
+//! occupancy image is overwritten by the steps, ending as the closed image); then the
+//! closed image, with the occupied cells ORed back in (a no-op with the margin, kept so
+//! the guarantee never rests on it), becomes the foreground bit of every cell.
+void close_image(const HullGrid& grid, uint32_t r) {
+  const uint32_t w = grid.w;
+  grid.tmp.along_rows(grid.occ, r, false);
+  grid.occ.across_rows(grid.tmp, r, false);
+  grid.tmp.along_rows(grid.occ, r, true);
+  grid.occ.across_rows(grid.tmp, r, true);
+  for (uint32_t j = 0; j < grid.h; ++j) {
+    const uint64_t* closed = grid.occ.row(j);
+    const uint8_t* count_line = grid.counts + static_cast<size_t>(j) * w;
+    uint8_t* line = grid.g + static_cast<size_t>(j) * w;
     static_assert(kFg == 1, "the foreground bit is bit 0");
     uint32_t c = 0;
 #if defined(__SSE2__)
@@ -690,6 +740,12 @@ Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& 
     }
     for (; c < w; ++c) line[c] = static_cast<uint8_t>(((closed[c / 64] >> (c % 64)) & kFg) | (count_line[c] != 0));
   }
+}
+
+//! Fills the holes of the closed image; false when a flood hit its step bound (a bug).
+[[nodiscard]] bool fill_holes(const HullGrid& grid) {
+  const uint32_t w = grid.w, h = grid.h;
+  uint8_t* const g = grid.g;
   // The dilation cannot reach the outer ring of cells; make that an invariant: the ring
   // is background, and marked visited for the hole filling below.
   for (uint32_t i = 0; i < w; ++i) {
@@ -697,7 +753,7 @@ Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& 
     g[(h - 1) * w + i] = kVisited;
   }
   for (uint32_t j = 0; j < h; ++j) {
-    g[j * w] = kVisited;
+    g[static_cast<size_t>(j) * w] = kVisited;
     g[j * w + w - 1] = kVisited;
   }
 
@@ -710,87 +766,129 @@ Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& 
     return (g[k] & (kFg | kVisited)) != 0 || flood(g, nullptr, w, h, k, false, 2, kVisited).ok;
   };
   for (uint32_t i = 1; i + 1 < w; ++i)
-    if (!flood_background(i, 1) || !flood_background(i, h - 2)) return Status::internal_error;
+    if (!flood_background(i, 1) || !flood_background(i, h - 2)) return false;
   for (uint32_t j = 1; j + 1 < h; ++j)
-    if (!flood_background(1, j) || !flood_background(w - 2, j)) return Status::internal_error;
-  for (uint32_t k = 0; k < cells; ++k) g[k] = ((g[k] & kFg) || !(g[k] & kVisited)) ? kFg : 0;
+    if (!flood_background(1, j) || !flood_background(w - 2, j)) return false;
+  for (uint32_t k = 0; k < grid.cells; ++k) g[k] = ((g[k] & kFg) || !(g[k] & kVisited)) ? kFg : 0;
+  return true;
+}
 
-  // Components (8-connected) in raster order; keep the one with the most points
-  // (ties: the earlier one). Counts come from the per-cell counts and the full cells'
-  // table; a component with a full cell the table had no room for is recounted over
-  // the points (only inputs beyond kMaxObjectPoints). Labelled by runs of the rows; a raster
-  // with more runs than the scratch holds is flooded component by component instead.
-  uint64_t best_points = 0;
-  uint32_t best_start = cells;
-  // The exact count of the points in the cells marked kCurrent; clears the marks.
-  auto count_marked = [&]() {
-    uint64_t marked = 0;
-    for (uint32_t i = 0; i < n; ++i) {
-      if (is_finite(points[i]) && (g[ras.index_of(points[i])] & kCurrent)) ++marked;
-    }
-    for (uint32_t c = 0; c < cells; ++c) g[c] = static_cast<uint8_t>(g[c] & ~kCurrent);
-    return marked;
-  };
-  HullRun* const runs = scratch.runs;
-  uint32_t row_first[kDim + 1];
-  uint32_t n_runs = 0;
-  if (label_runs(g, cell_counts, w, h, runs, row_first, n_runs)) {
-    for (uint32_t j = 0; j < h; ++j) {
-      for (uint32_t q = row_first[j]; q < row_first[j + 1]; ++q) {
-        if (runs[q].parent != q) continue;  // not a component's first run
-        uint64_t pts = runs[q].points & 0x7FFFFFFFu;
-        if ((runs[q].points & 0x80000000u) != 0) {
-          // Exact recount: mark the component's cells, count the points in them.
-          for (uint32_t jj = j; jj < h; ++jj)
-            for (uint32_t p = row_first[jj]; p < row_first[jj + 1]; ++p)
-              if (run_root(runs, p) == q)
-                for (uint32_t c = runs[p].x0; c <= runs[p].x1; ++c) g[jj * w + c] |= kCurrent;
-          pts = count_marked();
-        }
-        if (best_start == cells || pts > best_points) {
-          best_points = pts;
-          best_start = j * w + runs[q].x0;
-        }
+//! The component the hull traces: its first cell (start; grid.cells while none is
+//! found) and the points it holds.
+struct Component {
+  uint32_t start;
+  uint64_t points;
+};
+
+//! The exact count of the points in the cells marked kCurrent; clears the marks.
+uint64_t count_marked(const HullGrid& grid, const Vec2* points, uint32_t n) {
+  uint8_t* const g = grid.g;
+  uint64_t marked = 0;
+  for (uint32_t i = 0; i < n; ++i) {
+    if (is_finite(points[i]) && (g[grid.ras.index_of(points[i])] & kCurrent)) ++marked;
+  }
+  for (uint32_t c = 0; c < grid.cells; ++c) g[c] = static_cast<uint8_t>(g[c] & ~kCurrent);
+  return marked;
+}
+
+//! The component with the most points among those labelled by runs (label_runs filled
+//! runs and row_first), ties to the earlier one; a component with an uncounted cell is
+//! recounted over the points.
+Component best_labelled_component(const HullGrid& grid, HullRun* runs, const uint32_t* row_first, const Vec2* points,
+                                  uint32_t n) {
+  const uint32_t w = grid.w, h = grid.h;
+  Component best{grid.cells, 0};
+  for (uint32_t j = 0; j < h; ++j) {
+    for (uint32_t q = row_first[j]; q < row_first[j + 1]; ++q) {
+      if (runs[q].parent != q) continue;  // not a component's first run
+      uint64_t pts = runs[q].points & 0x7FFFFFFFu;
+      if ((runs[q].points & 0x80000000u) != 0) {
+        // Exact recount: mark the component's cells, count the points in them.
+        for (uint32_t jj = j; jj < h; ++jj)
+          for (uint32_t p = row_first[jj]; p < row_first[jj + 1]; ++p)
+            if (run_root(runs, p) == q)
+              for (uint32_t c = runs[p].x0; c <= runs[p].x1; ++c) grid.g[jj * w + c] |= kCurrent;
+        pts = count_marked(grid, points, n);
       }
-    }
-  } else {
-    for (uint32_t k = 0; k < cells; ++k) {
-      if (!(g[k] & kFg) || (g[k] & kVisited)) continue;
-      const DfsResult comp = flood(g, &cell_counts, w, h, k, true, 1, kVisited);
-      if (!comp.ok) return Status::internal_error;
-      uint64_t pts = comp.points;
-      if (comp.saturated) {
-        if (!flood(g, nullptr, w, h, k, true, 1, kCurrent).ok) return Status::internal_error;
-        pts = count_marked();
+      if (best.start == grid.cells || pts > best.points) {
+        best.points = pts;
+        best.start = j * w + runs[q].x0;
       }
-      if (best_start == cells || pts > best_points) {
-        best_points = pts;
-        best_start = k;
-      }
-      // Holding every point, it wins: any later component has none, and ties go to it.
-      if (best_points == finite) break;
     }
   }
-  if (best_start == cells) return Status::internal_error;  // a point's cell is always set
-  all_inside = (best_points == finite);
+  return best;
+}
 
-  // Trace the outer boundary along cell edges, foreground on the left (so the loop
-  // is counter-clockwise), starting at the bottom-left corner of the component's
-  // first cell heading east. At a corner, with AL / AR the cells ahead-left /
-  // ahead-right: AR set -> turn right (this also joins diagonal neighbours: the
-  // 8-connected reading), else AL set -> straight, else turn left. Vertices are
-  // written only where the direction changes, so collinear runs are merged.
+//! The same choice by flooding the components one by one (a raster with more runs than
+//! the scratch holds); false when a flood hit its step bound (a bug).
+[[nodiscard]] bool best_flooded_component(const HullGrid& grid, const CellCounts& cell_counts, const Vec2* points,
+                                          uint32_t n, uint32_t finite, Component& best) {
+  uint8_t* const g = grid.g;
+  best = Component{grid.cells, 0};
+  for (uint32_t k = 0; k < grid.cells; ++k) {
+    if (!(g[k] & kFg) || (g[k] & kVisited)) continue;
+    const DfsResult comp = flood(g, &cell_counts, grid.w, grid.h, k, true, 1, kVisited);
+    if (!comp.ok) return false;
+    uint64_t pts = comp.points;
+    if (comp.saturated) {
+      if (!flood(g, nullptr, grid.w, grid.h, k, true, 1, kCurrent).ok) return false;
+      pts = count_marked(grid, points, n);
+    }
+    if (best.start == grid.cells || pts > best.points) {
+      best.points = pts;
+      best.start = k;
+    }
+    // Holding every point, it wins: any later component has none, and ties go to it.
+    if (best.points == finite) break;
+  }
+  return true;
+}
+
+//! Components (8-connected) in raster order; keep the one with the most points
+//! (ties: the earlier one). Counts come from the per-cell counts and the full cells'
+//! table; a component with a full cell the table had no room for is recounted over
+//! the points (only inputs beyond kMaxObjectPoints). Labelled by runs of the rows; a raster
+//! with more runs than the scratch holds is flooded component by component instead.
+//! internal_error when no component is found (a point's cell is always set) or a flood
+//! hit its bound.
+[[nodiscard]] Status choose_component(const HullGrid& grid, HullRun* runs, const Vec2* points, uint32_t n,
+                                      uint32_t finite, Component& best) {
+  const CellCounts cell_counts{grid.counts, grid.full, grid.n_full};
+  uint32_t row_first[kDim + 1];
+  uint32_t n_runs = 0;
+  if (label_runs(grid.g, cell_counts, grid.w, grid.h, runs, row_first, n_runs)) {
+    best = best_labelled_component(grid, runs, row_first, points, n);
+  } else if (!best_flooded_component(grid, cell_counts, points, n, finite, best)) {
+    return Status::internal_error;
+  }
+  if (best.start == grid.cells) return Status::internal_error;  // a point's cell is always set
+  return Status::ok;
+}
+
+// The boundary trace's directions 0 E, 1 N, 2 W, 3 S; offsets of the AL and AR cells
+// from the corner.
+constexpr int kStepX[4] = {1, 0, -1, 0};
+constexpr int kStepY[4] = {0, 1, 0, -1};
+constexpr int kAlX[4] = {0, -1, -1, 0};
+constexpr int kAlY[4] = {0, 0, -1, -1};
+constexpr int kArX[4] = {0, 0, -1, -1};
+constexpr int kArY[4] = {-1, 0, 0, -1};
+
+//! Trace the outer boundary along cell edges, foreground on the left (so the loop
+//! is counter-clockwise), starting at the bottom-left corner of the component's
+//! first cell heading east. At a corner, with AL / AR the cells ahead-left /
+//! ahead-right: AR set -> turn right (this also joins diagonal neighbours: the
+//! 8-connected reading), else AL set -> straight, else turn left. Vertices are
+//! written only where the direction changes, so collinear runs are merged.
+[[nodiscard]] Status trace_boundary(const HullGrid& grid, uint32_t best_start, Vec2* out, uint32_t out_capacity,
+                                    uint32_t& out_n) {
+  const uint32_t w = grid.w, h = grid.h;
+  const uint8_t* const g = grid.g;
+  const Raster& ras = grid.ras;
   auto fg_at = [&](int64_t i, int64_t j) {
     if (i < 0 || j < 0 || i >= static_cast<int64_t>(w) || j >= static_cast<int64_t>(h)) return false;
     return (g[static_cast<uint32_t>(j) * w + static_cast<uint32_t>(i)] & kFg) != 0;
   };
-  // Directions 0 E, 1 N, 2 W, 3 S; offsets of the AL and AR cells from the corner.
-  static constexpr int kStepX[4] = {1, 0, -1, 0};
-  static constexpr int kStepY[4] = {0, 1, 0, -1};
-  static constexpr int kAlX[4] = {0, -1, -1, 0};
-  static constexpr int kAlY[4] = {0, 0, -1, -1};
-  static constexpr int kArX[4] = {0, 0, -1, -1};
-  static constexpr int kArY[4] = {-1, 0, 0, -1};
   const int64_t sx = best_start % w;
   const int64_t sy = best_start / w;
   uint32_t nv = 0;
@@ -803,7 +901,7 @@ Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& 
   int dir = 0;
   int64_t x = sx + 1;
   int64_t y = sy;
-  const uint64_t max_steps = 4 * static_cast<uint64_t>(cells) + 4;
+  const uint64_t max_steps = 4 * static_cast<uint64_t>(grid.cells) + 4;
   bool closed = false;
   for (uint64_t step = 0; step < max_steps; ++step) {
     if (x == sx && y == sy) {
@@ -826,6 +924,44 @@ Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& 
   if (!closed) return Status::internal_error;
   out_n = nv;
   return Status::ok;
+}
+
+}  // namespace
+
+Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& params, ConcaveHullScratch& scratch,
+                       Vec2* out, uint32_t out_capacity, uint32_t& out_n, float& out_cell_m, bool& all_inside) {
+  out_n = 0;
+  out_cell_m = 0.0f;
+  all_inside = false;
+  const Status args = check_concave_args(points, n, params, out, out_capacity);
+  if (args != Status::ok) return args;
+  // Bounding box of the finite points (or the caller's).
+  uint32_t first = 0;
+  if (!params.bounds_given)
+    while (first < n && !is_finite(points[first])) ++first;
+  if (first == n) {
+    all_inside = true;
+    return Status::ok;
+  }
+  const PointBounds bounds = bounding_box(points, n, first, params);
+  const uint32_t r = params.closing_cells;
+  Raster placed{};
+  float cell_f = 0.0f;
+  const Status placing = place_raster(bounds, r, params.cell_m, placed, cell_f);
+  if (placing != Status::ok) return placing;
+  out_cell_m = cell_f;
+
+  HullGrid grid(placed, scratch);
+  bin_points(grid, points, n, bounds.finite == n);
+  mark_occupied(grid);
+  sort_full_cells(grid.full, grid.n_full);
+  close_image(grid, r);
+  if (!fill_holes(grid)) return Status::internal_error;
+  Component best{};
+  const Status choosing = choose_component(grid, scratch.runs, points, n, bounds.finite, best);
+  if (choosing != Status::ok) return choosing;
+  all_inside = (best.points == bounds.finite);
+  return trace_boundary(grid, best.start, out, out_capacity, out_n);
 }
 
 // ------------------------------------------------------------------------------------

@@ -53,8 +53,6 @@ struct LaneTables {
   }
 };
 
-uint32_t g_lanes = 0;  // 0: the widest the CPU runs
-
 }  // namespace
 
 // Four lanes: GCC's vector extensions (vec4.hpp).
@@ -125,11 +123,9 @@ bool add_block(State& s, VoxelGrid& grid, const float* x, const float* y, const 
   return lanes4::add_block(s, grid, x, y, z, n);
 }
 
-void set_lanes(uint32_t lanes) { g_lanes = lanes; }
-
-uint32_t lanes() {
+uint32_t lanes(uint32_t requested) {
 #if FG_INGEST_AVX2
-  if (g_lanes == 4u) return 4u;
+  if (requested == 4u) return 4u;
   __builtin_cpu_init();  // idempotent; needed before constructors have run
   if (__builtin_cpu_supports("avx2")) return 8u;
 #endif

@@ -24,7 +24,7 @@ struct State {
   uint16_t* sight = nullptr;  // kSightBins^2 nearest returns of this sensor
   uint32_t offered = 0, nonfinite = 0, kept = 0;
   uint32_t parity = 0;  // valid-depth points so far, mod 2 (the direction bins' share)
-  uint32_t lanes = 4;   // the vector width (lanes(), once per cloud)
+  uint32_t lanes = 4;   // the vector width (lanes(requested), once per cloud)
   // A block's kept points wait here before they reach the grid: the arithmetic of a
   // block runs without waiting on memory, then its grid look-ups and sums issue back
   // to back. 64 points per block (about 1.3 KiB) on the host; small builds keep the
@@ -38,14 +38,13 @@ struct State {
 
 //! Stages and adds n <= State::kBatch points; false when the grid is full. Then
 //! offered, nonfinite and kept count exactly the points read up to the refused one.
-bool add_block(State& s, VoxelGrid& grid, const float* x, const float* y, const float* z, uint32_t n);
+[[nodiscard]] bool add_block(State& s, VoxelGrid& grid, const float* x, const float* y, const float* z, uint32_t n);
 
-//! The vector width add_block uses: 0 (the default) picks the widest this CPU runs,
-//! 4 forces the four-lane path. For tests and benchmarks; not for use while another
-//! thread ingests.
-void set_lanes(uint32_t lanes);
-//! The width the next cloud's add_block calls use (4 or 8).
-uint32_t lanes();
+//! The vector width add_block uses (4 or 8) for the width a caller asks for: 4 forces
+//! the four-lane path of every target, anything else (0 by convention) picks the widest
+//! this CPU runs. The caller keeps its choice (Planner::set_ingest_lanes) and passes it
+//! here once per cloud, into State::lanes.
+uint32_t lanes(uint32_t requested);
 
 }  // namespace ingest
 }  // namespace fg

@@ -138,7 +138,7 @@ void gather(Block& blk, const uint8_t* const b[3], uint32_t stride, uint32_t n, 
 }
 
 void make_ingest(ingest::State& in, const Pose& p, const PlannerConfig& cfg, const VoxelGrid& grid,
-                 const float crop_lo[3], const float crop_hi[3], uint16_t* sight) {
+                 const float crop_lo[3], const float crop_hi[3], uint16_t* sight, uint32_t requested_lanes) {
   const float inv = 1.f / grid.leaf();
   for (int j = 0; j < 3; ++j)
     for (int k = 0; k < 3; ++k) in.r[j][k] = p.R(j, k) * inv;
@@ -152,12 +152,11 @@ void make_ingest(ingest::State& in, const Pose& p, const PlannerConfig& cfg, con
   in.zmin = cfg.range_min_m;
   in.zmax = cfg.range_max_m;
   in.sight = sight;
-  in.lanes = ingest::lanes();
+  in.lanes = ingest::lanes(requested_lanes);
 }
 }  // namespace
 
-void Planner::set_ingest_lanes(uint32_t lanes) { ingest::set_lanes(lanes); }
-uint32_t Planner::ingest_lanes() { return ingest::lanes(); }
+uint32_t Planner::ingest_lanes() const { return ingest::lanes(ingest_lanes_); }
 
 // The bookkeeping both kinds of input end with.
 Status Planner::end_ingest(uint32_t offered, uint32_t finite, uint32_t kept, uint64_t t0, Status st) {
@@ -260,7 +259,7 @@ Status Planner::add_coordinates(SensorRole role, const uint8_t* const base[3], u
   const uint64_t t0 = platform::monotonic_us();
   ingest::State in;
   make_ingest(in, world_T_sensor, cfg_, grid_, crop_lo_cells_, crop_hi_cells_,
-              sensors_.sight_mm[static_cast<uint32_t>(role)]);
+              sensors_.sight_mm[static_cast<uint32_t>(role)], ingest_lanes_);
   Status st = Status::ok;
   const uint8_t *bx = base[0], *by = base[1], *bz = base[2];
   // x, y and z arrays are read in place; other strides are gathered into a block.
@@ -306,7 +305,7 @@ Status Planner::add_depth_image(SensorRole role, const uint16_t* depth_mm, uint1
   const uint64_t t0 = platform::monotonic_us();
   ingest::State in;
   make_ingest(in, world_T_sensor, cfg_, grid_, crop_lo_cells_, crop_hi_cells_,
-              sensors_.sight_mm[static_cast<uint32_t>(role)]);
+              sensors_.sight_mm[static_cast<uint32_t>(role)], ingest_lanes_);
   Status st = Status::ok;
   const float ifx = 1.f / k.fx, ify = 1.f / k.fy;
   Block blk;

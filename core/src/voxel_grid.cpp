@@ -54,7 +54,7 @@ uint32_t VoxelGrid::count(uint32_t i) const { return finalized_ ? 0u : static_ca
 
 Vec3 VoxelGrid::centroid(uint32_t i) const {
   if (finalized_) return centroids()[i];
-  const float* acc = store_ + 4 * i;
+  const float* acc = store_ + size_t{4} * i;
   const float inv = 1.0f / acc[3];
   const uint32_t k = keys_[i];
   return Vec3(origin_.x() + static_cast<float>(key_x(k)) * leaf_ + acc[0] * inv,
@@ -69,7 +69,7 @@ uint32_t VoxelGrid::keep_xy_range(uint32_t x0, uint32_t x1, uint32_t y0, uint32_
     const uint32_t k = keys_[i], x = key_x(k), y = key_y(k);
     if (x >= x0 && x < x1 && y >= y0 && y < y1) {
       keys_[kept] = k;
-      std::memmove(store_ + 4 * kept, store_ + 4 * i, 4 * sizeof(float));
+      std::memmove(store_ + size_t{4} * kept, store_ + size_t{4} * i, 4 * sizeof(float));
       ++kept;
     } else {
       dropped_points += static_cast<uint32_t>(store_[4 * i + 3]);
@@ -94,7 +94,7 @@ void VoxelGrid::finalize() {
   const V4f leaf = V4f{} + leaf_;
   uint32_t i = 0;
   for (; i + 4 <= size_; i += 4) {
-    const float* acc = store_ + 4 * i;
+    const float* acc = store_ + size_t{4} * i;
     const V4f a0 = load4(acc), a1 = load4(acc + 4), a2 = load4(acc + 8), a3 = load4(acc + 12);
     const V4f xy01 = __builtin_shufflevector(a0, a1, 0, 4, 1, 5), xy23 = __builtin_shufflevector(a2, a3, 0, 4, 1, 5);
     const V4f zn01 = __builtin_shufflevector(a0, a1, 2, 6, 3, 7), zn23 = __builtin_shufflevector(a2, a3, 2, 6, 3, 7);
@@ -111,14 +111,14 @@ void VoxelGrid::finalize() {
     V4f c0, c1, c2;
     interleave_xyz((o[0] + kx * leaf) + sx * inv, (o[1] + ky * leaf) + sy * inv, (o[2] + kz * leaf) + sz * inv, c0, c1,
                    c2);
-    float* out = store_ + 3 * i;
+    float* out = store_ + size_t{3} * i;
     std::memcpy(out, &c0, sizeof c0);
     std::memcpy(out + 4, &c1, sizeof c1);
     std::memcpy(out + 8, &c2, sizeof c2);
   }
   for (; i < size_; ++i) {
     const Vec3 c = centroid(i);
-    float* out = store_ + 3 * i;
+    float* out = store_ + size_t{3} * i;
     out[0] = c.x();
     out[1] = c.y();
     out[2] = c.z();
@@ -185,7 +185,7 @@ void VoxelGrid::prepare_lookups(const uint8_t* keep, uint64_t* wide, uint32_t wi
 uint32_t* VoxelGrid::lend_count_storage() {
   if (!finalized_) return nullptr;
   // The storage past the packed centroids: 4 * kMaxVoxels - 3 * size() >= size() words.
-  return reinterpret_cast<uint32_t*>(store_ + 3 * size_);
+  return reinterpret_cast<uint32_t*>(store_ + size_t{3} * size_);
 }
 
 }  // namespace fg

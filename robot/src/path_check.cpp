@@ -63,8 +63,9 @@ void for_each_kept(const GraspQuery& q, F&& f) {
 // `budget` (optional) pays one sample, and the points scanned: a pose it cannot pay
 // for in full is not tested (PathHit::budget), so the answer never depends on where in
 // a scan the budget ran out.
-PathHit pose_hit(const MotionConfig& motion, const PathCheckConfig& cfg, const ToolBox* boxes, uint32_t n_boxes,
-                 const PathScene& scene, const GraspQuery& q, const double qs[6], PathBudget* budget) {
+[[nodiscard]] PathHit pose_hit(const MotionConfig& motion, const PathCheckConfig& cfg, const ToolBox* boxes,
+                               uint32_t n_boxes, const PathScene& scene, const GraspQuery& q, const double qs[6],
+                               PathBudget* budget) {
   if (budget != nullptr) {
     if (budget->samples == 0) return PathHit::budget;
     --budget->samples;
@@ -164,9 +165,9 @@ PathHit pose_hit(const MotionConfig& motion, const PathCheckConfig& cfg, const T
   return PathHit::none;
 }
 
-PathHit segment_hit(const MotionConfig& motion, const PathCheckConfig& cfg, const ToolBox* boxes, uint32_t n_boxes,
-                    const PathScene& scene, const GraspQuery& q, const double q_from[6], const double q_to[6],
-                    double* at, bool leaving_contact, PathBudget* budget) {
+[[nodiscard]] PathHit segment_hit(const MotionConfig& motion, const PathCheckConfig& cfg, const ToolBox* boxes,
+                                  uint32_t n_boxes, const PathScene& scene, const GraspQuery& q, const double q_from[6],
+                                  const double q_to[6], double* at, bool leaving_contact, PathBudget* budget) {
   double span = 0.0;
   for (int j = 0; j < 6; ++j) {
     if (!std::isfinite(q_from[j]) || !std::isfinite(q_to[j])) return PathHit::invalid;
@@ -231,7 +232,7 @@ PathScene prepare_path_scene(const GraspQuery& q, PathSceneScratch* scratch) {
   s.hi = V3d::Constant(-1e30);
   uint32_t n_kept = 0;
   uint32_t* count = scratch != nullptr ? scratch->column_start : nullptr;
-  if (count != nullptr) std::fill(count, count + kPathColumns * kPathColumns + 1, 0u);
+  if (count != nullptr) std::fill(count, count + static_cast<size_t>(kPathColumns) * kPathColumns + 1, 0u);
   for_each_kept(q, [&](uint32_t i) {
     const V3d p = q.scene_points[i].cast<double>();
     s.lo = s.lo.cwiseMin(p);

@@ -75,6 +75,184 @@ struct LocalBox {
 
 bool finite(const Vec3& v) { return v.allFinite(); }
 
+// The grasp frame: x closing, y across, z approach (orthonormal in double), as the
+// columns of R; false for a query without one (non-finite, or closing along the
+// approach) or a tool without pieces.
+bool grasp_frame(const ToolGeometry& tool, const GraspQuery& q, Eigen::Matrix3d& R) {
+  if (!finite(q.position) || !finite(q.approach) || !finite(q.closing) || !finite(q.pregrasp) ||
+      !(q.approach.norm() > 0.5f) || !(q.closing.norm() > 0.5f) || !(tool.piece_height_m > 0.f))
+    return false;
+  const V3d z = q.approach.cast<double>().normalized();
+  V3d x = q.closing.cast<double>() - z * z.dot(q.closing.cast<double>());
+  if (!(x.norm() > 0.5)) return false;  // closing (nearly) along the approach
+  x.normalize();
+  R.col(0) = x;
+  R.col(1) = z.cross(x);
+  R.col(2) = z;
+  return true;
+}
+
+// The tool in the grasp frame, swept back to the pre-grasp by `back`, shrunk by the
+// tolerance (boxes), and the same boxes in world (world_box): the fingers, the palm and
+// the body behind it, when there is one. Returns how many boxes.
+uint32_t swept_tool(const ToolGeometry& tool, float back, const V3d& origin, const Eigen::Matrix3d& R,
+                    LocalBox boxes[4], BoxShape world_box[4]) {
+  const GripperGeometry& g = tool.gripper;
+  const float ho = 0.5f * g.max_opening_m, t = g.finger_thickness_m, hfd = 0.5f * g.finger_depth_m;
+  const float palm_back = -hfd - g.palm_depth_m;
+  boxes[0] = {{-ho - t, -0.5f * g.finger_width_m, -hfd - back}, {-ho, 0.5f * g.finger_width_m, hfd}, 0};
+  boxes[1] = {{ho, -0.5f * g.finger_width_m, -hfd - back}, {ho + t, 0.5f * g.finger_width_m, hfd}, 0};
+  boxes[2] = {{-ho - t, -0.5f * g.palm_width_m, palm_back - back}, {ho + t, 0.5f * g.palm_width_m, -hfd}, 1};
+  boxes[3] = {{-tool.body_half_width_m, -tool.body_half_width_m, -tool.tcp_offset_m - back},
+              {tool.body_half_width_m, tool.body_half_width_m, palm_back},
+              1};
+  const uint32_t n_boxes = tool.tcp_offset_m > -palm_back ? 4u : 3u;  // no body if the palm is the flange
+  for (uint32_t b = 0; b < n_boxes; ++b) {
+    V3d lo, hi;
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = boxes[b].lo[k] + tool.tolerance_m;
+      hi[k] = boxes[b].hi[k] - tool.tolerance_m;
+      boxes[b].lo[k] = static_cast<float>(lo[k]);
+      boxes[b].hi[k] = static_cast<float>(hi[k]);
+    }
+    world_box[b] = BoxShape{origin + R * (0.5 * (lo + hi)), R, (0.5 * (hi - lo)).cwiseMax(0.0)};
+  }
+  return n_boxes;
+}
+
+// The support plane: a slab whose top lies plane_clearance above it, under the tool.
+// True when a box meets it; each GJK test counted in gjk_calls.
+bool tool_hits_plane(const ToolGeometry& tool, const GraspQuery& q, const V3d& origin, const BoxShape* world_box,
+                     uint32_t n_boxes, uint32_t& gjk_calls) {
+  if (q.support == nullptr || !q.support->n.allFinite() || !std::isfinite(q.support->d)) return false;
+  const V3d n = q.support->n.cast<double>().normalized();
+  const double h_tool = n.dot(origin) + static_cast<double>(q.support->d);  // height of the grasp centre
+  Eigen::Matrix3d P;
+  const V3d a = std::fabs(n.x()) < 0.9 ? V3d::UnitX() : V3d::UnitY();
+  P.col(0) = (a - n * n.dot(a)).normalized();
+  P.col(1) = n.cross(P.col(0));
+  P.col(2) = n;
+  constexpr double kHalfThickness = 0.5, kHalfSize = 2.0;
+  const V3d top = origin - n * (h_tool - static_cast<double>(tool.plane_clearance_m));
+  const BoxShape slab{top - n * kHalfThickness, P, V3d(kHalfSize, kHalfSize, kHalfThickness)};
+  for (uint32_t b = 0; b < n_boxes; ++b) {
+    ++gjk_calls;
+    if (intersect(&world_box[b], box_support, &slab, box_support, tool.max_iterations)) return true;
+  }
+  return false;
+}
+
+constexpr uint32_t kMaxSlabs = ToolCollision::kMaxSlabs;
+constexpr uint32_t kBands = ToolCollision::kBands;
+constexpr uint32_t kMaxPieces = ToolCollision::kMaxPieces;
+
+// How the object points within the tool's reach are cut into convex pieces: slabs
+// along the approach, bands across it (y_band: the fingers', the body's).
+struct PieceCut {
+  Eigen::Matrix3f Rt;  // world to grasp frame
+  Vec3 pos;
+  float z_min, z_max, slab_h, x_reach;
+  uint32_t n_slabs;
+  float y_band[kBands];
+
+  // The point in the grasp frame and its slab, or false when it is out of reach in x
+  // or z; the band test (y) is per band.
+  bool locate(const Vec3& p, Vec3& local, uint32_t& slab) const {
+    local = Rt * (p - pos);
+    if (!(std::fabs(local.x()) <= x_reach && local.z() >= z_min && local.z() < z_max)) return false;
+    slab = std::min(n_slabs - 1, static_cast<uint32_t>((local.z() - z_min) / slab_h));
+    return true;
+  }
+};
+
+PieceCut piece_cut(const ToolGeometry& tool, const GraspQuery& q, const Eigen::Matrix3d& R, float back) {
+  const GripperGeometry& g = tool.gripper;
+  const float ho = 0.5f * g.max_opening_m, t = g.finger_thickness_m, hfd = 0.5f * g.finger_depth_m;
+  PieceCut cut;
+  cut.z_min = -tool.tcp_offset_m - back - 0.01f;
+  cut.z_max = hfd + 0.01f;
+  cut.slab_h = tool.piece_height_m;
+  cut.n_slabs = static_cast<uint32_t>(std::ceil((cut.z_max - cut.z_min) / cut.slab_h));
+  if (cut.n_slabs > kMaxSlabs) {
+    cut.n_slabs = kMaxSlabs;
+    cut.slab_h = (cut.z_max - cut.z_min) / static_cast<float>(kMaxSlabs);
+  }
+  cut.x_reach = ho + t + 0.01f;
+  cut.y_band[0] = 0.5f * g.finger_width_m + 0.005f;
+  cut.y_band[1] = std::max(0.5f * g.palm_width_m, tool.body_half_width_m) + 0.005f;
+  cut.Rt = R.transpose().cast<float>();
+  cut.pos = q.position;
+  return cut;
+}
+
+// The checker's piece memory: the points' indices by piece, each piece's range of
+// them, and its box in the grasp frame.
+struct PieceTable {
+  uint16_t* index;
+  uint32_t* begin;  // kMaxPieces + 1
+  float (*lo)[3];
+  float (*hi)[3];
+};
+
+// Files the first n object points into their pieces (by band and slab; a point may lie
+// in both bands), in index order: a counting sort. Returns how many pieces hold a point.
+uint32_t fill_pieces(const GraspQuery& q, uint32_t n, const PieceCut& cut, const PieceTable& t) {
+  uint32_t count[kMaxPieces + 1] = {};
+  for (uint32_t i = 0; i < n; ++i) {
+    Vec3 l;
+    uint32_t s;
+    if (!cut.locate(q.object_points[i], l, s)) continue;
+    for (uint32_t band = 0; band < kBands; ++band)
+      if (std::fabs(l.y()) <= cut.y_band[band]) ++count[band * kMaxSlabs + s];
+  }
+  t.begin[0] = 0;
+  for (uint32_t p = 0; p < kMaxPieces; ++p) {
+    t.begin[p + 1] = t.begin[p] + count[p];
+    count[p] = t.begin[p];  // now the fill cursor
+    for (int k = 0; k < 3; ++k) {
+      t.lo[p][k] = 1e30f;
+      t.hi[p][k] = -1e30f;
+    }
+  }
+  for (uint32_t i = 0; i < n; ++i) {
+    Vec3 l;
+    uint32_t s;
+    if (!cut.locate(q.object_points[i], l, s)) continue;
+    for (uint32_t band = 0; band < kBands; ++band) {
+      if (!(std::fabs(l.y()) <= cut.y_band[band])) continue;
+      const uint32_t p = band * kMaxSlabs + s;
+      t.index[count[p]++] = static_cast<uint16_t>(i);
+      for (int k = 0; k < 3; ++k) {
+        t.lo[p][k] = std::min(t.lo[p][k], l[k]);
+        t.hi[p][k] = std::max(t.hi[p][k], l[k]);
+      }
+    }
+  }
+  uint32_t n_pieces = 0;
+  for (uint32_t p = 0; p < kMaxPieces; ++p) n_pieces += t.begin[p + 1] > t.begin[p] ? 1u : 0u;
+  return n_pieces;
+}
+
+// Each box against the pieces of its band whose boxes in the grasp frame overlap it.
+// True when one meets it; each GJK test counted in gjk_calls.
+bool tool_hits_pieces(const ToolGeometry& tool, const GraspQuery& q, const LocalBox* boxes, const BoxShape* world_box,
+                      uint32_t n_boxes, uint32_t n_slabs, const PieceTable& t, uint32_t& gjk_calls) {
+  for (uint32_t b = 0; b < n_boxes; ++b) {
+    const LocalBox& box = boxes[b];
+    for (uint32_t s = 0; s < n_slabs; ++s) {
+      const uint32_t p = box.band * kMaxSlabs + s;
+      if (t.begin[p + 1] == t.begin[p]) continue;
+      bool apart = false;  // the boxes in the grasp frame do not overlap: no hit
+      for (int k = 0; k < 3; ++k) apart = apart || t.lo[p][k] > box.hi[k] || t.hi[p][k] < box.lo[k];
+      if (apart) continue;
+      const PieceShape piece{q.object_points, t.index + t.begin[p], t.begin[p + 1] - t.begin[p]};
+      ++gjk_calls;
+      if (intersect(&world_box[b], box_support, &piece, piece_support, tool.max_iterations)) return true;
+    }
+  }
+  return false;
+}
+
 }  // namespace
 
 bool box_intersects_point_hull(const Vec3& centre, const Mat3& axes, const Vec3& half, const Vec3* points,
@@ -102,133 +280,21 @@ const char* to_string(ToolHit h) {
 ToolHit ToolCollision::check(const ToolGeometry& tool, const GraspQuery& q) {
   gjk_calls_ = 0;
   n_pieces_ = 0;
-  const GripperGeometry& g = tool.gripper;
-  if (!finite(q.position) || !finite(q.approach) || !finite(q.closing) || !finite(q.pregrasp) ||
-      !(q.approach.norm() > 0.5f) || !(q.closing.norm() > 0.5f) || !(tool.piece_height_m > 0.f))
-    return ToolHit::invalid;
-  // The grasp frame: x closing, y across, z approach (orthonormal in double).
-  const V3d z = q.approach.cast<double>().normalized();
-  V3d x = q.closing.cast<double>() - z * z.dot(q.closing.cast<double>());
-  if (!(x.norm() > 0.5)) return ToolHit::invalid;  // closing (nearly) along the approach
-  x.normalize();
   Eigen::Matrix3d R;
-  R.col(0) = x;
-  R.col(1) = z.cross(x);
-  R.col(2) = z;
+  if (!grasp_frame(tool, q, R)) return ToolHit::invalid;
   const V3d origin = q.position.cast<double>();
   const float back = std::max(0.f, (q.position - q.pregrasp).dot(q.approach.normalized()));
-
-  // The tool in the grasp frame, swept back to the pre-grasp, shrunk by the tolerance.
-  const float ho = 0.5f * g.max_opening_m, t = g.finger_thickness_m, hfd = 0.5f * g.finger_depth_m;
-  const float palm_back = -hfd - g.palm_depth_m;
-  LocalBox boxes[4] = {
-      {{-ho - t, -0.5f * g.finger_width_m, -hfd - back}, {-ho, 0.5f * g.finger_width_m, hfd}, 0},
-      {{ho, -0.5f * g.finger_width_m, -hfd - back}, {ho + t, 0.5f * g.finger_width_m, hfd}, 0},
-      {{-ho - t, -0.5f * g.palm_width_m, palm_back - back}, {ho + t, 0.5f * g.palm_width_m, -hfd}, 1},
-      {{-tool.body_half_width_m, -tool.body_half_width_m, -tool.tcp_offset_m - back},
-       {tool.body_half_width_m, tool.body_half_width_m, palm_back},
-       1},
-  };
-  const uint32_t n_boxes = tool.tcp_offset_m > -palm_back ? 4u : 3u;  // no body if the palm is the flange
+  LocalBox boxes[4];
   BoxShape world_box[4];
-  for (uint32_t b = 0; b < n_boxes; ++b) {
-    V3d lo, hi;
-    for (int k = 0; k < 3; ++k) {
-      lo[k] = boxes[b].lo[k] + tool.tolerance_m;
-      hi[k] = boxes[b].hi[k] - tool.tolerance_m;
-      boxes[b].lo[k] = static_cast<float>(lo[k]);
-      boxes[b].hi[k] = static_cast<float>(hi[k]);
-    }
-    world_box[b] = BoxShape{origin + R * (0.5 * (lo + hi)), R, (0.5 * (hi - lo)).cwiseMax(0.0)};
-  }
-
-  // The support plane: a slab whose top lies plane_clearance above it, under the tool.
-  if (q.support != nullptr && q.support->n.allFinite() && std::isfinite(q.support->d)) {
-    const V3d n = q.support->n.cast<double>().normalized();
-    const double h_tool = n.dot(origin) + static_cast<double>(q.support->d);  // height of the grasp centre
-    Eigen::Matrix3d P;
-    const V3d a = std::fabs(n.x()) < 0.9 ? V3d::UnitX() : V3d::UnitY();
-    P.col(0) = (a - n * n.dot(a)).normalized();
-    P.col(1) = n.cross(P.col(0));
-    P.col(2) = n;
-    constexpr double kHalfThickness = 0.5, kHalfSize = 2.0;
-    const V3d top = origin - n * (h_tool - static_cast<double>(tool.plane_clearance_m));
-    const BoxShape slab{top - n * kHalfThickness, P, V3d(kHalfSize, kHalfSize, kHalfThickness)};
-    for (uint32_t b = 0; b < n_boxes; ++b) {
-      ++gjk_calls_;
-      if (intersect(&world_box[b], box_support, &slab, box_support, tool.max_iterations)) return ToolHit::support_plane;
-    }
-  }
+  const uint32_t n_boxes = swept_tool(tool, back, origin, R, boxes, world_box);
+  if (tool_hits_plane(tool, q, origin, world_box, n_boxes, gjk_calls_)) return ToolHit::support_plane;
   if (q.object_points == nullptr || q.n_object_points == 0) return ToolHit::none;
 
   // Convex pieces: the object points within the tool's reach, by band and slab.
-  const uint32_t n = std::min(q.n_object_points, kMaxObjectPoints);
-  const float z_min = -tool.tcp_offset_m - back - 0.01f, z_max = hfd + 0.01f;
-  float slab_h = tool.piece_height_m;
-  uint32_t n_slabs = static_cast<uint32_t>(std::ceil((z_max - z_min) / slab_h));
-  if (n_slabs > kMaxSlabs) {
-    n_slabs = kMaxSlabs;
-    slab_h = (z_max - z_min) / static_cast<float>(kMaxSlabs);
-  }
-  const float x_reach = ho + t + 0.01f;
-  const float y_band[kBands] = {0.5f * g.finger_width_m + 0.005f,
-                                std::max(0.5f * g.palm_width_m, tool.body_half_width_m) + 0.005f};
-  const Eigen::Matrix3f Rt = R.transpose().cast<float>();
-  const Vec3 pos = q.position;
-  // The point in the grasp frame and its slab, or false when it is out of reach in x
-  // or z; the band test (y) is per band.
-  const auto locate = [&](const Vec3& p, Vec3& local, uint32_t& slab) {
-    local = Rt * (p - pos);
-    if (!(std::fabs(local.x()) <= x_reach && local.z() >= z_min && local.z() < z_max)) return false;
-    slab = std::min(n_slabs - 1, static_cast<uint32_t>((local.z() - z_min) / slab_h));
-    return true;
-  };
-  uint32_t count[kMaxPieces + 1] = {};
-  for (uint32_t i = 0; i < n; ++i) {
-    Vec3 l;
-    uint32_t s;
-    if (!locate(q.object_points[i], l, s)) continue;
-    for (uint32_t band = 0; band < kBands; ++band)
-      if (std::fabs(l.y()) <= y_band[band]) ++count[band * kMaxSlabs + s];
-  }
-  begin_[0] = 0;
-  for (uint32_t p = 0; p < kMaxPieces; ++p) {
-    begin_[p + 1] = begin_[p] + count[p];
-    count[p] = begin_[p];  // now the fill cursor
-    for (int k = 0; k < 3; ++k) {
-      lo_[p][k] = 1e30f;
-      hi_[p][k] = -1e30f;
-    }
-  }
-  for (uint32_t i = 0; i < n; ++i) {
-    Vec3 l;
-    uint32_t s;
-    if (!locate(q.object_points[i], l, s)) continue;
-    for (uint32_t band = 0; band < kBands; ++band) {
-      if (!(std::fabs(l.y()) <= y_band[band])) continue;
-      const uint32_t p = band * kMaxSlabs + s;
-      index_[count[p]++] = static_cast<uint16_t>(i);
-      for (int k = 0; k < 3; ++k) {
-        lo_[p][k] = std::min(lo_[p][k], l[k]);
-        hi_[p][k] = std::max(hi_[p][k], l[k]);
-      }
-    }
-  }
-  for (uint32_t p = 0; p < kMaxPieces; ++p) n_pieces_ += begin_[p + 1] > begin_[p] ? 1u : 0u;
-
-  for (uint32_t b = 0; b < n_boxes; ++b) {
-    const LocalBox& box = boxes[b];
-    for (uint32_t s = 0; s < n_slabs; ++s) {
-      const uint32_t p = box.band * kMaxSlabs + s;
-      if (begin_[p + 1] == begin_[p]) continue;
-      bool apart = false;  // the boxes in the grasp frame do not overlap: no hit
-      for (int k = 0; k < 3; ++k) apart = apart || lo_[p][k] > box.hi[k] || hi_[p][k] < box.lo[k];
-      if (apart) continue;
-      const PieceShape piece{q.object_points, index_ + begin_[p], begin_[p + 1] - begin_[p]};
-      ++gjk_calls_;
-      if (intersect(&world_box[b], box_support, &piece, piece_support, tool.max_iterations)) return ToolHit::object;
-    }
-  }
+  const PieceCut cut = piece_cut(tool, q, R, back);
+  const PieceTable table{index_, begin_, lo_, hi_};
+  n_pieces_ = fill_pieces(q, std::min(q.n_object_points, kMaxObjectPoints), cut, table);
+  if (tool_hits_pieces(tool, q, boxes, world_box, n_boxes, cut.n_slabs, table, gjk_calls_)) return ToolHit::object;
   return ToolHit::none;
 }
 

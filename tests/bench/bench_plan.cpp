@@ -123,15 +123,15 @@ void BM_IngestPlanar(benchmark::State& st) {
   (void)planar_clouds();  // the conversion stays out of the timed loop
   for (auto _ : st) ingest_planar(*g_planner);
   st.counters["raw_points"] = g_data->raw_points;
-  st.counters["lanes"] = fg::Planner::ingest_lanes();
+  st.counters["lanes"] = g_planner->ingest_lanes();
 }
 
 // The same in the four lanes of every target (BM_IngestPlanar takes the widest the CPU
 // runs: eight with AVX2).
 void BM_IngestPlanar4(benchmark::State& st) {
-  fg::Planner::set_ingest_lanes(4);
+  g_planner->set_ingest_lanes(4);
   BM_IngestPlanar(st);
-  fg::Planner::set_ingest_lanes(0);
+  g_planner->set_ingest_lanes(0);
 }
 
 // The same scene as the depth images a firmware's sensors deliver (uint16 mm, pinhole

@@ -256,8 +256,7 @@ TEST(PlannerInput, PlanarArraysPlanLikeTriples) {
 TEST(PlannerInput, IngestMatchesABruteForceForEveryCountAndInputKind) {
   // Both vector widths where the CPU has the wide one.
   for (const uint32_t lanes : {4u, 0u}) {
-    fg::Planner::set_ingest_lanes(lanes);
-    SCOPED_TRACE(testing::Message() << fg::Planner::ingest_lanes() << " lanes");
+    SCOPED_TRACE(testing::Message() << "ingest lanes asked for: " << lanes << " (0: the widest)");
     const Pose pose = look_at(Vec3(0.05f, -0.35f, 0.75f), Vec3(0.5f, 0.02f, 0.0f));
     const float inf = std::numeric_limits<float>::infinity();
     // The default range, and one from 0: the sensor's own position is then a point that
@@ -327,6 +326,7 @@ TEST(PlannerInput, IngestMatchesABruteForceForEveryCountAndInputKind) {
         for (int input_kind = 0; input_kind < 3; ++input_kind) {
           SCOPED_TRACE(testing::Message() << n << " points, input kind " << input_kind << ", range from " << range_min);
           auto pl = make_planner(cfg);
+          pl->set_ingest_lanes(lanes);
           const Status st = input_kind == 0 ? add(*pl, sensor, pose)
                             : input_kind == 1
                                 ? pl->add_points(SensorRole::head, padded.data(), n, 16, pose)
@@ -367,7 +367,6 @@ TEST(PlannerInput, IngestMatchesABruteForceForEveryCountAndInputKind) {
       }
     }
   }
-  fg::Planner::set_ingest_lanes(0);
 }
 
 // A cloud that needs more voxels than the grid holds (a table smeared over two layers
@@ -485,8 +484,7 @@ TEST(PlannerInput, CropShrinksWhenTheCloudNeedsMoreVoxelsThanTheGrid) {
 // Every vector width gives the same voxels bit for bit, and so the same grasp: the box
 // scene with NaN holes, as x, y and z arrays, as triples and as a depth image.
 TEST(PlannerInput, IngestWidthsGiveTheSameGridBitForBit) {
-  fg::Planner::set_ingest_lanes(0);
-  if (fg::Planner::ingest_lanes() == 4u) GTEST_SKIP() << "this CPU runs only the four-lane ingest";
+  if (make_planner()->ingest_lanes() == 4u) GTEST_SKIP() << "this CPU runs only the four-lane ingest";
   const Pose pose = look_at(Vec3(0.1f, -0.3f, 0.6f), Vec3(0.5f, 0.f, 0.05f));
   std::vector<Vec3> pts = to_sensor(box_scene(23, 0.06f, 0.05f), pose);
   for (size_t i = 0; i < pts.size(); i += 13) pts[i].y() = kNaN;
@@ -502,9 +500,9 @@ TEST(PlannerInput, IngestWidthsGiveTheSameGridBitForBit) {
   PlanResult r[2];
   std::vector<Vec3> voxels[2];
   for (int wide = 0; wide < 2; ++wide) {
-    fg::Planner::set_ingest_lanes(wide ? 0u : 4u);
     for (int kind = 0; kind < 3; ++kind) {
       auto pl = make_planner();
+      pl->set_ingest_lanes(wide ? 0u : 4u);
       const Status st = kind == 0   ? add(*pl, pts, pose)
                         : kind == 1 ? pl->add_points_planar(SensorRole::head, xs.data(), ys.data(), zs.data(),
                                                             static_cast<uint32_t>(pts.size()), pose)
@@ -516,7 +514,6 @@ TEST(PlannerInput, IngestWidthsGiveTheSameGridBitForBit) {
       }
     }
   }
-  fg::Planner::set_ingest_lanes(0);
   ASSERT_EQ(voxels[0].size(), voxels[1].size());
   EXPECT_EQ(std::memcmp(voxels[0].data(), voxels[1].data(), voxels[0].size() * sizeof(Vec3)), 0);
   ASSERT_EQ(r[0].status, Status::ok) << r[0].message;

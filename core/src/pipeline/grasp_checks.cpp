@@ -906,77 +906,51 @@ void GraspChecks::footprint_extremes(const Vec3& pos, const ViewFrame& f, float 
   }
 }
 
-// The tilt of each pad's contact normal from the closing line, extrapolated to the
-// side's extreme (where the pad touches first): over the points within the pad's
-// footprint up to kTiltFitDepth inside the side, with a defined normal not facing the
-// approach, a least-squares line 1 - cos(tilt) = a + b d in their depth d inside the
-// side. A round side (radius r) has 1 - cos(tilt) = d / r: a ~ 0, the pad meets it
-// along the closing line; a flat face beside an edge keeps its tilt at every depth:
-// a = 1 - cos(its tilt). The sensors seldom see the part of a round side nearest the
-// extreme (the view grazes it there), which a count of the normals inside the cone
-// read as a steep contact. valid[s] is false with fewer than kTiltFitMin points or
-// less than kTiltFitSpread of depth between them. near_face[s] and edge_face[s] are the
-// 1 - cos(tilt) of the face beside an edge found near the extreme (-1: none found).
-void GraspChecks::contact_tilt(const Vec3& pos, const ViewFrame& f, float one_minus_cos[2], bool valid[2], bool flat[2],
-                               float near_face[2], float edge_face[2]) {
-  const GripperGeometry& g = cfg_.gripper;
-  const uint32_t n = object_.size();
-  float ext[2];  // the sides' extremes in the footprint (x)
-  footprint_extremes(pos, f, ext);
-  double sd[2] = {0, 0}, sdd[2] = {0, 0}, sv[2] = {0, 0}, sdv[2] = {0, 0};
-  uint32_t cnt[2] = {0, 0};
-  float dmin[2] = {1e9f, 1e9f}, dmax[2] = {-1e9f, -1e9f};
-  // The same sums per depth bin, for the fits over the nearest bins (near_face).
-  struct BinSums {
-    double sd, sdd, sv, sdv;
-    uint32_t cnt;
-    float dmin, dmax;
-  };
-  BinSums bins[2][kNearFaceBins];
-  // The edge at the extreme (edge_face): points near it, how many of them not planar,
-  // and the kBestFace smallest 1 - cos(tilt) of the planar points (ascending).
-  uint32_t n_near[2] = {0, 0}, n_near_edge[2] = {0, 0}, n_planar[2] = {0, 0};
-  double best[2][kBestFace];
-  for (auto& side_best : best)
-    for (double& b : side_best) b = 2.0;
-  for (auto& side_bins : bins)
-    for (BinSums& b : side_bins) b = BinSums{0, 0, 0, 0, 0, 1e9f, -1e9f};
-  for (uint32_t i = 0; i < n && ext[1] >= ext[0]; ++i) {
-    const Vec3 d = object_[i] - pos;
-    const float x = f.X.dot(d), y = f.Y.dot(d), z = f.Z.dot(d);
-    if (std::fabs(y) > 0.5f * g.finger_width_m || std::fabs(z) > 0.5f * g.finger_depth_m) continue;
-    const float dl = x - ext[0], dr = ext[1] - x;
-    int side = -1;
-    float depth = 0.f;
-    if (dl <= kTiltFitDepth && dl <= dr) {
-      side = 0;
-      depth = dl;
-    } else if (dr <= kTiltFitDepth) {
-      side = 1;
-      depth = dr;
-    }
-    Vec3 nrm;
-    if (side < 0 || !normal_at(i, nrm) || std::fabs(nrm.dot(f.Z)) > kFrontFacingCos) continue;
-    const double v = 1.0 - std::fabs(static_cast<double>(nrm.dot(f.X)));
-    const bool planar = normal_planar(i);
+namespace {
+// Sums of a least-squares line over points (depth d, value v = 1 - cos(tilt)).
+struct LineSums {
+  double sd, sdd, sv, sdv;
+  uint32_t cnt;
+  float dmin, dmax;
+};
+constexpr LineSums kNoSums{0, 0, 0, 0, 0, 1e9f, -1e9f};
+
+// What contact_tilt gathers of one side: the fit's sums over every point up to
+// kTiltFitDepth inside the side, the same sums per depth bin (for the fits over the
+// nearest bins, near_face), and the edge at the extreme (edge_face): the points near
+// it, how many of them are not planar, and the kBestFace smallest 1 - cos(tilt) of the
+// planar points (ascending).
+struct SideTiltSums {
+  LineSums all = kNoSums;
+  LineSums bins[kNearFaceBins];
+  uint32_t n_near = 0, n_near_edge = 0, n_planar = 0;
+  double best[kBestFace];
+
+  SideTiltSums() {
+    for (LineSums& b : bins) b = kNoSums;
+    for (double& b : best) b = 2.0;
+  }
+
+  // One point at `depth` inside the side with 1 - cos(tilt) = v.
+  void add(float depth, double v, bool planar) {
     if (depth <= kEdgeDepth) {
-      ++n_near[side];
-      n_near_edge[side] += planar ? 0u : 1u;
+      ++n_near;
+      n_near_edge += planar ? 0u : 1u;
     }
     if (planar) {
-      ++n_planar[side];
+      ++n_planar;
       double ins = v;  // insertion into the ascending kBestFace smallest
-      for (double& b : best[side])
+      for (double& b : best)
         if (ins < b) std::swap(ins, b);
     }
-    ++cnt[side];
-    sd[side] += depth;
-    sdd[side] += static_cast<double>(depth) * depth;
-    sv[side] += v;
-    sdv[side] += depth * v;
-    dmin[side] = std::min(dmin[side], depth);
-    dmax[side] = std::max(dmax[side], depth);
-    BinSums& bs = bins[side][std::min(kNearFaceBins - 1, std::max(0, static_cast<int>(depth / kNearFaceBin)))];
+    ++all.cnt;
+    all.sd += depth;
+    all.sdd += static_cast<double>(depth) * depth;
+    all.sv += v;
+    all.sdv += depth * v;
+    all.dmin = std::min(all.dmin, depth);
+    all.dmax = std::max(all.dmax, depth);
+    LineSums& bs = bins[std::min(kNearFaceBins - 1, std::max(0, static_cast<int>(depth / kNearFaceBin)))];
     ++bs.cnt;
     bs.sd += depth;
     bs.sdd += static_cast<double>(depth) * depth;
@@ -985,25 +959,30 @@ void GraspChecks::contact_tilt(const Vec3& pos, const ViewFrame& f, float one_mi
     bs.dmin = std::min(bs.dmin, depth);
     bs.dmax = std::max(bs.dmax, depth);
   }
-  for (int s = 0; s < 2; ++s) {
-    // An edge at the extreme: the pad touches it, and holds by the better of the faces
-    // beside it (the planar points' smallest tilt, kBestFace of them). The normals of
-    // the voxels on the edge mix both faces' and read as their bisector, in the cone
-    // when neither face is (a standing bat's handle closed 30 deg off its faces).
-    edge_face[s] = -1.f;
-    if (n_near[s] >= kEdgeMin && 2 * n_near_edge[s] > n_near[s] && n_planar[s] >= static_cast<uint32_t>(kBestFace) &&
-        2 * n_planar[s] >= cnt[s])
-      edge_face[s] = static_cast<float>(best[s][kBestFace - 1]);
-    // The face nearest the contact: over the nearest 3, 4, 5 bins (6-10 mm), the
-    // steepest mean 1 - cos(tilt) of a prefix whose tilt is flat (changes by less than
-    // kFaceTurn) with a crease behind it.
-    // A side with an edge inside the fit's depth (a handle's corner) mixes the face the
-    // pad meets with the next one, deeper and steeper: the fit over all of it bends,
-    // reads as round and extrapolates below the tilt of the face beside the edge.
-    near_face[s] = -1.f;
-    BinSums acc{0, 0, 0, 0, 0, 1e9f, -1e9f};
+
+  // An edge at the extreme: the pad touches it, and holds by the better of the faces
+  // beside it (the planar points' smallest tilt, kBestFace of them). The normals of
+  // the voxels on the edge mix both faces' and read as their bisector, in the cone
+  // when neither face is (a standing bat's handle closed 30 deg off its faces).
+  // -1 when there is none.
+  float edge_face() const {
+    if (n_near >= kEdgeMin && 2 * n_near_edge > n_near && n_planar >= static_cast<uint32_t>(kBestFace) &&
+        2 * n_planar >= all.cnt)
+      return static_cast<float>(best[kBestFace - 1]);
+    return -1.f;
+  }
+
+  // The face nearest the contact: over the nearest 3, 4, 5 bins (6-10 mm), the
+  // steepest mean 1 - cos(tilt) of a prefix whose tilt is flat (changes by less than
+  // kFaceTurn) with a crease behind it; -1 when there is none.
+  // A side with an edge inside the fit's depth (a handle's corner) mixes the face the
+  // pad meets with the next one, deeper and steeper: the fit over all of it bends,
+  // reads as round and extrapolates below the tilt of the face beside the edge.
+  float near_face() const {
+    float near = -1.f;
+    LineSums acc = kNoSums;
     for (int k = 0; k < kNearFaceMaxBins; ++k) {
-      const BinSums& b = bins[s][k];
+      const LineSums& b = bins[k];
       acc.sd += b.sd;
       acc.sdd += b.sdd;
       acc.sv += b.sv;
@@ -1021,23 +1000,75 @@ void GraspChecks::contact_tilt(const Vec3& pos, const ViewFrame& f, float one_mi
       const double sin_face = std::sqrt(std::max(0.0, face * (2.0 - face)));
       if (std::fabs(slope) * static_cast<double>(acc.dmax - acc.dmin) >= kFaceTurn * sin_face) continue;
       // A crease behind it: the points deeper in (up to kTiltFitDepth) clearly steeper.
-      const uint32_t rest = cnt[s] - acc.cnt;
+      const uint32_t rest = all.cnt - acc.cnt;
       if (rest < kCreaseMin) continue;
-      const double deeper = (sv[s] - acc.sv) / static_cast<double>(rest);
+      const double deeper = (all.sv - acc.sv) / static_cast<double>(rest);
       if (std::acos(1.0 - std::min(1.0, deeper)) < std::acos(1.0 - std::min(1.0, face)) + kCreaseJump) continue;
-      near_face[s] = std::max(near_face[s], static_cast<float>(face));
+      near = std::max(near, static_cast<float>(face));
     }
-    valid[s] = flat[s] = false;
-    one_minus_cos[s] = 1.f;
-    if (cnt[s] < kTiltFitMin || dmax[s] - dmin[s] < kTiltFitSpread) continue;
-    const double m = static_cast<double>(cnt[s]);
-    const double var = sdd[s] / m - (sd[s] / m) * (sd[s] / m);
-    if (!(var > 1e-12)) continue;
-    const double b = (sdv[s] / m - (sd[s] / m) * (sv[s] / m)) / var;
-    const double a = sv[s] / m - b * sd[s] / m;
-    one_minus_cos[s] = static_cast<float>(std::min(1.0, std::max(0.0, a)));
-    flat[s] = b * static_cast<double>(kTiltFitDepth) < kFlatChange;
-    valid[s] = true;
+    return near;
+  }
+
+  // The line 1 - cos(tilt) = a + b d over every point: a (clamped to [0, 1]) in
+  // one_minus_cos, flat when b changes it by less than kFlatChange over kTiltFitDepth;
+  // valid false (one_minus_cos 1) with too few points or too little spread.
+  void fit(float& one_minus_cos, bool& valid, bool& flat) const {
+    valid = flat = false;
+    one_minus_cos = 1.f;
+    if (all.cnt < kTiltFitMin || all.dmax - all.dmin < kTiltFitSpread) return;
+    const double m = static_cast<double>(all.cnt);
+    const double var = all.sdd / m - (all.sd / m) * (all.sd / m);
+    if (!(var > 1e-12)) return;
+    const double b = (all.sdv / m - (all.sd / m) * (all.sv / m)) / var;
+    const double a = all.sv / m - b * all.sd / m;
+    one_minus_cos = static_cast<float>(std::min(1.0, std::max(0.0, a)));
+    flat = b * static_cast<double>(kTiltFitDepth) < kFlatChange;
+    valid = true;
+  }
+};
+}  // namespace
+
+// The tilt of each pad's contact normal from the closing line, extrapolated to the
+// side's extreme (where the pad touches first): over the points within the pad's
+// footprint up to kTiltFitDepth inside the side, with a defined normal not facing the
+// approach, a least-squares line 1 - cos(tilt) = a + b d in their depth d inside the
+// side. A round side (radius r) has 1 - cos(tilt) = d / r: a ~ 0, the pad meets it
+// along the closing line; a flat face beside an edge keeps its tilt at every depth:
+// a = 1 - cos(its tilt). The sensors seldom see the part of a round side nearest the
+// extreme (the view grazes it there), which a count of the normals inside the cone
+// read as a steep contact. valid[s] is false with fewer than kTiltFitMin points or
+// less than kTiltFitSpread of depth between them. near_face[s] and edge_face[s] are the
+// 1 - cos(tilt) of the face beside an edge found near the extreme (-1: none found).
+void GraspChecks::contact_tilt(const Vec3& pos, const ViewFrame& f, float one_minus_cos[2], bool valid[2], bool flat[2],
+                               float near_face[2], float edge_face[2]) {
+  const GripperGeometry& g = cfg_.gripper;
+  const uint32_t n = object_.size();
+  float ext[2];  // the sides' extremes in the footprint (x)
+  footprint_extremes(pos, f, ext);
+  SideTiltSums sums[2];
+  for (uint32_t i = 0; i < n && ext[1] >= ext[0]; ++i) {
+    const Vec3 d = object_[i] - pos;
+    const float x = f.X.dot(d), y = f.Y.dot(d), z = f.Z.dot(d);
+    if (std::fabs(y) > 0.5f * g.finger_width_m || std::fabs(z) > 0.5f * g.finger_depth_m) continue;
+    const float dl = x - ext[0], dr = ext[1] - x;
+    int side = -1;
+    float depth = 0.f;
+    if (dl <= kTiltFitDepth && dl <= dr) {
+      side = 0;
+      depth = dl;
+    } else if (dr <= kTiltFitDepth) {
+      side = 1;
+      depth = dr;
+    }
+    Vec3 nrm;
+    if (side < 0 || !normal_at(i, nrm) || std::fabs(nrm.dot(f.Z)) > kFrontFacingCos) continue;
+    const double v = 1.0 - std::fabs(static_cast<double>(nrm.dot(f.X)));
+    sums[side].add(depth, v, normal_planar(i));
+  }
+  for (int s = 0; s < 2; ++s) {
+    edge_face[s] = sums[s].edge_face();
+    near_face[s] = sums[s].near_face();
+    sums[s].fit(one_minus_cos[s], valid[s], flat[s]);
   }
 }
 

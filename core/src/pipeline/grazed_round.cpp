@@ -51,30 +51,39 @@ constexpr float kReachMargin = 0.003f;
 constexpr float kTipTiltMargin = 0.17f;  // 10 deg
 }  // namespace
 
-bool GraspChecks::grazed_round_body(const Candidate& c, Candidate& round) {
-  if (!cfg_.round_flanks) return false;
-  const GripperGeometry& g = cfg_.gripper;
-  const Vec3 X = c.X.normalized(), Y = c.Y.normalized(), Z = c.Z.normalized();
-  const uint32_t n = object_.size();
-  const float half_fd = 0.5f * g.finger_depth_m;
-  const float half_palm = 0.5f * std::max(g.palm_width_m, g.finger_width_m);
-  const float half_outer = 0.5f * g.max_opening_m + g.finger_thickness_m;
-  float ext[2];
-  footprint_extremes(c.position, ViewFrame{X, Y, Z}, ext);
-  if (!(ext[1] > ext[0])) return false;
-  // Each side's seen edge: mean point and mean normal in (x, z).
+namespace {
+// The candidate's frame (unit axes) and the gripper's half sizes, as the model's steps
+// use them.
+struct RoundFrame {
+  Vec3 pos, X, Y, Z;
+  const GripperGeometry& g;
+  float half_fd, half_palm, half_outer;
+};
+
+// Each side's seen edge in (x, z): its mean point and its unit outward normal.
+struct SeenEdges {
+  float px[2], pz[2];
+  float ux[2], uz[2];
+};
+
+// Each side's seen edge (the points with a normal within kEdgeBand of the footprint's
+// extremes ext): mean point and mean normal in (x, z), outward, facing the approach
+// within the model's range. normal_at(i, n) is the checks' normal of object point i.
+// False when a side has too few such points or its normal is out of range.
+template <class NormalAt>
+bool seen_edges(const PointSpan& object, const RoundFrame& fr, const float ext[2], NormalAt&& normal_at, SeenEdges& e) {
   float px[2] = {0, 0}, pz[2] = {0, 0}, nx[2] = {0, 0}, nz[2] = {0, 0};
   uint32_t cnt[2] = {0, 0};
-  for (uint32_t i = 0; i < n; ++i) {
-    const Vec3 d = object_[i] - c.position;
-    const float y = Y.dot(d), z = Z.dot(d);
-    if (std::fabs(y) > 0.5f * g.finger_width_m || std::fabs(z) > 0.5f * g.finger_depth_m) continue;
-    const float x = X.dot(d);
+  for (uint32_t i = 0; i < object.size(); ++i) {
+    const Vec3 d = object[i] - fr.pos;
+    const float y = fr.Y.dot(d), z = fr.Z.dot(d);
+    if (std::fabs(y) > 0.5f * fr.g.finger_width_m || std::fabs(z) > 0.5f * fr.g.finger_depth_m) continue;
+    const float x = fr.X.dot(d);
     const int side = x - ext[0] <= kEdgeBand ? 0 : ext[1] - x <= kEdgeBand ? 1 : -1;
     Vec3 nrm;
     if (side < 0 || !normal_at(i, nrm)) continue;
     // Outward: away from the other side.
-    float ax = nrm.dot(X), az = nrm.dot(Z);
+    float ax = nrm.dot(fr.X), az = nrm.dot(fr.Z);
     if ((side == 0) != (ax < 0.f)) ax = -ax, az = -az;
     px[side] += x;
     pz[side] += z;
@@ -82,66 +91,124 @@ bool GraspChecks::grazed_round_body(const Candidate& c, Candidate& round) {
     nz[side] += az;
     ++cnt[side];
   }
-  float ux[2], uz[2];
   for (int s = 0; s < 2; ++s) {
     if (cnt[s] < kEdgeMinPoints) return false;
     const float inv = 1.f / static_cast<float>(cnt[s]);
-    px[s] *= inv;
-    pz[s] *= inv;
+    e.px[s] = px[s] * inv;
+    e.pz[s] = pz[s] * inv;
     const float len = std::sqrt(nx[s] * nx[s] + nz[s] * nz[s]);
     if (!(len > 1e-6f)) return false;
-    ux[s] = nx[s] / len;
-    uz[s] = nz[s] / len;
+    e.ux[s] = nx[s] / len;
+    e.uz[s] = nz[s] / len;
     // Facing the approach (its origin lies at -Z): the flank turns towards the sensor
     // beyond this edge, and only within the range the model is for.
-    if (-uz[s] < kMinFacing || -uz[s] > kMaxFacing) return false;
-    if ((s == 0) != (ux[s] < 0.f)) return false;
+    if (-e.uz[s] < kMinFacing || -e.uz[s] > kMaxFacing) return false;
+    if ((s == 0) != (e.ux[s] < 0.f)) return false;
   }
+  return true;
+}
+
+// The centre (cx, cz) behind both seen edges along their inward normals; false when
+// the two centres the edges give do not agree.
+bool centre_behind_edges(const SeenEdges& e, float& cx, float& cz) {
   // p_0 - r u_0 = p_1 - r u_1  =>  r (u_1 - u_0) = p_1 - p_0, by least squares.
-  const float dux = ux[1] - ux[0], duz = uz[1] - uz[0];
-  const float dpx = px[1] - px[0], dpz = pz[1] - pz[0];
+  const float dux = e.ux[1] - e.ux[0], duz = e.uz[1] - e.uz[0];
+  const float dpx = e.px[1] - e.px[0], dpz = e.pz[1] - e.pz[0];
   const float den = dux * dux + duz * duz;
   if (!(den > 1e-6f)) return false;
-  float r = (dpx * dux + dpz * duz) / den;
+  const float r = (dpx * dux + dpz * duz) / den;
   if (!(r > 0.f)) return false;
-  const float c0x = px[0] - r * ux[0], c0z = pz[0] - r * uz[0];
-  const float c1x = px[1] - r * ux[1], c1z = pz[1] - r * uz[1];
+  const float c0x = e.px[0] - r * e.ux[0], c0z = e.pz[0] - r * e.uz[0];
+  const float c1x = e.px[1] - r * e.ux[1], c1z = e.pz[1] - r * e.uz[1];
   if (std::hypot(c0x - c1x, c0z - c1z) > kCentreAgree) return false;
-  float cx = 0.5f * (c0x + c1x), cz = 0.5f * (c0z + c1z);
-  // The circle through the seen arc itself (circle_fit.hpp), over the points in the
-  // pads' footprint, about the centre the normals gave. The normals only say that one
-  // centre lies behind both edges: at an edge the neighbourhood is one-sided, which
-  // turns them towards the sensor and read the radius 6-8% long (constructed cans of
-  // test_grazed_round: 60, 70, 78 mm read 65, 73, 85).
-  {
-    CircleFit fit;
-    for (uint32_t i = 0; i < n; ++i) {
-      const Vec3 d = object_[i] - c.position;
-      const float z = Z.dot(d);
-      if (std::fabs(Y.dot(d)) > 0.5f * g.finger_width_m || std::fabs(z) > half_fd) continue;
-      fit.add(X.dot(d) - cx, z - cz);
-    }
-    double dx, dz, rr;
-    if (!fit.solve(dx, dz, rr)) return false;
-    cx += static_cast<float>(dx);
-    cz += static_cast<float>(dz);
-    r = static_cast<float>(std::sqrt(rr));
+  cx = 0.5f * (c0x + c1x);
+  cz = 0.5f * (c0z + c1z);
+  return true;
+}
+
+// The circle through the seen arc itself (circle_fit.hpp), over the points in the
+// pads' footprint, about the centre the normals gave (cx, cz, moved to the circle's
+// centre; r its radius). The normals only say that one centre lies behind both edges:
+// at an edge the neighbourhood is one-sided, which turns them towards the sensor and
+// read the radius 6-8% long (constructed cans of test_grazed_round: 60, 70, 78 mm read
+// 65, 73, 85).
+bool fit_seen_arc(const PointSpan& object, const RoundFrame& fr, float& cx, float& cz, float& r) {
+  CircleFit fit;
+  for (uint32_t i = 0; i < object.size(); ++i) {
+    const Vec3 d = object[i] - fr.pos;
+    const float z = fr.Z.dot(d);
+    if (std::fabs(fr.Y.dot(d)) > 0.5f * fr.g.finger_width_m || std::fabs(z) > fr.half_fd) continue;
+    fit.add(fr.X.dot(d) - cx, z - cz);
   }
-  // The whole seen arc between the edges lies on that circle (a rounded box's flat
-  // front does not); and the first surface ahead of the palm centred on the circle.
+  double dx, dz, rr;
+  if (!fit.solve(dx, dz, rr)) return false;
+  cx += static_cast<float>(dx);
+  cz += static_cast<float>(dz);
+  r = static_cast<float>(std::sqrt(rr));
+  return true;
+}
+
+// The whole seen arc between the edges lies on that circle (a rounded box's flat
+// front does not); and the first surface ahead of the palm centred on the circle
+// (z_first_palm).
+bool arc_on_circle(const PointSpan& object, const RoundFrame& fr, float cx, float cz, float r, float& z_first_palm) {
   double sq = 0.0;
   uint32_t n_arc = 0;
-  float z_first_palm = 1e9f;
-  for (uint32_t i = 0; i < n; ++i) {
-    const Vec3 d = object_[i] - c.position;
-    const float x = X.dot(d), y = Y.dot(d), z = Z.dot(d);
-    if (std::fabs(y) <= half_palm && std::fabs(x - cx) <= half_outer) z_first_palm = std::min(z_first_palm, z);
-    if (std::fabs(y) > 0.5f * g.finger_width_m || std::fabs(z) > half_fd) continue;
+  z_first_palm = 1e9f;
+  for (uint32_t i = 0; i < object.size(); ++i) {
+    const Vec3 d = object[i] - fr.pos;
+    const float x = fr.X.dot(d), y = fr.Y.dot(d), z = fr.Z.dot(d);
+    if (std::fabs(y) <= fr.half_palm && std::fabs(x - cx) <= fr.half_outer) z_first_palm = std::min(z_first_palm, z);
+    if (std::fabs(y) > 0.5f * fr.g.finger_width_m || std::fabs(z) > fr.half_fd) continue;
     const double e = std::hypot(x - cx, z - cz) - r;
     sq += e * e;
     ++n_arc;
   }
-  if (n_arc < 2 * kEdgeMinPoints || std::sqrt(sq / n_arc) > kArcRms) return false;
+  return !(n_arc < 2 * kEdgeMinPoints || std::sqrt(sq / n_arc) > kArcRms);
+}
+
+// No sensor saw through the flank the model adds: between each seen edge (ext) and its
+// tangent (left, right), at the tangent's depth cz, nothing is seen empty.
+// visibility(q) is the checks' (+1 seen free).
+template <class Visibility>
+bool flanks_unseen(const RoundFrame& fr, const float ext[2], float left, float right, float cz,
+                   Visibility&& visibility) {
+  for (int s = 0; s < 2; ++s) {
+    const float from = s == 0 ? ext[0] : ext[1], to = s == 0 ? left : right;
+    for (int k = 1; k <= 4; ++k) {
+      const float x = from + (to - from) * (0.25f * static_cast<float>(k));
+      for (int iy = -1; iy <= 1; ++iy) {
+        const Vec3 q = fr.pos + fr.X * x + fr.Y * (0.25f * fr.g.finger_width_m * static_cast<float>(iy)) + fr.Z * cz;
+        if (visibility(q) > 0) return false;
+      }
+    }
+  }
+  return true;
+}
+}  // namespace
+
+bool GraspChecks::grazed_round_body(const Candidate& c, Candidate& round) {
+  if (!cfg_.round_flanks) return false;
+  const GripperGeometry& g = cfg_.gripper;
+  const RoundFrame fr{c.position,
+                      c.X.normalized(),
+                      c.Y.normalized(),
+                      c.Z.normalized(),
+                      g,
+                      0.5f * g.finger_depth_m,
+                      0.5f * std::max(g.palm_width_m, g.finger_width_m),
+                      0.5f * g.max_opening_m + g.finger_thickness_m};
+  const float half_fd = fr.half_fd;
+  float ext[2];
+  footprint_extremes(c.position, ViewFrame{fr.X, fr.Y, fr.Z}, ext);
+  if (!(ext[1] > ext[0])) return false;
+  SeenEdges edges;
+  const auto normal = [this](uint32_t i, Vec3& nrm) { return normal_at(i, nrm); };
+  if (!seen_edges(object_, fr, ext, normal, edges)) return false;
+  float cx = 0.f, cz = 0.f, r = 0.f;
+  if (!centre_behind_edges(edges, cx, cz) || !fit_seen_arc(object_, fr, cx, cz, r)) return false;
+  float z_first_palm = 1e9f;
+  if (!arc_on_circle(object_, fr, cx, cz, r, z_first_palm)) return false;
   // The tangents, beyond the seen edges by at most kMaxBeyond, within the opening and
   // within the pads' reach along the approach.
   const float left = cx - r, right = cx + r;
@@ -161,20 +228,10 @@ bool GraspChecks::grazed_round_body(const Candidate& c, Candidate& round) {
   if (!(max_tilt > 0.f) || past_tips > r * std::sin(max_tilt)) return false;
   const float width = 2.f * std::sqrt(r * r - past_tips * past_tips);
   if (width < ext[1] - ext[0]) return false;
-  // No sensor saw through the flank the model adds: between each seen edge and its
-  // tangent, at the tangent's depth, nothing is seen empty.
-  for (int s = 0; s < 2; ++s) {
-    const float from = s == 0 ? ext[0] : ext[1], to = s == 0 ? left : right;
-    for (int k = 1; k <= 4; ++k) {
-      const float x = from + (to - from) * (0.25f * static_cast<float>(k));
-      for (int iy = -1; iy <= 1; ++iy) {
-        const Vec3 q = c.position + X * x + Y * (0.25f * g.finger_width_m * static_cast<float>(iy)) + Z * cz;
-        if (visibility(q) > 0) return false;
-      }
-    }
-  }
+  const auto seen = [this](const Vec3& q) { return visibility(q); };
+  if (!flanks_unseen(fr, ext, left, right, cz, seen)) return false;
   round = c;
-  round.position = c.position + X * cx + Z * shift;
+  round.position = c.position + fr.X * cx + fr.Z * shift;
   round.width = width;
   round.tangent_contacts = true;
   return true;

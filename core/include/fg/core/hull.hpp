@@ -19,7 +19,8 @@ namespace fg {
 //! Returns capacity_exceeded if the hull has more than out_capacity vertices, and
 //! invalid_argument for a null points / scratch with n > 0 or a null out with
 //! out_capacity > 0. out_n = 0 whenever the status is not ok.
-Status convex_hull_2d(const Vec2* points, uint32_t n, Vec2* scratch, Vec2* out, uint32_t out_capacity, uint32_t& out_n);
+[[nodiscard]] Status convex_hull_2d(const Vec2* points, uint32_t n, Vec2* scratch, Vec2* out, uint32_t out_capacity,
+                                    uint32_t& out_n);
 
 //! A run of foreground cells in one raster row (the concave hull's component labels).
 struct HullRun {
@@ -97,8 +98,9 @@ struct ConcaveHullParams {
 //! points keep an exact count in the scratch (up to ConcaveHullScratch::kMaxFullCells of them: every input of
 //! kMaxObjectPoints points); only beyond that does a component holding such an uncounted cell cost one extra pass over
 //! the points and the raster.
-Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& params, ConcaveHullScratch& scratch,
-                       Vec2* out, uint32_t out_capacity, uint32_t& out_n, float& out_cell_m, bool& all_inside);
+[[nodiscard]] Status concave_hull_2d(const Vec2* points, uint32_t n, const ConcaveHullParams& params,
+                                     ConcaveHullScratch& scratch, Vec2* out, uint32_t out_capacity, uint32_t& out_n,
+                                     float& out_cell_m, bool& all_inside);
 
 //! The smallest-area rectangle about a convex polygon (`hull`, h vertices): it has a
 //! side along a hull edge (Freeman and Shapira), so each edge's direction is tried
@@ -111,13 +113,13 @@ float polygon_area(const Vec2* poly, uint32_t n);
 
 //! Point-in-polygon (even-odd rule); points within edge_tol_m of an edge count as
 //! inside. False for a null / empty polygon or a non-finite point.
-bool polygon_contains(const Vec2* poly, uint32_t n, Vec2 p, float edge_tol_m = 1e-6f);
+[[nodiscard]] bool polygon_contains(const Vec2* poly, uint32_t n, Vec2 p, float edge_tol_m = 1e-6f);
 
 //! Leftmost and rightmost x where the horizontal line y = y_line meets the polygon
 //! boundary: every edge is intersected; a line through a vertex counts that vertex,
 //! a line along a horizontal edge counts both its endpoints. Returns false (and
 //! zeros) when the line misses the polygon or y_line is not finite.
-bool polygon_span_at_y(const Vec2* poly, uint32_t n, float y_line, float& x_left, float& x_right);
+[[nodiscard]] bool polygon_span_at_y(const Vec2* poly, uint32_t n, float y_line, float& x_left, float& x_right);
 
 //! What polygon_span_at_y takes from the edge a-b for the line y = y_line: the x of
 //! each meeting (both ends of an edge along the line, the vertex a line passes through,

@@ -130,13 +130,12 @@ class Planner {
   [[nodiscard]] Status add_depth_image(SensorRole role, const uint16_t* depth_mm, uint16_t width, uint16_t height,
                                        const PinholeIntrinsics& k, const Pose& world_T_sensor);
 
-  //! The ingest's vector width for every planner of the process: 0 (the default) the
-  //! widest this CPU runs (8 lanes on x86-64 with AVX2, else 4), 4 the path of every
-  //! target. Every width gives the same grid, bit for bit; tests and benchmarks compare
-  //! them. Not while another thread ingests.
-  static void set_ingest_lanes(uint32_t lanes);
-  //! The width the next add_* call uses (4 or 8).
-  static uint32_t ingest_lanes();
+  //! This planner's ingest vector width: 0 (the default) the widest this CPU runs (8
+  //! lanes on x86-64 with AVX2, else 4), 4 the path of every target. Every width gives
+  //! the same grid, bit for bit; tests and benchmarks compare them. Kept across reset().
+  void set_ingest_lanes(uint32_t lanes) { ingest_lanes_ = lanes; }
+  //! The width this planner's next add_* call uses (4 or 8).
+  uint32_t ingest_lanes() const;
 
   //! Plans on everything added since reset(). When the target cluster yields no grasp
   //! and lies over the footprint of a larger cluster, that cluster is searched once
@@ -206,6 +205,7 @@ class Planner {
   CropUsed crop_used_;
   uint32_t ingest_us_ = 0;
   bool overflow_ = false;
+  uint32_t ingest_lanes_ = 0;  // the width asked for (set_ingest_lanes)
   VoxelGrid grid_;
   uint8_t state_[kMaxVoxels];  // per voxel (cluster.hpp's VoxelState)
 

@@ -40,7 +40,7 @@ class VoxelGrid {
   //! Adds a world point. capacity_exceeded when another cell is needed but kMaxVoxels
   //! cells are in use; invalid_argument when the point is outside the key range;
   //! invalid_sequence after finalize().
-  Status insert(const Vec3& p) {
+  [[nodiscard]] Status insert(const Vec3& p) {
     const float fx = (p.x() - origin_.x()) * inv_leaf_;
     const float fy = (p.y() - origin_.y()) * inv_leaf_;
     const float fz = (p.z() - origin_.z()) * inv_leaf_;
@@ -53,7 +53,7 @@ class VoxelGrid {
   //! One point in cell units: (fx, fy, fz) are coordinates in cell units from the
   //! origin, already checked to lie in [2, kMax - 2), before finalize(). False when
   //! the grid is full (or the cell's hash neighbourhood is: kMaxProbe).
-  bool insert_cell(float fx, float fy, float fz) {
+  [[nodiscard]] bool insert_cell(float fx, float fy, float fz) {
     const uint32_t ix = static_cast<uint32_t>(fx), iy = static_cast<uint32_t>(fy), iz = static_cast<uint32_t>(fz);
     return add_to_cell(pack(ix, iy, iz),
                        V4f{(fx - static_cast<float>(ix)) * leaf_, (fy - static_cast<float>(iy)) * leaf_,
@@ -64,7 +64,7 @@ class VoxelGrid {
   //! at least 2 inside the key range) at (o[0], o[1], o[2]) metres from the cell
   //! corner, o[3] = 1 (it is added to the count). Before finalize(). False when the
   //! grid is full (or the cell's hash neighbourhood is: kMaxProbe).
-  bool add_to_cell(uint32_t key, V4f o) {
+  [[nodiscard]] bool add_to_cell(uint32_t key, V4f o) {
     // A small direct-mapped cache of recent cells: neighbouring pixels of a depth
     // image (in this row and the rows above) mostly fall in the same few hundred cells.
     CacheEntry& e = cache_[(key * 0x9E3779B1u) >> (32 - kCacheBits)];
@@ -172,7 +172,7 @@ class VoxelGrid {
   uint32_t find_or_add(uint32_t key);
   //! Voxel size_ for `key` in the empty slot s (kNone when the grid is full).
   uint32_t add_at(uint32_t s, uint32_t tag, uint32_t key);
-  bool rebuild_index(const uint8_t* keep, uint32_t bits);
+  [[nodiscard]] bool rebuild_index(const uint8_t* keep, uint32_t bits);
   uint32_t slot_of(uint32_t key) const { return mix(key) >> (32 - slot_bits_); }
   static constexpr uint32_t kSlotBits = detail_log2u(kVoxelHashSlots);
   // A slot: index + 1 (0 = empty) in the low kIndexBits, the key's tag above.

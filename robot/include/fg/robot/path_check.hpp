@@ -95,8 +95,9 @@ PathScene prepare_path_scene(const GraspQuery& q, PathSceneScratch* scratch);
 //! (kept ones). `at` receives the fraction of the segment of the first hit. A tool
 //! that is in contact at q_from is not judged until the first sample where it is clear
 //! (the arm is leaving a contact it is already in: calibration offsets, or resting).
-PathHit joint_segment_hit(const MotionConfig& motion, const ToolGeometry& tool, const PathCheckConfig& cfg,
-                          const double q_from[6], const double q_to[6], const GraspQuery& q, double* at = nullptr);
+[[nodiscard]] PathHit joint_segment_hit(const MotionConfig& motion, const ToolGeometry& tool,
+                                        const PathCheckConfig& cfg, const double q_from[6], const double q_to[6],
+                                        const GraspQuery& q, double* at = nullptr);
 
 //! The whole executed path of a grasp motion: q_now -> m.pregrasp -> m.approach[0..]
 //! (the free move, from q_now, as joint_segment_hit; the approach steps from their start)
@@ -104,8 +105,8 @@ PathHit joint_segment_hit(const MotionConfig& motion, const ToolGeometry& tool, 
 //! segment of the first hit (0: the free move). `budget` (optional) is charged one
 //! sample per tool pose and one point test per scene point scanned; when a sample or
 //! its scan would overdraw it, the answer is PathHit::budget.
-PathHit grasp_path_hit(const MotionConfig& motion, const ToolGeometry& tool, const PathCheckConfig& cfg,
-                       const double q_now[6], const GraspMotion& m, const PathScene& scene, const GraspQuery& q,
-                       int* segment = nullptr, PathBudget* budget = nullptr);
+[[nodiscard]] PathHit grasp_path_hit(const MotionConfig& motion, const ToolGeometry& tool, const PathCheckConfig& cfg,
+                                     const double q_now[6], const GraspMotion& m, const PathScene& scene,
+                                     const GraspQuery& q, int* segment = nullptr, PathBudget* budget = nullptr);
 
 }  // namespace fg::robot

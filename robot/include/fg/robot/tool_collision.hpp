@@ -30,8 +30,8 @@ const char* to_string(ToolHit h);
 
 //! An oriented box (centre, axes as columns, half extents) against the convex hull of
 //! points[idx[0..n)] (idx null: points[0..n)), by libccd's GJK. n must be >= 1.
-bool box_intersects_point_hull(const Vec3& centre, const Mat3& axes, const Vec3& half, const Vec3* points,
-                               const uint16_t* idx, uint32_t n, uint32_t max_iterations);
+[[nodiscard]] bool box_intersects_point_hull(const Vec3& centre, const Mat3& axes, const Vec3& half, const Vec3* points,
+                                             const uint16_t* idx, uint32_t n, uint32_t max_iterations);
 
 //! Scratch and results of the check: keep one (it is large on the host).
 class ToolCollision {
@@ -41,7 +41,7 @@ class ToolCollision {
   static constexpr uint32_t kMaxPieces = kMaxSlabs * kBands;
 
   //! First hit of the tool swept from q.pregrasp to q.position, or none.
-  ToolHit check(const ToolGeometry& tool, const GraspQuery& q);
+  [[nodiscard]] ToolHit check(const ToolGeometry& tool, const GraspQuery& q);
   //! Pairs tested by GJK in the last check (for reports and timing).
   uint32_t gjk_calls() const { return gjk_calls_; }
   uint32_t pieces() const { return n_pieces_; }

@@ -78,14 +78,15 @@ struct CandidateContext {
 //! D.1-D.8 for one viewpoint: projection (into work.proj), concave hull, scan lines,
 //! width filter and the best windows (at most max_windows <= kMaxWindowsPerView, best
 //! first). Shared by the plan and the pictures.
-Status trace_silhouette(const CandidateContext& ctx, const ViewFrame& f, ViewWork& work, uint32_t max_windows,
-                        Silhouette& out);
+[[nodiscard]] Status trace_silhouette(const CandidateContext& ctx, const ViewFrame& f, ViewWork& work,
+                                      uint32_t max_windows, Silhouette& out);
 
 //! E + F for one window: contact regions, the depth rule (with the support plane), dZ
 //! and width. False when the window yields no candidate (no contact on a side within
 //! the pads' reach, the width out of range, the fingers through the plane). Needs
 //! work.proj (trace_silhouette) and work.depth (project_depth) of the viewpoint.
-bool xoz_candidate(const CandidateContext& ctx, const ViewFrame& f, const SideFit& w, ViewWork& work, Candidate& c);
+[[nodiscard]] bool xoz_candidate(const CandidateContext& ctx, const ViewFrame& f, const SideFit& w, ViewWork& work,
+                                 Candidate& c);
 
 //! work.depth[i]: the object points' depth along f.Z from the centroid.
 void project_depth(const CandidateContext& ctx, const ViewFrame& f, ViewWork& work);

@@ -110,7 +110,7 @@ class GraspChecks {
   //! The checks in order, up to the first that fails or defers the candidate. In the
   //! first pass (first_pass) a finger partly in hidden space, or a cap's lower
   //! fingertip in it, defers; in the second it is judged.
-  CheckVerdict evaluate(const Candidate& c, bool first_pass);
+  [[nodiscard]] CheckVerdict evaluate(const Candidate& c, bool first_pass);
 
   //! Every check's margin for a candidate (the returned grasp): measured once, after
   //! the selection, so the search pays nothing for it.
@@ -119,27 +119,27 @@ class GraspChecks {
   //! Closing along the contact normals' mean direction, kept orthogonal to the
   //! approach, when that turn is at most kMaxClosingTurn; width and centre measured
   //! again along it. False when there are too few normals or the turn is too large.
-  bool refine_closing(Candidate& c);
+  [[nodiscard]] bool refine_closing(Candidate& c);
   //! A round body whose flanks were seen only to a grazing edge: the grasp on its
   //! unseen tangents (grazed_round.cpp). False when the model does not apply.
-  bool grazed_round_body(const Candidate& c, Candidate& round);
+  [[nodiscard]] bool grazed_round_body(const Candidate& c, Candidate& round);
   //! The target could be solid at q: q lies in its plausible body, the prism over the
   //! convex hull, on the support plane, of its points and their mirror images through
   //! the hull's centre (the seen part completed by the symmetry of a body about its
   //! vertical axis), from the plane up to its highest point, grown by half a voxel.
   //! Everywhere true without a support plane or without such a hull.
-  bool plausibly_solid(const Vec3& q) const;
+  [[nodiscard]] bool plausibly_solid(const Vec3& q) const;
   //! A hidden q (visibility) could be solid: it lies inside the target's plausible
   //! body, or something else than the target hides it (another object, whose unseen
   //! part no body bounds).
-  bool could_be_solid(const Vec3& q) const;
+  [[nodiscard]] bool could_be_solid(const Vec3& q) const;
   //! The outward normal (horizontal) of the plausible body's wall nearest q, when q lies
   //! within a voxel of it; false without a body. A flat-sided body's unseen side is
   //! that wall.
-  bool plausible_wall(const Vec3& q, Vec3& outward) const;
+  [[nodiscard]] bool plausible_wall(const Vec3& q, Vec3& outward) const;
 
   //! Within kTopDownCos of the support plane's downward normal.
-  bool straight_down(const Vec3& approach) const;
+  [[nodiscard]] bool straight_down(const Vec3& approach) const;
 
   CheckScene scene() const { return CheckScene{cfg_, object_, object_voxel_, grid_, state_, support_, sensors_}; }
 
@@ -153,27 +153,27 @@ class GraspChecks {
     float top[2] = {-1e9f, -1e9f};    //!< the highest contact point above the support plane
   };
   void contact_normal_stats(const Vec3& pos, const ViewFrame& f, float width, ContactNormalStats& st);
-  bool friction_ok(const Vec3& pos, const ViewFrame& f, float width);
+  [[nodiscard]] bool friction_ok(const Vec3& pos, const ViewFrame& f, float width);
   void footprint_extremes(const Vec3& pos, const ViewFrame& f, float ext[2]) const;
   void contact_tilt(const Vec3& pos, const ViewFrame& f, float one_minus_cos[2], bool valid[2], bool flat[2],
                     float near_face[2], float edge_face[2]);
   // grow: the fingers' boxes grown by this much (m) on every side (margins()).
-  bool fingers_clear_of_hull(const Vec3& pos, const ViewFrame& f, float grow = 0.f);
-  bool footprint_applies(const ViewFrame& f, float width) const;
-  bool fingers_clear_of_footprint(const Vec3& pos, const ViewFrame& f, float width, float grow = 0.f);
-  bool lower_tip_unseen(const Vec3& pos, const ViewFrame& f, float width);
-  int fingers_in_seen_space(const Vec3& pos, const ViewFrame& f, float width, uint32_t& partly_hidden,
-                            float* hidden_share = nullptr);
+  [[nodiscard]] bool fingers_clear_of_hull(const Vec3& pos, const ViewFrame& f, float grow = 0.f);
+  [[nodiscard]] bool footprint_applies(const ViewFrame& f, float width) const;
+  [[nodiscard]] bool fingers_clear_of_footprint(const Vec3& pos, const ViewFrame& f, float width, float grow = 0.f);
+  [[nodiscard]] bool lower_tip_unseen(const Vec3& pos, const ViewFrame& f, float width);
+  [[nodiscard]] int fingers_in_seen_space(const Vec3& pos, const ViewFrame& f, float width, uint32_t& partly_hidden,
+                                          float* hidden_share = nullptr);
   float swept_clearance(const Candidate& c) const;
   float friction_margin_deg(const Candidate& c);
-  bool unseen_side_clear(const Vec3& pos, const ViewFrame& f, int side);
-  bool blind_side_mirrors_seen(const Vec3& pos, const ViewFrame& f, float width, uint32_t hidden_sides);
-  bool round_front_clears_blind_side(const Vec3& pos, const ViewFrame& f, int blind_side);
-  bool top_goes_on_past(const Vec3& pos, const ViewFrame& f, float width, int side);
+  [[nodiscard]] bool unseen_side_clear(const Vec3& pos, const ViewFrame& f, int side);
+  [[nodiscard]] bool blind_side_mirrors_seen(const Vec3& pos, const ViewFrame& f, float width, uint32_t hidden_sides);
+  [[nodiscard]] bool round_front_clears_blind_side(const Vec3& pos, const ViewFrame& f, int blind_side);
+  [[nodiscard]] bool top_goes_on_past(const Vec3& pos, const ViewFrame& f, float width, int side);
   //! +1 seen free, -1 hidden, 0 unknown (SensorViews::visibility).
   int visibility(const Vec3& q) const { return static_cast<int>(sensors_.visibility(q)); }
-  bool normal_at(uint32_t object_index, Vec3& n);
-  bool normal_planar(uint32_t object_index) const;  //!< after normal_at returned true
+  [[nodiscard]] bool normal_at(uint32_t object_index, Vec3& n);
+  [[nodiscard]] bool normal_planar(uint32_t object_index) const;  //!< after normal_at returned true
 
   const PlannerConfig& cfg_;
   const PointSpan& object_;
@@ -197,7 +197,7 @@ class GraspChecks {
   // The plausible body (plausibly_solid): its hull's edges as inward unit normals and
   // offsets in the plane's (u, v) frame, n . p >= d inside, and its height.
   void build_plausible_body(Vec2* scratch);
-  bool in_body(const Vec3& q, float grow) const;
+  [[nodiscard]] bool in_body(const Vec3& q, float grow) const;
   Vec3 body_u_ = Vec3::UnitX(), body_v_ = Vec3::UnitY();
   Vec2 body_normal_[kMaxBodyEdges];
   float body_offset_[kMaxBodyEdges];
