@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "fg/core/constants.hpp"
 #include "sim/sim_rng.hpp"
 
 namespace fg::sim {
@@ -11,7 +12,6 @@ namespace fg::sim {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr double kPi = 3.14159265358979323846;
 
 }  // namespace
 

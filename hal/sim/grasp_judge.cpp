@@ -6,11 +6,11 @@
 #include <limits>
 #include <vector>
 
+#include "fg/core/constants.hpp"
+
 namespace fg::sim {
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 std::string fmt(const char* f, double v) {
   char buf[64];
@@ -28,7 +28,7 @@ struct GBox {
 // Adaptive test of a gripper box against one object: subdivides until every cell is either
 // clear (sdf(centre) - radius >= -tol, valid because the SDFs are 1-Lipschitz), below the
 // resolution, or holds a point deeper than tol inside the object.
-bool box_hits_object(const Rigid& G, const GBox& box, const Object& obj, double tol, double& depth) {
+[[nodiscard]] bool box_hits_object(const Rigid& G, const GBox& box, const Object& obj, double tol, double& depth) {
   struct Cell {
     V3 c, h;
   };
@@ -63,8 +63,8 @@ bool box_hits_object(const Rigid& G, const GBox& box, const Object& obj, double 
 
 // (a): the open gripper in frame G against the table and every object (the target
 // first); "" when clear, else the reason.
-std::string open_pose_hit(const World& world, int target, const Rigid& G, const fg::GripperGeometry& gripper,
-                          double tolerance, float& depth_out) {
+[[nodiscard]] std::string open_pose_hit(const World& world, int target, const Rigid& G,
+                                        const fg::GripperGeometry& gripper, double tolerance, float& depth_out) {
   const double m = gripper.max_opening_m;
   const double th = gripper.finger_thickness_m;
   const double fw = gripper.finger_width_m;
@@ -157,6 +157,122 @@ double contact_angle(const Object& obj, const V3& p, const V3& force) {
   return best;
 }
 
+// The grasp frame G (x closing, y = z x x, z approach, origin at the grasp's position):
+// "" when the grasp's frame is valid, else the reason.
+[[nodiscard]] std::string grasp_frame(const Grasp& grasp, double max_frame_skew, Rigid& G) {
+  if (!finite(grasp.position) || !finite(grasp.approach) || !finite(grasp.closing) || !std::isfinite(grasp.width))
+    return "invalid_grasp non-finite";
+  V3 z = to_v3(grasp.approach);
+  V3 x = to_v3(grasp.closing);
+  if (z.norm() < 1e-6 || x.norm() < 1e-6) return "invalid_grasp zero_vector";
+  z.normalize();
+  x.normalize();
+  if (std::abs(x.dot(z)) > max_frame_skew) return "invalid_grasp closing_not_orthogonal " + fmt("%.3f", x.dot(z));
+  x = (x - x.dot(z) * z).normalized();
+  const V3 y = z.cross(x);
+  G.R.col(0) = x;
+  G.R.col(1) = y;
+  G.R.col(2) = z;
+  G.t = to_v3(grasp.position);
+  return std::string();
+}
+
+// Where one pad first touches as it closes.
+struct PadContact {
+  bool touched = false;
+  double t = 0.0;  // travel from the open pad face to the target
+  V3 p = V3::Zero();
+  double other_t = std::numeric_limits<double>::infinity();  // travel to another object
+  std::string other;
+  double angle = kPi;  // friction angle at the contact
+};
+
+// What the closing rays of both pads share.
+struct PadRays {
+  const World& world;
+  int target;
+  const Rigid& G;
+  const Raycaster& caster;  // the objects only
+  double m, fw, fd;         // max opening, finger width and depth
+  int ny, nz;               // rays across and along the pad
+};
+
+// (b) for one pad (side 0 left, 1 right): rays from the open pad face inwards.
+PadContact close_pad(const PadRays& c, int side) {
+  const Rigid& G = c.G;
+  const double sx = side == 0 ? -1.0 : 1.0;  // pad face at sx * m/2, moving towards -sx
+  const V3 dir_world = G.R * V3(-sx, 0, 0);
+  PadContact pc;
+  struct RayT {
+    double t;
+    double r2;
+    V3 p;
+  };
+  std::vector<RayT> target_hits;
+  for (int iy = 0; iy < c.ny; ++iy) {
+    const double yy = -0.5 * c.fw + c.fw * iy / (c.ny - 1);
+    for (int iz = 0; iz < c.nz; ++iz) {
+      const double zz = -0.5 * c.fd + c.fd * iz / (c.nz - 1);
+      const V3 o = G.apply(V3(sx * 0.5 * c.m, yy, zz));
+      RayHit hit;
+      if (!c.caster.cast(o, dir_world, 0.0, c.m, hit)) continue;
+      if (hit.object == c.target) {
+        target_hits.push_back({hit.t, yy * yy + zz * zz, o + hit.t * dir_world});
+      } else if (hit.t < pc.other_t) {
+        pc.other_t = hit.t;
+        pc.other = c.world.objects[static_cast<size_t>(hit.object)].name;
+      }
+    }
+  }
+  if (target_hits.empty()) return pc;
+  double tmin = std::numeric_limits<double>::infinity();
+  for (const RayT& r : target_hits) tmin = std::min(tmin, r.t);
+  // The pad touches where the rays meet the target first (within 0.2 mm: a flat face
+  // touches along many rays). Its friction angle is the best over that contact patch
+  // (ties: nearest the pad centre).
+  const Object& tobj = c.world.objects[static_cast<size_t>(c.target)];
+  const V3 force = -sx * G.R.col(0);  // the pad pushes the object along this
+  const RayT* best = nullptr;
+  double best_angle = kPi;
+  for (const RayT& r : target_hits) {
+    if (r.t > tmin + 2e-4) continue;
+    const double a = contact_angle(tobj, r.p, force);
+    if (!best || a < best_angle - 1e-9 || (a <= best_angle + 1e-9 && r.r2 < best->r2)) {
+      best = &r;
+      best_angle = std::min(best_angle, a);
+    }
+  }
+  pc.touched = true;
+  pc.t = tmin;
+  pc.p = best->p;
+  pc.angle = best_angle;
+  return pc;
+}
+
+// (b)'s verdict: "" when each pad first touches the target, else the reason.
+[[nodiscard]] std::string closing_failure(const PadContact (&pads)[2]) {
+  for (int side = 0; side < 2; ++side) {
+    const PadContact& pc = pads[side];
+    const char* sname = side == 0 ? "left" : "right";
+    if (pc.other_t < (pc.touched ? pc.t : std::numeric_limits<double>::infinity()))
+      return std::string("collision_closing:") + pc.other + " " + sname;
+  }
+  if (!pads[0].touched) return "miss_left";
+  if (!pads[1].touched) return "miss_right";
+  return std::string();
+}
+
+// (c): "" when both contacts are inside the friction cone of mu, else the reason.
+[[nodiscard]] std::string friction_failure(const PadContact (&pads)[2], double mu) {
+  const double cone = std::atan(mu);
+  for (int side = 0; side < 2; ++side) {
+    const double angle = pads[side].angle;
+    if (angle > cone + 1e-6)
+      return std::string(side == 0 ? "friction_left " : "friction_right ") + fmt("%.1fdeg", angle * 180.0 / kPi);
+  }
+  return std::string();
+}
+
 }  // namespace
 
 JudgeResult judge_grasp(const World& world, int target, const Grasp& grasp, const fg::GripperGeometry& gripper,
@@ -174,33 +290,10 @@ JudgeResult judge_grasp(const World& world, int target, const Grasp& grasp, cons
     return res;
   }
   // ---- The grasp frame.
-  if (!finite(grasp.position) || !finite(grasp.approach) || !finite(grasp.closing) || !std::isfinite(grasp.width)) {
-    res.reason = "invalid_grasp non-finite";
-    return res;
-  }
-  V3 z = to_v3(grasp.approach);
-  V3 x = to_v3(grasp.closing);
-  if (z.norm() < 1e-6 || x.norm() < 1e-6) {
-    res.reason = "invalid_grasp zero_vector";
-    return res;
-  }
-  z.normalize();
-  x.normalize();
-  if (std::abs(x.dot(z)) > opt.max_frame_skew) {
-    res.reason = "invalid_grasp closing_not_orthogonal " + fmt("%.3f", x.dot(z));
-    return res;
-  }
-  x = (x - x.dot(z) * z).normalized();
-  const V3 y = z.cross(x);
   Rigid G;
-  G.R.col(0) = x;
-  G.R.col(1) = y;
-  G.R.col(2) = z;
-  G.t = to_v3(grasp.position);
-
+  res.reason = grasp_frame(grasp, opt.max_frame_skew, G);
+  if (!res.reason.empty()) return res;
   const double m = gripper.max_opening_m;
-  const double fw = gripper.finger_width_m;
-  const double fd = gripper.finger_depth_m;
   if (grasp.width < 0.0f) {
     res.reason = "invalid_grasp negative_width";
     return res;
@@ -223,81 +316,18 @@ JudgeResult judge_grasp(const World& world, int target, const Grasp& grasp, cons
   World objects_only = world;
   objects_only.has_table = false;
   const Raycaster caster(objects_only);
-  const int ny = std::max(2, opt.rays_across);
-  const int nz = std::max(2, opt.rays_along);
-  struct PadContact {
-    bool touched = false;
-    double t = 0.0;
-    V3 p = V3::Zero();
-    double other_t = std::numeric_limits<double>::infinity();
-    std::string other;
-    double angle = kPi;
-  };
-  PadContact pads[2];
-  for (int side = 0; side < 2; ++side) {
-    const double sx = side == 0 ? -1.0 : 1.0;  // pad face at sx * m/2, moving towards -sx
-    const V3 dir_world = G.R * V3(-sx, 0, 0);
-    PadContact& pc = pads[side];
-    struct RayT {
-      double t;
-      double r2;
-      V3 p;
-    };
-    std::vector<RayT> target_hits;
-    for (int iy = 0; iy < ny; ++iy) {
-      const double yy = -0.5 * fw + fw * iy / (ny - 1);
-      for (int iz = 0; iz < nz; ++iz) {
-        const double zz = -0.5 * fd + fd * iz / (nz - 1);
-        const V3 o = G.apply(V3(sx * 0.5 * m, yy, zz));
-        RayHit hit;
-        if (!caster.cast(o, dir_world, 0.0, m, hit)) continue;
-        if (hit.object == target) {
-          target_hits.push_back({hit.t, yy * yy + zz * zz, o + hit.t * dir_world});
-        } else if (hit.t < pc.other_t) {
-          pc.other_t = hit.t;
-          pc.other = world.objects[static_cast<size_t>(hit.object)].name;
-        }
-      }
-    }
-    if (target_hits.empty()) continue;
-    double tmin = std::numeric_limits<double>::infinity();
-    for (const RayT& r : target_hits) tmin = std::min(tmin, r.t);
-    // The pad touches where the rays meet the target first (within 0.2 mm: a flat face
-    // touches along many rays). Its friction angle is the best over that contact patch
-    // (ties: nearest the pad centre).
-    const Object& tobj = world.objects[static_cast<size_t>(target)];
-    const V3 force = -sx * G.R.col(0);  // the pad pushes the object along this
-    const RayT* best = nullptr;
-    double best_angle = kPi;
-    for (const RayT& r : target_hits) {
-      if (r.t > tmin + 2e-4) continue;
-      const double a = contact_angle(tobj, r.p, force);
-      if (!best || a < best_angle - 1e-9 || (a <= best_angle + 1e-9 && r.r2 < best->r2)) {
-        best = &r;
-        best_angle = std::min(best_angle, a);
-      }
-    }
-    pc.touched = true;
-    pc.t = tmin;
-    pc.p = best->p;
-    pc.angle = best_angle;
-  }
-  for (int side = 0; side < 2; ++side) {
-    const PadContact& pc = pads[side];
-    const char* sname = side == 0 ? "left" : "right";
-    if (pc.other_t < (pc.touched ? pc.t : std::numeric_limits<double>::infinity())) {
-      res.reason = std::string("collision_closing:") + pc.other + " " + sname;
-      return res;
-    }
-  }
-  if (!pads[0].touched) {
-    res.reason = "miss_left";
-    return res;
-  }
-  if (!pads[1].touched) {
-    res.reason = "miss_right";
-    return res;
-  }
+  const PadRays rays{world,
+                     target,
+                     G,
+                     caster,
+                     m,
+                     gripper.finger_width_m,
+                     gripper.finger_depth_m,
+                     std::max(2, opt.rays_across),
+                     std::max(2, opt.rays_along)};
+  const PadContact pads[2] = {close_pad(rays, 0), close_pad(rays, 1)};
+  res.reason = closing_failure(pads);
+  if (!res.reason.empty()) return res;
   const double xl = -0.5 * m + pads[0].t;
   const double xr = 0.5 * m - pads[1].t;
   res.true_width = static_cast<float>(xr - xl);
@@ -309,16 +339,10 @@ JudgeResult judge_grasp(const World& world, int target, const Grasp& grasp, cons
   }
 
   // ---- (c) friction cones at the first contacts.
-  const double cone = std::atan(opt.mu);
   res.angle_left = static_cast<float>(pads[0].angle);
   res.angle_right = static_cast<float>(pads[1].angle);
-  for (int side = 0; side < 2; ++side) {
-    const double angle = pads[side].angle;
-    if (angle > cone + 1e-6) {
-      res.reason = std::string(side == 0 ? "friction_left " : "friction_right ") + fmt("%.1fdeg", angle * 180.0 / kPi);
-      return res;
-    }
-  }
+  res.reason = friction_failure(pads, opt.mu);
+  if (!res.reason.empty()) return res;
 
   // ---- (d) reported width.
   const double werr = std::abs(static_cast<double>(grasp.width) - (xr - xl));

@@ -57,18 +57,18 @@ struct JudgeResult {
   float max_penetration = 0.0f;  //!< deepest penetration found at the open pose (m), if any
 };
 
-JudgeResult judge_grasp(const World& world, int target, const Grasp& grasp, const fg::GripperGeometry& gripper,
-                        const JudgeOptions& options = {});
+[[nodiscard]] JudgeResult judge_grasp(const World& world, int target, const Grasp& grasp,
+                                      const fg::GripperGeometry& gripper, const JudgeOptions& options = {});
 
 //! Convenience overload with mu and the other options at their defaults.
-JudgeResult judge_grasp(const World& world, int target, const Grasp& grasp, const fg::GripperGeometry& gripper,
-                        double mu);
+[[nodiscard]] JudgeResult judge_grasp(const World& world, int target, const Grasp& grasp,
+                                      const fg::GripperGeometry& gripper, double mu);
 
 //! Criterion (a) alone: the open gripper at grasp's pose (width ignored) against the
 //! table and every object. "" when clear, else judge_grasp's reason
 //! ("collision_open_pose:<what> <part> DEPTH"; "invalid_grasp" for a degenerate frame).
-std::string open_pose_collision(const World& world, int target, const Grasp& grasp, const fg::GripperGeometry& gripper,
-                                double tolerance = 0.001);
+[[nodiscard]] std::string open_pose_collision(const World& world, int target, const Grasp& grasp,
+                                              const fg::GripperGeometry& gripper, double tolerance = 0.001);
 
 //! Does the object fit the gripper in some direction? Minimum width over horizontal
 //! closing directions of its graspable parts (and of the whole object).
@@ -81,6 +81,6 @@ struct FitReport {
   V3 direction = V3::UnitX();  //!< closing direction giving it (horizontal, unit)
 };
 
-FitReport target_fit(const Object& object, const fg::GripperGeometry& gripper, double margin = 0.005);
+[[nodiscard]] FitReport target_fit(const Object& object, const fg::GripperGeometry& gripper, double margin = 0.005);
 
 }  // namespace fg::sim

@@ -93,7 +93,7 @@ V3 closest_on_triangle(const V3& p, const V3& a, const V3& b, const V3& c, Featu
 }
 
 // Moller-Trumbore; inclusive edges so that rays through shared edges are not lost.
-bool ray_triangle(const V3& o, const V3& d, const V3& a, const V3& b, const V3& c, double& t) {
+[[nodiscard]] bool ray_triangle(const V3& o, const V3& d, const V3& a, const V3& b, const V3& c, double& t) {
   const V3 e1 = b - a, e2 = c - a;
   const V3 pv = d.cross(e2);
   const double det = e1.dot(pv);
@@ -435,20 +435,20 @@ void split_words(std::string_view line, std::vector<std::string_view>& words) {
   }
 }
 
-bool parse_double(std::string_view s, double& out) {
+[[nodiscard]] bool parse_double(std::string_view s, double& out) {
   if (!s.empty() && s.front() == '+') s.remove_prefix(1);
   const auto r = std::from_chars(s.data(), s.data() + s.size(), out);
   return r.ec == std::errc() && r.ptr == s.data() + s.size();
 }
 
-bool parse_long(std::string_view s, long long& out) {
+[[nodiscard]] bool parse_long(std::string_view s, long long& out) {
   if (!s.empty() && s.front() == '+') s.remove_prefix(1);
   const auto r = std::from_chars(s.data(), s.data() + s.size(), out);
   return !s.empty() && r.ec == std::errc() && r.ptr == s.data() + s.size();
 }
 
 // A face corner "v", "v/t", "v//n" or "v/t/n": the vertex index and a check of the others.
-bool parse_corner(std::string_view word, long long& vertex) {
+[[nodiscard]] bool parse_corner(std::string_view word, long long& vertex) {
   const size_t slash = word.find('/');
   if (!parse_long(word.substr(0, slash), vertex)) return false;
   if (slash == std::string_view::npos) return true;
@@ -599,7 +599,7 @@ class ConvexHull {
   };
 
   // False when the points are (nearly) flat or the construction failed numerically.
-  bool build(const std::vector<V3>& pts) {
+  [[nodiscard]] bool build(const std::vector<V3>& pts) {
     pts_ = &pts;
     Aabb box;
     for (const V3& p : pts) box.extend(p);

@@ -40,8 +40,8 @@ class TriangleMesh {
 
   //! First triangle met by o + t d with t in [tmin, tmax] (d need not be unit; Moller-Trumbore).
   //! normal: that triangle's outward unit normal.
-  bool intersect(const V3& o, const V3& d, double tmin, double tmax, double& t, V3& normal,
-                 int* triangle = nullptr) const;
+  [[nodiscard]] bool intersect(const V3& o, const V3& d, double tmin, double tmax, double& t, V3& normal,
+                               int* triangle = nullptr) const;
   //! Distance to the nearest triangle.
   double distance(const V3& p) const;
   //! Signed distance, negative inside: per group, the distance to its nearest triangle with
@@ -91,9 +91,10 @@ constexpr size_t kObjMaxVertices = 2'000'000;
 //! = relative indices, polygons fan-triangulated); `o` / `g` start groups; `vt`, `vn`,
 //! `mtllib`, `usemtl`, `s`, comments and unknown lines are ignored (a missing .mtl is
 //! normal). On failure returns false with "FILE:LINE: problem" in error; out is untouched.
-bool load_obj(const std::string& path, TriangleMesh& out, std::string& error);
+[[nodiscard]] bool load_obj(const std::string& path, TriangleMesh& out, std::string& error);
 //! The same from the text of a file; name stands for the file in messages and source().
-bool load_obj_text(const std::string& text, const std::string& name, TriangleMesh& out, std::string& error);
+[[nodiscard]] bool load_obj_text(const std::string& text, const std::string& name, TriangleMesh& out,
+                                 std::string& error);
 //! load_obj once per path and process (thread-safe); nullptr and error on failure.
 std::shared_ptr<const TriangleMesh> load_obj_cached(const std::string& path, std::string& error);
 

@@ -15,7 +15,8 @@ inline fg::PinholeIntrinsics to_pinhole(const Intrinsics& k) {
 }
 
 //! One rendered camera's depth image handed to the planner as `role`.
-inline fg::Status add_rendered(fg::Planner& planner, fg::SensorRole role, const DepthImage& img, const Camera& cam) {
+[[nodiscard]] inline fg::Status add_rendered(fg::Planner& planner, fg::SensorRole role, const DepthImage& img,
+                                             const Camera& cam) {
   return planner.add_depth_image(role, img.mm.data(), static_cast<uint16_t>(img.width),
                                  static_cast<uint16_t>(img.height), to_pinhole(cam.K), cam.world_T_sensor.to_pose());
 }

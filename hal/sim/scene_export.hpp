@@ -17,15 +17,15 @@ struct ExportOptions {
 };
 
 //! Renders both cameras and writes the folder (created if missing).
-fg::host::ReadResult export_scene(const GeneratedScene& scene, const std::string& dir,
-                                  const ExportOptions& options = {});
+[[nodiscard]] fg::host::ReadResult export_scene(const GeneratedScene& scene, const std::string& dir,
+                                                const ExportOptions& options = {});
 //! Same with images rendered beforehand.
-fg::host::ReadResult export_scene(const GeneratedScene& scene, const SceneImages& images, const std::string& dir,
-                                  const ExportOptions& options = {});
+[[nodiscard]] fg::host::ReadResult export_scene(const GeneratedScene& scene, const SceneImages& images,
+                                                const std::string& dir, const ExportOptions& options = {});
 
 std::string truth_to_json(const GeneratedScene& scene);
-fg::host::ReadResult parse_truth(const std::string& text, const std::string& name, GeneratedScene& out);
-fg::host::ReadResult write_truth(const std::string& path, const GeneratedScene& scene);
-fg::host::ReadResult read_truth(const std::string& path, GeneratedScene& out);
+[[nodiscard]] fg::host::ReadResult parse_truth(const std::string& text, const std::string& name, GeneratedScene& out);
+[[nodiscard]] fg::host::ReadResult write_truth(const std::string& path, const GeneratedScene& scene);
+[[nodiscard]] fg::host::ReadResult read_truth(const std::string& path, GeneratedScene& out);
 
 }  // namespace fg::sim

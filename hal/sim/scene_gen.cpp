@@ -11,6 +11,7 @@
 #include <mutex>
 #include <stdexcept>
 
+#include "fg/core/constants.hpp"
 #include "sim/grasp_judge.hpp"
 #include "sim/obj_mesh.hpp"
 #include "sim/sim_rng.hpp"
@@ -19,7 +20,6 @@ namespace fg::sim {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180.0;
 
 Rigid at(double x, double y, double z) { return Rigid::translation(V3(x, y, z)); }

@@ -44,7 +44,7 @@ const std::vector<ObjectKind>& all_kinds();
 const std::vector<ObjectKind>& mesh_kinds();
 const char* kind_name(ObjectKind k);
 //! Knows every kind, analytic and mesh.
-bool kind_from_name(const std::string& name, ObjectKind& out);
+[[nodiscard]] bool kind_from_name(const std::string& name, ObjectKind& out);
 //! The OBJ file name of a mesh kind (nullptr for an analytic kind).
 const char* mesh_file(ObjectKind k);
 //! $FG_MESH_DIR when set and not empty, else the build's FG_DEFAULT_MESH_DIR
@@ -61,7 +61,7 @@ std::string default_mesh_dir();
 //!    other objects, and structured-light noise (NoiseModel::structured_light).
 enum class Distribution { classic, cell };
 const char* distribution_name(Distribution d);
-bool distribution_from_name(const std::string& name, Distribution& out);
+[[nodiscard]] bool distribution_from_name(const std::string& name, Distribution& out);
 
 //! The ranges of Distribution::cell. Distances and angles are drawn uniformly unless said.
 struct CellOptions {

@@ -83,8 +83,8 @@ class SimArm final : public fg::hal::ArmLink {
   const SimArmConfig& config() const { return config_; }
 
  private:
-  fg::Status do_move_joints(const double q[6], double speed_fraction) override;
-  fg::Status do_read_state(fg::hal::ArmState& out) override;
+  [[nodiscard]] fg::Status do_move_joints(const double q[6], double speed_fraction) override;
+  [[nodiscard]] fg::Status do_read_state(fg::hal::ArmState& out) override;
   void do_stop() override;
 
   SimArmConfig config_;
@@ -176,9 +176,9 @@ class SimGripper final : public fg::hal::Gripper {
   double last_force_n() const { return force_n_; }
 
  private:
-  fg::Status do_open_to(float width_m) override;
-  fg::Status do_close(float force_n) override;
-  fg::Status do_read_state(fg::hal::GripperState& out) override;
+  [[nodiscard]] fg::Status do_open_to(float width_m) override;
+  [[nodiscard]] fg::Status do_close(float force_n) override;
+  [[nodiscard]] fg::Status do_read_state(fg::hal::GripperState& out) override;
 
   SimGripperConfig config_;
   const ContactModel* contact_;
@@ -219,8 +219,8 @@ class SimDepthSensor final : public fg::hal::DepthSensor {
   uint64_t captures() const { return captures_; }
 
  private:
-  fg::Status do_request_capture() override;
-  fg::hal::CaptureState do_poll(fg::hal::DepthFrame& out) override;
+  [[nodiscard]] fg::Status do_request_capture() override;
+  [[nodiscard]] fg::hal::CaptureState do_poll(fg::hal::DepthFrame& out) override;
 
   const World& world_;
   const SimClock& clock_;

@@ -16,7 +16,7 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // Real roots of a t^2 + b t + c = 0 (a > 0), t1 <= t2, computed in the stable form.
-bool solve_quadratic(double a, double b, double c, double& t1, double& t2) {
+[[nodiscard]] bool solve_quadratic(double a, double b, double c, double& t1, double& t2) {
   const double disc = b * b - 4.0 * a * c;
   if (disc < 0.0) return false;
   const double sq = std::sqrt(disc);
@@ -33,7 +33,7 @@ bool solve_quadratic(double a, double b, double c, double& t1, double& t2) {
 
 // Narrows [t_enter, t_exit] with the slab |o + t d| <= h on one axis. Returns false when empty.
 // enter_changed is set when the lower bound moved.
-bool clip_slab(double o, double d, double h, double& t_enter, double& t_exit, bool& enter_changed) {
+[[nodiscard]] bool clip_slab(double o, double d, double h, double& t_enter, double& t_exit, bool& enter_changed) {
   enter_changed = false;
   if (d == 0.0) return std::abs(o) <= h;
   double ta = (-h - o) / d;
@@ -48,7 +48,7 @@ bool clip_slab(double o, double d, double h, double& t_enter, double& t_exit, bo
 }
 
 // From the solid's interval [ta, tb] along the ray, picks the first point in [tmin, tmax].
-bool finish(double ta, double tb, double tmin, double tmax, double& t, bool& inside) {
+[[nodiscard]] bool finish(double ta, double tb, double tmin, double tmax, double& t, bool& inside) {
   if (tb < tmin || ta > tmax || ta > tb) return false;
   if (ta >= tmin) {
     t = ta;

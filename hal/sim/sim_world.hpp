@@ -44,14 +44,14 @@ struct Aabb {
   V3 centre() const { return 0.5 * (lo + hi); }
   V3 size() const { return hi - lo; }
   //! Slab test with a precomputed 1/d (components may be +-inf). Narrows [t0, t1].
-  bool ray_overlap(const V3& o, const V3& inv_d, double& t0, double& t1) const;
+  [[nodiscard]] bool ray_overlap(const V3& o, const V3& inv_d, double& t0, double& t1) const;
 };
 
 class TriangleMesh;  // sim/obj_mesh.hpp
 
 enum class Shape { box, cylinder, sphere, ellipsoid, mesh };
 const char* shape_name(Shape s);
-bool shape_from_name(const std::string& name, Shape& out);
+[[nodiscard]] bool shape_from_name(const std::string& name, Shape& out);
 
 //! One primitive solid or triangle mesh with its world_T_shape pose.
 //! size: box = half extents; cylinder = (radius, radius, half height), axis = shape z;
@@ -85,8 +85,8 @@ struct Part {
   //! First point of the solid along o + t d (d need not be unit) with t in [tmin, tmax]:
   //! the entry point, or tmin when o + tmin d is already inside (then *inside = true).
   //! normal: outward unit normal at the entry (undefined when inside).
-  bool intersect(const V3& o, const V3& d, double tmin, double tmax, double& t, V3& normal,
-                 bool* inside = nullptr) const;
+  [[nodiscard]] bool intersect(const V3& o, const V3& d, double tmin, double tmax, double& t, V3& normal,
+                               bool* inside = nullptr) const;
   //! Extent of the part along the unit direction u (its width between two planes normal to u).
   double width_along(const V3& u) const;
   //! Exact distance from p to the solid (0 inside), for every shape: unlike sdf, exact for
@@ -110,7 +110,8 @@ struct Object {
   double distance(const V3& p) const;                   //!< exact, 0 inside (Part::distance)
   V3 sdf_gradient(const V3& p, double h = 1e-4) const;  //!< central differences (unnormalized)
   V3 normal(const V3& p, double h = 1e-4) const;        //!< normalized gradient
-  bool intersect(const V3& o, const V3& d, double tmin, double tmax, double& t, V3& normal, int* part = nullptr) const;
+  [[nodiscard]] bool intersect(const V3& o, const V3& d, double tmin, double tmax, double& t, V3& normal,
+                               int* part = nullptr) const;
   double width_along(const V3& u) const;  //!< extent of the union along u
 };
 
@@ -150,7 +151,7 @@ class Raycaster {
   explicit Raycaster(const World& world);
   //! First hit along o + t d, t in [tmin, tmax]. only_object >= 0 restricts to one object
   //! (table excluded); -1 = everything.
-  bool cast(const V3& o, const V3& d, double tmin, double tmax, RayHit& hit, int only_object = -1) const;
+  [[nodiscard]] bool cast(const V3& o, const V3& d, double tmin, double tmax, RayHit& hit, int only_object = -1) const;
 
  private:
   const World& world_;

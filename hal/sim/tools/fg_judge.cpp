@@ -2,11 +2,13 @@
 // Judges the answer of `forcegrasp plan SCENE.json --json` (PLAN_JSON: a file, or - for
 // stdin) on the true geometry in SCENE_DIR/truth.json. Prints one line
 //   <scene> <right|wrong> <reason>
-// and exits 0 when right, 1 when wrong, 2 on a usage error or an unreadable truth.json.
+// and exits 0 when right, 1 when wrong, 2 on a usage error, an unreadable truth.json or an
+// internal error (an exception, reported on stderr).
 // A no_grasp answer is right iff the target fits the gripper in no direction; an ok answer
 // is right iff the grasp passes the judge.
 #include <cstdio>
 #include <cstdlib>
+#include <exception>
 #include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -28,7 +30,7 @@ std::string scene_name(std::string dir) {
   return slash == std::string::npos ? dir : dir.substr(slash + 1);
 }
 
-bool read_vec3(const nlohmann::json& j, fg::Vec3& v) {
+[[nodiscard]] bool read_vec3(const nlohmann::json& j, fg::Vec3& v) {
   if (!j.is_array() || j.size() != 3) return false;
   for (size_t i = 0; i < 3; ++i) {
     if (!j[i].is_number()) return false;
@@ -37,9 +39,8 @@ bool read_vec3(const nlohmann::json& j, fg::Vec3& v) {
   return true;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+//! The whole program; may throw.
+int judge_main(int argc, char** argv) {
   using namespace fg::sim;
   std::string scene_dir, plan_path;
   double mu = 0.5;
@@ -125,4 +126,17 @@ int main(int argc, char** argv) {
                  r.contact_right.z(), truth.truth.target_fits ? 1 : 0, truth.truth.target_min_width);
   }
   return verdict(r.success, r.reason);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return judge_main(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: internal: %s\n", e.what());
+  } catch (...) {
+    std::fprintf(stderr, "error: internal: unknown exception\n");
+  }
+  return 2;
 }

@@ -31,7 +31,7 @@ bool parse_u64(const std::string& s, unsigned long long& out) {
   return end && *end == '\0';
 }
 
-bool parse_double(const std::string& s, double& out) {
+[[nodiscard]] bool parse_double(const std::string& s, double& out) {
   char* end = nullptr;
   out = std::strtod(s.c_str(), &end);
   return !s.empty() && end && *end == '\0';

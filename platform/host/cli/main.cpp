@@ -13,138 +13,189 @@
 #include "sim/scene_gen.hpp"
 #include "sim_trial.hpp"
 
+namespace {
+
+using namespace fg::host;
+
+//! `forcegrasp plan`: its options as parsed.
+struct PlanArgs {
+  CLI::App* cmd = nullptr;
+  PlanOptions po;
+  bool json_out = false;
+};
+
+//! `forcegrasp sim`: its options as parsed.
+struct SimArgs {
+  CLI::App* cmd = nullptr;
+  SimOptions so;
+  std::string kinds_arg = "all";
+  std::string sim_config;
+  std::vector<std::string> sim_sets;
+  double min_rate = -1.0;
+  bool quiet = false;
+  CLI::Option* seed_opt = nullptr;
+  std::string distribution_arg = "cell";
+};
+
+//! Every object kind's name, comma-separated (the --objects help).
+std::string kind_names() {
+  std::string k;
+  for (const auto* list : {&fg::sim::all_kinds(), &fg::sim::mesh_kinds()})
+    for (const fg::sim::ObjectKind kind : *list) k += (k.empty() ? "" : ",") + std::string(fg::sim::kind_name(kind));
+  return k;
+}
+
+void add_plan_command(CLI::App& app, PlanArgs& a) {
+  a.cmd = app.add_subcommand("plan", "plan a grasp on a scene manifest");
+  a.cmd->add_option("scene", a.po.scene_path, "scene.json (spec/scene-and-cli.md)")->required();
+  a.cmd->add_flag("--json", a.json_out, "print the JSON report of the contract");
+  a.cmd->add_option("--pictures", a.po.pictures_dir, "write SVG pictures of the stages to this folder");
+  a.cmd->add_option("--config", a.po.config_path, "JSON file of planner options");
+  a.cmd->add_option("--set", a.po.sets, "override one option: name=value (repeatable)");
+}
+
+void add_sim_command(CLI::App& app, SimArgs& a) {
+  CLI::App* sim_cmd =
+      app.add_subcommand("sim", "run the whole grasp task on simulated hardware over objects and seeded poses");
+  a.cmd = sim_cmd;
+  SimOptions& so = a.so;
+  sim_cmd->add_option("--objects", a.kinds_arg,
+                      "comma-separated object kinds, or all, primitives, meshes (" + kind_names() + ")");
+  sim_cmd->add_option("--trials", so.trials, "number of trials (default 20 per object kind); trial i: kind i % kinds");
+  a.seed_opt = sim_cmd->add_option(
+      "--seed", so.seed, "seed of the first trial (trial i uses seed + i); without it a seed is drawn and printed");
+  sim_cmd
+      ->add_option("--distribution", a.distribution_arg,
+                   "cell: scenes as a user's robot cell shows them (the default); classic: the project's own "
+                   "spread, which the tests' pinned seeds use")
+      ->check(CLI::IsMember({"cell", "classic"}));
+  sim_cmd->add_option("--mu", so.mu, "friction coefficient of the judge");
+  sim_cmd->add_option("--second-object-rate", so.second_object_rate, "classic: share of scenes with a second object");
+  sim_cmd->add_option("--pictures", so.pictures_dir, "write SVG pictures of each trial's plan to DIR/<kind>-<seed>");
+  sim_cmd->add_option("--export", so.export_dir,
+                      "write each trial's scene (scene.json, PCD, truth.json) to DIR/<kind>-<seed>");
+  sim_cmd->add_option("--json", so.json_path, "write every trial and the table as JSON to this file");
+  sim_cmd->add_option("--config", a.sim_config, "JSON file of planner options");
+  sim_cmd->add_option("--set", a.sim_sets, "override one planner option: name=value (repeatable)");
+  sim_cmd->add_option("--min-rate", a.min_rate, "exit 4 when the overall success rate is below this (0..1)");
+  sim_cmd->add_flag("--quiet", a.quiet, "no progress line");
+}
+
+//! A command-line error is invalid input too: with --json, stdout still carries the one
+//! JSON object of the contract. Returns the exit code (0 after --help).
+int report_parse_error(CLI::App& app, const CLI::ParseError& e, int argc, char** argv) {
+  const int rc = app.exit(e);
+  if (rc == 0) return 0;  // --help
+  for (int i = 1; i < argc; ++i)
+    if (std::string(argv[i]) == "--json") {
+      const nlohmann::json j{{"status", "invalid_input"}, {"error", std::string("command line: ") + e.what()}};
+      std::cout << j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) << "\n";
+      break;
+    }
+  return kExitInvalid;
+}
+
+int run_plan_command(const PlanArgs& a) {
+  const PlanOutcome o = run_plan(a.po);
+  if (a.json_out)
+    std::cout << o.report.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) << "\n";
+  else
+    std::cout << human_summary(o.report);
+  return o.exit_code;
+}
+
+//! The object kinds --objects names: all, primitives, meshes or a comma-separated list.
+//! False (and a message on stderr) on an unknown kind.
+[[nodiscard]] bool parse_kinds(const std::string& kinds_arg, std::vector<std::string>& kinds) {
+  if (kinds_arg == "all") {
+    for (const auto* list : {&fg::sim::all_kinds(), &fg::sim::mesh_kinds()})
+      for (const fg::sim::ObjectKind kind : *list) kinds.push_back(fg::sim::kind_name(kind));
+  } else if (kinds_arg == "primitives" || kinds_arg == "meshes") {
+    for (const fg::sim::ObjectKind kind : kinds_arg == "meshes" ? fg::sim::mesh_kinds() : fg::sim::all_kinds())
+      kinds.push_back(fg::sim::kind_name(kind));
+  } else {
+    std::string k;
+    std::istringstream in(kinds_arg);
+    while (std::getline(in, k, ',')) {
+      fg::sim::ObjectKind kind;
+      if (!fg::sim::kind_from_name(k, kind)) {
+        std::cerr << "forcegrasp sim: unknown object kind \"" << k << "\"\n";
+        return false;
+      }
+      kinds.push_back(k);
+    }
+  }
+  return true;
+}
+
+//! A fresh sample each run; the seed is printed so that --seed repeats it. Twelve
+//! digits at most: easy to retype, and seed + i stays exact in JSON readers' doubles.
+uint64_t draw_seed() {
+  std::random_device entropy;
+  const uint64_t drawn = (static_cast<uint64_t>(entropy()) << 32) ^ entropy() ^
+                         static_cast<uint64_t>(std::chrono::steady_clock::now().time_since_epoch().count());
+  return drawn % 1000000000000ull;
+}
+
+int run_sim_command(SimArgs& a) {
+  SimOptions& so = a.so;
+  std::string err;
+  fg::PlannerConfig cfg;
+  if (!apply_options(cfg, a.sim_config, a.sim_sets, err)) {
+    std::cerr << "forcegrasp sim: " << err << "\n";
+    return kExitInvalid;
+  }
+  if (!parse_kinds(a.kinds_arg, so.kinds)) return kExitInvalid;
+  if (so.kinds.empty()) {
+    std::cerr << "forcegrasp sim: no object kinds\n";
+    return kExitInvalid;
+  }
+  so.progress = !a.quiet;
+  // The parser let only the distributions' names through (CLI::IsMember).
+  if (!fg::sim::distribution_from_name(a.distribution_arg, so.distribution)) {
+    std::cerr << "forcegrasp sim: unknown distribution \"" << a.distribution_arg << "\"\n";
+    return kExitInvalid;
+  }
+  if (a.seed_opt->count() == 0) so.seed = draw_seed();
+  fg::Planner& planner = planner_instance();
+  const char* field = nullptr;
+  if (planner.configure(cfg, &field) != fg::Status::ok) {
+    std::cerr << "forcegrasp sim: configuration value out of range: " << (field ? field : "?") << "\n";
+    return kExitInvalid;
+  }
+  const nlohmann::json report = run_sim(so, cfg, planner);
+  if (!so.json_path.empty()) {
+    std::ofstream f(so.json_path);
+    f << report.dump(1) << "\n";
+    if (!f) {
+      std::cerr << "forcegrasp sim: cannot write " << so.json_path << "\n";
+      return kExitInternal;
+    }
+  }
+  const nlohmann::json& all = report["table"].back();
+  if (a.min_rate >= 0.0 && all["rate"].get<double>() < a.min_rate) return 4;
+  return 0;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
-  using namespace fg::host;
   try {
     CLI::App app{"forcegrasp: force-balance grasp planning from partial point clouds"};
     app.require_subcommand(1);
-    PlanOptions po;
-    bool json_out = false;
-    CLI::App* plan = app.add_subcommand("plan", "plan a grasp on a scene manifest");
-    plan->add_option("scene", po.scene_path, "scene.json (spec/scene-and-cli.md)")->required();
-    plan->add_flag("--json", json_out, "print the JSON report of the contract");
-    plan->add_option("--pictures", po.pictures_dir, "write SVG pictures of the stages to this folder");
-    plan->add_option("--config", po.config_path, "JSON file of planner options");
-    plan->add_option("--set", po.sets, "override one option: name=value (repeatable)");
-    CLI::App* sim_cmd =
-        app.add_subcommand("sim", "run the whole grasp task on simulated hardware over objects and seeded poses");
-    SimOptions so;
-    std::string kinds_arg = "all";
-    std::string sim_config;
-    std::vector<std::string> sim_sets;
-    double min_rate = -1.0;
-    bool quiet = false;
-    sim_cmd->add_option(
-        "--objects", kinds_arg, "comma-separated object kinds, or all, primitives, meshes (" + [] {
-          std::string k;
-          for (const auto* list : {&fg::sim::all_kinds(), &fg::sim::mesh_kinds()})
-            for (const fg::sim::ObjectKind kind : *list)
-              k += (k.empty() ? "" : ",") + std::string(fg::sim::kind_name(kind));
-          return k;
-        }() + ")");
-    sim_cmd->add_option("--trials", so.trials,
-                        "number of trials (default 20 per object kind); trial i: kind i % kinds");
-    CLI::Option* seed_opt = sim_cmd->add_option(
-        "--seed", so.seed, "seed of the first trial (trial i uses seed + i); without it a seed is drawn and printed");
-    std::string distribution_arg = "cell";
-    sim_cmd
-        ->add_option("--distribution", distribution_arg,
-                     "cell: scenes as a user's robot cell shows them (the default); classic: the project's own "
-                     "spread, which the tests' pinned seeds use")
-        ->check(CLI::IsMember({"cell", "classic"}));
-    sim_cmd->add_option("--mu", so.mu, "friction coefficient of the judge");
-    sim_cmd->add_option("--second-object-rate", so.second_object_rate, "classic: share of scenes with a second object");
-    sim_cmd->add_option("--pictures", so.pictures_dir, "write SVG pictures of each trial's plan to DIR/<kind>-<seed>");
-    sim_cmd->add_option("--export", so.export_dir,
-                        "write each trial's scene (scene.json, PCD, truth.json) to DIR/<kind>-<seed>");
-    sim_cmd->add_option("--json", so.json_path, "write every trial and the table as JSON to this file");
-    sim_cmd->add_option("--config", sim_config, "JSON file of planner options");
-    sim_cmd->add_option("--set", sim_sets, "override one planner option: name=value (repeatable)");
-    sim_cmd->add_option("--min-rate", min_rate, "exit 4 when the overall success rate is below this (0..1)");
-    sim_cmd->add_flag("--quiet", quiet, "no progress line");
+    PlanArgs plan;
+    add_plan_command(app, plan);
+    SimArgs sim;
+    add_sim_command(app, sim);
     CLI::App* config =
         app.add_subcommand("config", "print every planner option with its default, as a --config JSON file");
     try {
       app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
-      const int rc = app.exit(e);
-      if (rc == 0) return 0;  // --help
-      // A command-line error is invalid input too: with --json, stdout still carries
-      // the one JSON object of the contract.
-      for (int i = 1; i < argc; ++i)
-        if (std::string(argv[i]) == "--json") {
-          const nlohmann::json j{{"status", "invalid_input"}, {"error", std::string("command line: ") + e.what()}};
-          std::cout << j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) << "\n";
-          break;
-        }
-      return kExitInvalid;
+      return report_parse_error(app, e, argc, argv);
     }
-    if (plan->parsed()) {
-      const PlanOutcome o = run_plan(po);
-      if (json_out)
-        std::cout << o.report.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) << "\n";
-      else
-        std::cout << human_summary(o.report);
-      return o.exit_code;
-    }
-    if (sim_cmd->parsed()) {
-      std::string err;
-      fg::PlannerConfig cfg;
-      if (!apply_options(cfg, sim_config, sim_sets, err)) {
-        std::cerr << "forcegrasp sim: " << err << "\n";
-        return kExitInvalid;
-      }
-      if (kinds_arg == "all") {
-        for (const auto* list : {&fg::sim::all_kinds(), &fg::sim::mesh_kinds()})
-          for (const fg::sim::ObjectKind kind : *list) so.kinds.push_back(fg::sim::kind_name(kind));
-      } else if (kinds_arg == "primitives" || kinds_arg == "meshes") {
-        for (const fg::sim::ObjectKind kind : kinds_arg == "meshes" ? fg::sim::mesh_kinds() : fg::sim::all_kinds())
-          so.kinds.push_back(fg::sim::kind_name(kind));
-      } else {
-        std::string k;
-        std::istringstream in(kinds_arg);
-        while (std::getline(in, k, ',')) {
-          fg::sim::ObjectKind kind;
-          if (!fg::sim::kind_from_name(k, kind)) {
-            std::cerr << "forcegrasp sim: unknown object kind \"" << k << "\"\n";
-            return kExitInvalid;
-          }
-          so.kinds.push_back(k);
-        }
-      }
-      if (so.kinds.empty()) {
-        std::cerr << "forcegrasp sim: no object kinds\n";
-        return kExitInvalid;
-      }
-      so.progress = !quiet;
-      fg::sim::distribution_from_name(distribution_arg, so.distribution);
-      if (seed_opt->count() == 0) {
-        // A fresh sample each run; the seed is printed so that --seed repeats it. Twelve
-        // digits at most: easy to retype, and seed + i stays exact in JSON readers' doubles.
-        std::random_device entropy;
-        const uint64_t drawn = (static_cast<uint64_t>(entropy()) << 32) ^ entropy() ^
-                               static_cast<uint64_t>(std::chrono::steady_clock::now().time_since_epoch().count());
-        so.seed = drawn % 1000000000000ull;
-      }
-      fg::Planner& planner = planner_instance();
-      const char* field = nullptr;
-      if (planner.configure(cfg, &field) != fg::Status::ok) {
-        std::cerr << "forcegrasp sim: configuration value out of range: " << (field ? field : "?") << "\n";
-        return kExitInvalid;
-      }
-      const nlohmann::json report = run_sim(so, cfg, planner);
-      if (!so.json_path.empty()) {
-        std::ofstream f(so.json_path);
-        f << report.dump(1) << "\n";
-        if (!f) {
-          std::cerr << "forcegrasp sim: cannot write " << so.json_path << "\n";
-          return kExitInternal;
-        }
-      }
-      const nlohmann::json& all = report["table"].back();
-      if (min_rate >= 0.0 && all["rate"].get<double>() < min_rate) return 4;
-      return 0;
-    }
+    if (plan.cmd->parsed()) return run_plan_command(plan);
+    if (sim.cmd->parsed()) return run_sim_command(sim);
     if (config->parsed()) {
       std::cout << default_config_json().dump(1) << "\n";
       return 0;

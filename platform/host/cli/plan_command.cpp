@@ -55,181 +55,246 @@ bool apply_options(PlannerConfig& cfg, const std::string& config_path, const std
   return true;
 }
 
+namespace {
+
+//! Reads the scene, takes its gripper, applies the options and configures the planner;
+//! false with err set.
+[[nodiscard]] bool read_and_configure(const PlanOptions& opts, Scene& scene, PlannerConfig& cfg, std::string& err) {
+  if (ReadResult r = read_scene(opts.scene_path, scene); !r.ok) {
+    err = r.error;
+    return false;
+  }
+  cfg.gripper.max_opening_m = static_cast<float>(scene.gripper.max_opening);
+  cfg.gripper.finger_width_m = static_cast<float>(scene.gripper.finger_width);
+  cfg.gripper.finger_depth_m = static_cast<float>(scene.gripper.finger_depth);
+  if (!apply_options(cfg, opts.config_path, opts.sets, err)) return false;
+  const char* field = nullptr;
+  if (planner_instance().configure(cfg, &field) != Status::ok) {
+    err = std::string("configuration value out of range: ") + (field ? field : "?");
+    return false;
+  }
+  return true;
+}
+
+//! A sensor's world pose: given, or the arm's joints through the UR5's forward
+//! kinematics and the hand-eye transform; false when the joints are not finite.
+[[nodiscard]] bool sensor_pose(const SceneSensor& s, Pose& pose) {
+  if (s.pose) {
+    pose = to_pose(*s.pose);
+    return true;
+  }
+  float q[6];
+  for (int j = 0; j < 6; ++j) q[j] = static_cast<float>((*s.joints)[j]);
+  Pose tool0;
+  if (!robot::ur5_forward(robot::ur5_nominal(), q, tool0)) return false;
+  const Pose he = s.hand_eye ? to_pose(*s.hand_eye) : robot::default_hand_eye();
+  pose.R = tool0.R * he.R;
+  pose.t = tool0.R * he.t + tool0.t;
+  return true;
+}
+
+//! Adds one decoded cloud to the planner: "" or the error.
+[[nodiscard]] std::string add_cloud(Planner& planner, const SceneSensor& s, const PointCloud& c, const Pose& pose) {
+  const SensorRole role = s.name == "head" ? SensorRole::head : SensorRole::hand;
+  const uint64_t points = c.size();  // (a size_t of 32 bits cannot exceed the bound)
+  if (points > 0xFFFFFFFFull) return s.cloud_path + ": too many points";
+  const uint32_t n = static_cast<uint32_t>(c.size());
+  const Status st =
+      c.planar() ? planner.add_points_planar(role, c.planar_array(0), c.planar_array(1), c.planar_array(2), n, pose)
+                 : planner.add_points(role, c.xyz.data(), n, 3 * sizeof(float), pose);
+  if (st != Status::ok) return s.cloud_path + ": " + planner.last_message() + " (" + to_string(st) + ")";
+  return std::string();
+}
+
+//! Reads every sensor's cloud and adds it to the planner; false with err set. t_plan:
+//! when the last cloud was decoded (the end of process_read).
+//!
+//! The clouds are decoded on threads of their own, all at once, and each is added to
+//! the planner as soon as it and the clouds before it are read: the first cloud's
+//! ingest overlaps the decoding of the next. The outcome is the one of reading every
+//! cloud first: a file or pose error of any sensor is reported before an error the
+//! planner gave for an earlier sensor's points (which then waits in add_error).
+[[nodiscard]] bool read_and_add_clouds(const PlanOptions& opts, const Scene& scene, Planner& planner,
+                                       uint64_t t_process, uint64_t& t_plan, std::string& err) {
+  const size_t n_sensors = scene.sensors.size();
+  std::vector<PointCloud> clouds(n_sensors);
+  std::vector<uint64_t> read_done_us(n_sensors, t_process);
+  std::vector<std::future<ReadResult>> reads;
+  reads.reserve(n_sensors);
+  for (size_t i = 0; i < n_sensors; ++i)
+    reads.push_back(std::async(std::launch::async, [&clouds, &read_done_us, &scene, i] {
+      ReadLimits limits;
+      limits.planar = true;  // binary_compressed x, y, z go to the planner as decompressed
+      ReadResult r = read_cloud(scene.sensors[i].cloud_path, clouds[i], limits);
+      read_done_us[i] = platform::monotonic_us();
+      return r;
+    }));
+  // Every thread is joined before `clouds` goes out of scope, whichever way we leave.
+  struct JoinAll {
+    std::vector<std::future<ReadResult>>& f;
+    ~JoinAll() {
+      for (auto& r : f)
+        if (r.valid()) r.wait();
+    }
+  } join_all{reads};
+  std::string add_error;
+  for (size_t i = 0; i < n_sensors; ++i) {
+    const SceneSensor& s = scene.sensors[i];
+    if (ReadResult r = reads[i].get(); !r.ok) {
+      err = r.error;
+      return false;
+    }
+    Pose pose;
+    if (!sensor_pose(s, pose)) {
+      err = opts.scene_path + ": sensor \"" + s.name + "\" joints are not finite";
+      return false;
+    }
+    if (!add_error.empty()) continue;  // only the later sensors' file errors matter now
+    add_error = add_cloud(planner, s, clouds[i], pose);
+    clouds[i] = PointCloud{};  // its memory is no longer needed
+  }
+  if (!add_error.empty()) {
+    err = add_error;
+    return false;
+  }
+  // process_read ends when the last cloud is decoded; process_plan is the rest, with
+  // whatever ingest of earlier clouds was still running then.
+  t_plan = t_process;
+  for (uint64_t t : read_done_us) t_plan = std::max(t_plan, t);
+  return true;
+}
+
+//! The robot's check (robot/ur5_grasp_check.hpp): the whole tool against the plane and
+//! the target always; inverse kinematics when the scene names the arm's joints.
+robot::Ur5GraspCheck& grasp_check_for(const PlannerConfig& cfg, const Scene& scene,
+                                      robot::GraspCheckConfig& check_cfg) {
+  static robot::Ur5GraspCheck check;  // 64 KiB of scratch: one per process
+  check_cfg.tool.gripper = cfg.gripper;
+  check_cfg.check_reach = false;
+  for (const SceneSensor& s : scene.sensors) check_cfg.check_reach = check_cfg.check_reach || s.joints.has_value();
+  check.configure(check_cfg);
+  for (const SceneSensor& s : scene.sensors)
+    if (s.joints) check.set_current_joints(s.joints->data());
+  return check;
+}
+
+//! The report of a grasp: its pose and figures, every check it passed with its margin,
+//! and the arm's joints when the robot's reach was checked.
+void report_grasp(json& j, const PlanResult& res, const PlannerConfig& cfg, const robot::GraspCheckConfig& check_cfg,
+                  const robot::Ur5GraspCheck& check) {
+  const Grasp& g = res.grasp;
+  j["grasp"] = json{{"position", vec(g.position)},
+                    {"approach", vec(g.approach)},
+                    {"closing", vec(g.closing)},
+                    {"width", g.width},
+                    {"beta", g.beta},
+                    {"dz", g.dz},
+                    {"viewpoint", g.viewpoint},
+                    {"family", to_string(g.family)},
+                    {"pregrasp", vec(g.pregrasp)}};
+  // Every check the grasp passed, with its margin in the check's unit (null where
+  // the check measures none or does not apply; the robot's only with its checks on).
+  json checks = json::object();
+  for (uint32_t k = 0; k < kCheckCount; ++k) {
+    const CheckId id = static_cast<CheckId>(k);
+    if (!cfg.executability_checks || (id == CheckId::robot_reach && !check_cfg.check_reach)) continue;
+    const float m = res.margins[id];
+    checks[to_string(id)] = json{{"margin", std::isfinite(m) ? json(m) : json(nullptr)}, {"unit", margin_unit(id)}};
+  }
+  j["grasp"]["checks"] = checks;
+  if (check_cfg.check_reach && check.has_motion()) {
+    const robot::GraspMotion& m = check.motion();
+    const auto q = [](const double* v) { return json(std::vector<double>(v, v + 6)); };
+    j["joints"] = json{{"pregrasp", q(m.pregrasp)}, {"grasp", q(m.grasp)}, {"lift", q(m.lift)}};
+  }
+}
+
+//! The points, the crop box, the stages' times and the search's counts.
+void report_figures(json& j, const PlanResult& res, uint64_t t_process, uint64_t t_plan, uint64_t t_done) {
+  j["points"] = json{{"input", res.points.input},
+                     {"after_filter", res.points.after_filter},
+                     {"voxels", res.points.voxels},
+                     {"plane", res.points.plane},
+                     {"object", res.points.object}};
+  // The crop box the grid was built in: the configured one, or the smaller one about
+  // the workspace centre a cloud too large for the voxel grid left (docs/method.md A).
+  j["crop"] = json{{"min", json::array({res.crop.min_x, res.crop.min_y})},
+                   {"max", json::array({res.crop.max_x, res.crop.max_y})},
+                   {"shrinks", res.crop.shrinks},
+                   {"points_dropped", res.crop.points_dropped}};
+  json timing = json::object();
+  timing["total"] = res.stage_us[static_cast<int>(Stage::total)];
+  for (int s = 0; s < static_cast<int>(Stage::total); ++s) timing[to_string(static_cast<Stage>(s))] = res.stage_us[s];
+  timing["process_plan"] = t_done - t_plan;
+  timing["process_read"] = t_plan - t_process;
+  j["timing_us"] = timing;
+  j["search"] = json{{"viewpoints", res.viewpoints},
+                     {"candidates", res.candidates},
+                     {"rejected",
+                      {{"table", res.rejected.table},
+                       {"collision", res.rejected.collision},
+                       {"unreachable", res.rejected.unreachable},
+                       {"friction", res.rejected.friction},
+                       {"occluded", res.rejected.occluded}}}};
+  json by_check = json::object();
+  for (uint32_t k = 0; k < kCheckCount; ++k)
+    by_check[to_string(static_cast<CheckId>(k))] = res.rejected_by_check.by_check[k];
+  j["search"]["rejected_by_check"] = by_check;
+}
+
+//! The whole command, which may throw.
+PlanOutcome plan_scene(const PlanOptions& opts) {
+  const uint64_t t_process = platform::monotonic_us();
+  PlannerConfig cfg;
+  Scene scene;
+  std::string err;
+  if (!read_and_configure(opts, scene, cfg, err)) return invalid(err);
+  Planner& planner = planner_instance();
+  uint64_t t_plan = t_process;
+  if (!read_and_add_clouds(opts, scene, planner, t_process, t_plan, err)) return invalid(err);
+  robot::GraspCheckConfig check_cfg;
+  robot::Ur5GraspCheck& check = grasp_check_for(cfg, scene, check_cfg);
+  planner.set_grasp_check(cfg.executability_checks ? &check : nullptr);
+  PlanResult res;
+  const Status st = planner.plan(res);
+  planner.set_grasp_check(nullptr);
+  const uint64_t t_done = platform::monotonic_us();
+
+  PlanOutcome o;
+  json& j = o.report;
+  if (st == Status::ok) {
+    o.exit_code = kExitOk;
+    j["status"] = "ok";
+    report_grasp(j, res, cfg, check_cfg, check);
+  } else if (st == Status::no_grasp) {
+    o.exit_code = kExitNoGrasp;
+    j["status"] = "no_grasp";
+    j["reason"] = to_string(res.reason);
+    j["message"] = res.message;
+  } else if (st == Status::internal_error || st == Status::numeric_failure) {
+    o.exit_code = kExitInternal;
+    j["status"] = "internal_error";
+    j["error"] = res.message;
+  } else {
+    return invalid(opts.scene_path + ": " + res.message + " (" + to_string(st) + ")");
+  }
+  report_figures(j, res, t_process, t_plan, t_done);
+  if (planner.plane_found()) j["support_plane"] = json{{"normal", vec(planner.plane().n)}, {"d", planner.plane().d}};
+  if (!opts.pictures_dir.empty()) {
+    std::string perr;
+    if (!write_pictures(planner, res, opts.pictures_dir, perr))
+      j["pictures_error"] = perr;
+    else
+      j["pictures"] = opts.pictures_dir;
+  }
+  return o;
+}
+
+}  // namespace
+
 PlanOutcome run_plan(const PlanOptions& opts) {
   try {
-    const uint64_t t_process = platform::monotonic_us();
-    PlannerConfig cfg;
-    Scene scene;
-    if (ReadResult r = read_scene(opts.scene_path, scene); !r.ok) return invalid(r.error);
-    cfg.gripper.max_opening_m = static_cast<float>(scene.gripper.max_opening);
-    cfg.gripper.finger_width_m = static_cast<float>(scene.gripper.finger_width);
-    cfg.gripper.finger_depth_m = static_cast<float>(scene.gripper.finger_depth);
-    std::string err;
-    if (!apply_options(cfg, opts.config_path, opts.sets, err)) return invalid(err);
-    Planner& planner = planner_instance();
-    const char* field = nullptr;
-    if (planner.configure(cfg, &field) != Status::ok)
-      return invalid(std::string("configuration value out of range: ") + (field ? field : "?"));
-
-    // The clouds are decoded on threads of their own, all at once, and each is added to
-    // the planner as soon as it and the clouds before it are read: the first cloud's
-    // ingest overlaps the decoding of the next. The outcome is the one of reading every
-    // cloud first: a file or pose error of any sensor is reported before an error the
-    // planner gave for an earlier sensor's points (which then waits in add_error).
-    const size_t n_sensors = scene.sensors.size();
-    std::vector<PointCloud> clouds(n_sensors);
-    std::vector<uint64_t> read_done_us(n_sensors, t_process);
-    std::vector<std::future<ReadResult>> reads;
-    reads.reserve(n_sensors);
-    for (size_t i = 0; i < n_sensors; ++i)
-      reads.push_back(std::async(std::launch::async, [&clouds, &read_done_us, &scene, i] {
-        ReadLimits limits;
-        limits.planar = true;  // binary_compressed x, y, z go to the planner as decompressed
-        ReadResult r = read_cloud(scene.sensors[i].cloud_path, clouds[i], limits);
-        read_done_us[i] = platform::monotonic_us();
-        return r;
-      }));
-    // Every thread is joined before `clouds` goes out of scope, whichever way we leave.
-    struct JoinAll {
-      std::vector<std::future<ReadResult>>& f;
-      ~JoinAll() {
-        for (auto& r : f)
-          if (r.valid()) r.wait();
-      }
-    } join_all{reads};
-    std::string add_error;
-    for (size_t i = 0; i < n_sensors; ++i) {
-      const SceneSensor& s = scene.sensors[i];
-      if (ReadResult r = reads[i].get(); !r.ok) return invalid(r.error);
-      Pose pose;
-      if (s.pose) {
-        pose = to_pose(*s.pose);
-      } else {
-        float q[6];
-        for (int j = 0; j < 6; ++j) q[j] = static_cast<float>((*s.joints)[j]);
-        Pose tool0;
-        if (!robot::ur5_forward(robot::ur5_nominal(), q, tool0))
-          return invalid(opts.scene_path + ": sensor \"" + s.name + "\" joints are not finite");
-        const Pose he = s.hand_eye ? to_pose(*s.hand_eye) : robot::default_hand_eye();
-        pose.R = tool0.R * he.R;
-        pose.t = tool0.R * he.t + tool0.t;
-      }
-      if (!add_error.empty()) continue;  // only the later sensors' file errors matter now
-      const SensorRole role = s.name == "head" ? SensorRole::head : SensorRole::hand;
-      const PointCloud& c = clouds[i];
-      const uint64_t points = c.size();  // (a size_t of 32 bits cannot exceed the bound)
-      if (points > 0xFFFFFFFFull) {
-        add_error = s.cloud_path + ": too many points";
-        continue;
-      }
-      const uint32_t n = static_cast<uint32_t>(c.size());
-      const Status st =
-          c.planar() ? planner.add_points_planar(role, c.planar_array(0), c.planar_array(1), c.planar_array(2), n, pose)
-                     : planner.add_points(role, c.xyz.data(), n, 3 * sizeof(float), pose);
-      if (st != Status::ok) add_error = s.cloud_path + ": " + planner.last_message() + " (" + to_string(st) + ")";
-      clouds[i] = PointCloud{};  // its memory is no longer needed
-    }
-    if (!add_error.empty()) return invalid(add_error);
-    // process_read ends when the last cloud is decoded; process_plan is the rest, with
-    // whatever ingest of earlier clouds was still running then.
-    uint64_t t_plan = t_process;
-    for (uint64_t t : read_done_us) t_plan = std::max(t_plan, t);
-    // The robot's check (robot/ur5_grasp_check.hpp): the whole tool against the plane and
-    // the target always; inverse kinematics when the scene names the arm's joints.
-    static robot::Ur5GraspCheck check;  // 64 KiB of scratch: one per process
-    robot::GraspCheckConfig check_cfg;
-    check_cfg.tool.gripper = cfg.gripper;
-    check_cfg.check_reach = false;
-    for (const SceneSensor& s : scene.sensors) check_cfg.check_reach = check_cfg.check_reach || s.joints.has_value();
-    check.configure(check_cfg);
-    for (const SceneSensor& s : scene.sensors)
-      if (s.joints) check.set_current_joints(s.joints->data());
-    planner.set_grasp_check(cfg.executability_checks ? &check : nullptr);
-    PlanResult res;
-    const Status st = planner.plan(res);
-    planner.set_grasp_check(nullptr);
-    const uint64_t t_done = platform::monotonic_us();
-
-    PlanOutcome o;
-    json& j = o.report;
-    if (st == Status::ok) {
-      o.exit_code = kExitOk;
-      j["status"] = "ok";
-      const Grasp& g = res.grasp;
-      j["grasp"] = json{{"position", vec(g.position)},
-                        {"approach", vec(g.approach)},
-                        {"closing", vec(g.closing)},
-                        {"width", g.width},
-                        {"beta", g.beta},
-                        {"dz", g.dz},
-                        {"viewpoint", g.viewpoint},
-                        {"family", to_string(g.family)},
-                        {"pregrasp", vec(g.pregrasp)}};
-      // Every check the grasp passed, with its margin in the check's unit (null where
-      // the check measures none or does not apply; the robot's only with its checks on).
-      json checks = json::object();
-      for (uint32_t k = 0; k < kCheckCount; ++k) {
-        const CheckId id = static_cast<CheckId>(k);
-        if (!cfg.executability_checks || (id == CheckId::robot_reach && !check_cfg.check_reach)) continue;
-        const float m = res.margins[id];
-        checks[to_string(id)] = json{{"margin", std::isfinite(m) ? json(m) : json(nullptr)}, {"unit", margin_unit(id)}};
-      }
-      j["grasp"]["checks"] = checks;
-      if (check_cfg.check_reach && check.has_motion()) {
-        const robot::GraspMotion& m = check.motion();
-        const auto q = [](const double* v) { return json(std::vector<double>(v, v + 6)); };
-        j["joints"] = json{{"pregrasp", q(m.pregrasp)}, {"grasp", q(m.grasp)}, {"lift", q(m.lift)}};
-      }
-    } else if (st == Status::no_grasp) {
-      o.exit_code = kExitNoGrasp;
-      j["status"] = "no_grasp";
-      j["reason"] = to_string(res.reason);
-      j["message"] = res.message;
-    } else if (st == Status::internal_error || st == Status::numeric_failure) {
-      o.exit_code = kExitInternal;
-      j["status"] = "internal_error";
-      j["error"] = res.message;
-    } else {
-      return invalid(opts.scene_path + ": " + res.message + " (" + to_string(st) + ")");
-    }
-    j["points"] = json{{"input", res.points.input},
-                       {"after_filter", res.points.after_filter},
-                       {"voxels", res.points.voxels},
-                       {"plane", res.points.plane},
-                       {"object", res.points.object}};
-    // The crop box the grid was built in: the configured one, or the smaller one about
-    // the workspace centre a cloud too large for the voxel grid left (docs/method.md A).
-    j["crop"] = json{{"min", json::array({res.crop.min_x, res.crop.min_y})},
-                     {"max", json::array({res.crop.max_x, res.crop.max_y})},
-                     {"shrinks", res.crop.shrinks},
-                     {"points_dropped", res.crop.points_dropped}};
-    json timing = json::object();
-    timing["total"] = res.stage_us[static_cast<int>(Stage::total)];
-    for (int s = 0; s < static_cast<int>(Stage::total); ++s) timing[to_string(static_cast<Stage>(s))] = res.stage_us[s];
-    timing["process_plan"] = t_done - t_plan;
-    timing["process_read"] = t_plan - t_process;
-    j["timing_us"] = timing;
-    j["search"] = json{{"viewpoints", res.viewpoints},
-                       {"candidates", res.candidates},
-                       {"rejected",
-                        {{"table", res.rejected.table},
-                         {"collision", res.rejected.collision},
-                         {"unreachable", res.rejected.unreachable},
-                         {"friction", res.rejected.friction},
-                         {"occluded", res.rejected.occluded}}}};
-    json by_check = json::object();
-    for (uint32_t k = 0; k < kCheckCount; ++k)
-      by_check[to_string(static_cast<CheckId>(k))] = res.rejected_by_check.by_check[k];
-    j["search"]["rejected_by_check"] = by_check;
-    if (planner.plane_found()) j["support_plane"] = json{{"normal", vec(planner.plane().n)}, {"d", planner.plane().d}};
-    if (!opts.pictures_dir.empty()) {
-      std::string perr;
-      if (!write_pictures(planner, res, opts.pictures_dir, perr))
-        j["pictures_error"] = perr;
-      else
-        j["pictures"] = opts.pictures_dir;
-    }
-    return o;
+    return plan_scene(opts);
   } catch (const std::exception& e) {
     PlanOutcome o;
     o.exit_code = kExitInternal;

@@ -25,14 +25,14 @@ struct PlanOutcome {
 };
 
 //! The whole command; never throws (internal errors become exit code 1).
-PlanOutcome run_plan(const PlanOptions& opts);
+[[nodiscard]] PlanOutcome run_plan(const PlanOptions& opts);
 
 //! The planner is large (a few MiB): one instance per process, created on first use.
 Planner& planner_instance();
 
 //! Applies a --config file, then the --set name=value overrides; false with err set.
-bool apply_options(PlannerConfig& cfg, const std::string& config_path, const std::vector<std::string>& sets,
-                   std::string& err);
+[[nodiscard]] bool apply_options(PlannerConfig& cfg, const std::string& config_path,
+                                 const std::vector<std::string>& sets, std::string& err);
 
 //! The short human summary printed without --json.
 std::string human_summary(const nlohmann::json& report);

@@ -38,11 +38,15 @@ constexpr uint32_t kPathSampleTicks = 10;  // the open gripper is judged every 1
 // Joints that put the wrist camera where the scene's hand camera is (turned about its
 // optical axis if need be: the view is the same, the arm's reach is not), nearest home;
 // home when the arm cannot get it there.
-bool capture_joints(const Rigid& world_T_camera, const Rigid& tool0_T_camera, double q[6]) {
+[[nodiscard]] bool capture_joints(const Rigid& world_T_camera, const Rigid& tool0_T_camera, double q[6]) {
   for (int i = 0; i < 6; ++i) q[i] = kHome[i];
   constexpr int kRolls = 12;
   for (int r = 0; r < kRolls; ++r) {
-    const double roll = (r % 2 == 0 ? 1.0 : -1.0) * ((r + 1) / 2) * (2.0 * 3.14159265358979 / kRolls);
+    // Rolls of 0, -30, +30, -60, +60, ... -180 deg: the nearest first. (The digits of pi
+    // written here are those the pinned seeds' scenes were made with: fg::kPi differs
+    // in the last bits, and so would the joints.)
+    const int steps = (r + 1) / 2;
+    const double roll = (r % 2 == 0 ? 1.0 : -1.0) * steps * (2.0 * 3.14159265358979 / kRolls);
     const Rigid tool0 = world_T_camera * Rigid::rot_z(roll) * tool0_T_camera.inverse();
     robot::PoseD target;
     target.R = tool0.R;
@@ -58,8 +62,8 @@ bool capture_joints(const Rigid& world_T_camera, const Rigid& tool0_T_camera, do
 }
 
 // The open gripper at tool0 (pads tcp_offset ahead): "" when clear of table and objects.
-std::string open_pose_hit(const sim::World& world, int target, const Rigid& world_T_tool0, float tcp_offset,
-                          const GripperGeometry& g) {
+[[nodiscard]] std::string open_pose_hit(const sim::World& world, int target, const Rigid& world_T_tool0,
+                                        float tcp_offset, const GripperGeometry& g) {
   sim::Grasp probe;
   probe.position = sim::to_vec3(world_T_tool0.apply(V3(0, 0, tcp_offset)));
   probe.approach = sim::to_vec3(world_T_tool0.R.col(2));
@@ -73,6 +77,176 @@ std::string fmt_ms(double ms) {
   return b;
 }
 
+//! The trial's scene. cell: the wrist camera only where the arm can put it.
+sim::GeneratedScene make_trial_scene(sim::ObjectKind kind, uint64_t seed, const SimOptions& opt,
+                                     const PlannerConfig& cfg, const Rigid& tool0_T_camera) {
+  sim::SceneOptions so = sim::SceneOptions::of(opt.distribution);
+  so.gripper = cfg.gripper;
+  so.second_object_rate = opt.second_object_rate;
+  const sim::WristPoseTest reachable = [&tool0_T_camera](const Rigid& world_T_camera) {
+    double q[6];
+    return capture_joints(world_T_camera, tool0_T_camera, q);
+  };
+  return sim::make_scene(kind, seed, so, reachable);
+}
+
+sim::SimGripperConfig gripper_config(const GripperGeometry& geometry) {
+  sim::SimGripperConfig gc;
+  gc.geometry = geometry;
+  gc.initial_width_m = geometry.max_opening_m;
+  return gc;
+}
+
+sim::SimDepthSensorConfig camera_config(const sim::GeneratedScene& scene, const sim::Camera& camera,
+                                        uint64_t noise_seed) {
+  sim::SimDepthSensorConfig c;
+  c.K = camera.K;
+  c.noise = scene.noise;
+  c.seed = noise_seed;
+  return c;
+}
+
+//! The hardware of one trial: the head camera on its mount, the wrist camera on a UR5
+//! that follows joint commands (starting at q0), a 2F-85-class gripper closing on the
+//! true geometry. Built in place: its parts hold pointers to each other.
+struct TrialHardware {
+  TrialHardware(const sim::GeneratedScene& scene, const double q0[6], float tcp_offset_m, const Rigid& tool0_T_camera,
+                const GripperGeometry& geometry)
+      : arm(q0, sim::SimArmConfig{}, &clock),
+        contact(scene.world, sim::mounted_on_tool0(arm, Rigid::translation(V3(0, 0, tcp_offset_m))), geometry),
+        gripper(gripper_config(geometry), &contact),
+        head(
+            scene.world, clock, [pose = scene.head.world_T_sensor] { return pose; },
+            camera_config(scene, scene.head, scene.head_noise_seed)),
+        hand(scene.world, clock, sim::mounted_on_tool0(arm, tool0_T_camera),
+             camera_config(scene, scene.hand, scene.hand_noise_seed)) {}
+
+  sim::SimClock clock;
+  sim::SimArm arm;
+  sim::SdfContactModel contact;
+  sim::SimGripper gripper;
+  sim::SimDepthSensor head, hand;
+  const task::TaskHal hal{clock, &head, &hand, arm, gripper};
+};
+
+//! What running the task left besides the task's own state.
+struct TaskRun {
+  uint32_t ticks = 0;
+  double plan_wall_ms = 0.0;  // the plan step's wall time
+  std::string way_in_hit;     // the open gripper's first collision on the way in, "" if none
+};
+
+//! The task, one step per tick; the open gripper judged on the way in.
+TaskRun run_task(task::GraspTask& grasp_task, const task::TaskConfig& tc, TrialHardware& hw,
+                 const sim::GeneratedScene& scene, Planner& planner, const GripperGeometry& geometry) {
+  if (grasp_task.start(tc) != Status::ok) throw std::logic_error("the sim task configuration was refused");
+  TaskRun run;
+  uint32_t tick = 0;
+  for (; tick < kMaxTicks; ++tick) {
+    const task::TaskState before = grasp_task.state();
+    const auto t0 = std::chrono::steady_clock::now();
+    const task::TaskState s = grasp_task.step(planner, hw.hal);
+    if (before == task::TaskState::planning)
+      run.plan_wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    if (s == task::TaskState::succeeded || s == task::TaskState::failed) break;
+    hw.clock.advance_us(kTickUs);
+    hw.arm.tick(kTickUs * 1e-6);
+    hw.gripper.tick(kTickUs * 1e-6);
+    const bool way_in = s == task::TaskState::to_pregrasp || s == task::TaskState::approaching;
+    if (way_in && run.way_in_hit.empty() && tick % kPathSampleTicks == 0) {
+      const std::string hit =
+          open_pose_hit(scene.world, scene.target, hw.arm.world_T_tool0(), tc.tcp_offset_m, geometry);
+      if (!hit.empty()) run.way_in_hit = std::string(task::to_string(s)).append(":").append(hit);
+    }
+  }
+  run.ticks = tick;
+  return run;
+}
+
+//! The judge's verdict on the planned grasp, on the true geometry; what it measured is
+//! recorded in out.
+[[nodiscard]] sim::JudgeResult judge_planned_grasp(SimTrial& out, const PlanResult& pr,
+                                                   const sim::GeneratedScene& scene, const PlannerConfig& cfg,
+                                                   const SimOptions& opt) {
+  sim::Grasp g;
+  g.position = pr.grasp.position;
+  g.approach = pr.grasp.approach;
+  g.closing = pr.grasp.closing;
+  g.width = pr.grasp.width;
+  // The criteria of a grasp the task executes: both pads on the target, normals in the
+  // friction cone, no collision, the width within the opening. The reported width is
+  // not one of them (the gripper closes until contact): its error is recorded only.
+  sim::JudgeOptions jo;
+  jo.mu = opt.mu;
+  jo.width_tolerance = std::numeric_limits<double>::infinity();
+  sim::JudgeResult j = sim::judge_grasp(scene.world, scene.target, g, cfg.gripper, jo);
+  if (j.true_width >= 0.f) out.width_error_m = std::fabs(j.true_width - pr.grasp.width);
+  out.has_grasp = true;
+  out.grasp = pr.grasp;
+  out.angle_left = j.angle_left;
+  out.angle_right = j.angle_right;
+  out.true_width = j.true_width;
+  out.contact_left = j.contact_left;
+  out.contact_right = j.contact_right;
+  return j;
+}
+
+//! The verdict on the true geometry: a no_grasp is right on a target that fits nowhere;
+//! a grasp must pass the judge, keep the open gripper clear on the way in and end the
+//! task in success.
+void give_verdict(SimTrial& out, const PlanResult& pr, const sim::GeneratedScene& scene, const PlannerConfig& cfg,
+                  const SimOptions& opt, const TaskRun& run, task::TaskState final_state) {
+  if (pr.status == Status::no_grasp) {
+    out.success = !out.fits;
+    out.verdict = out.fits ? std::string("no_grasp_on_fitting_target:") + out.plan_reason : "success";
+    return;
+  }
+  if (pr.status != Status::ok) {
+    out.verdict = std::string("plan_") + to_string(pr.status);
+    return;
+  }
+  // A grasp on a target the truth says fits nowhere is judged too: that truth takes
+  // the widths of whole parts, and a mesh part may have a thin piece (the blade of
+  // the scissors) a grasp can hold. The judge fails any grasp on a primitive too wide.
+  const sim::JudgeResult j = judge_planned_grasp(out, pr, scene, cfg, opt);
+  if (!j.success) {
+    out.verdict = out.fits ? j.reason : "grasp_on_target_that_fits_nowhere:" + j.reason;
+  } else if (!run.way_in_hit.empty()) {
+    out.verdict = "way_in:" + run.way_in_hit;
+  } else if (final_state != task::TaskState::succeeded) {
+    out.verdict = "task_" + out.task_state;
+  } else {
+    out.verdict = "success";
+    out.success = true;
+  }
+}
+
+//! Pictures of the plan and the scene as the task saw it (the images it captured, from
+//! where it captured them), when asked for; failures are reported on stderr.
+void write_trial_files(const std::string& name, const SimOptions& opt, Planner& planner, const PlanResult& pr,
+                       const sim::GeneratedScene& scene, const TrialHardware& hw) {
+  if (!opt.pictures_dir.empty() && (pr.status == Status::ok || pr.status == Status::no_grasp)) {
+    std::string err;
+    if (!write_pictures(planner, pr, opt.pictures_dir + "/" + name, err))
+      std::cerr << "forcegrasp sim: pictures of " << name << ": " << err << "\n";
+  }
+  if (!opt.export_dir.empty()) {
+    sim::GeneratedScene seen = scene;
+    sim::SceneImages images;
+    if (hw.head.captures() > 0) {
+      seen.head = hw.head.last_camera();
+      images.head = hw.head.last_image();
+    }
+    if (hw.hand.captures() > 0) {
+      seen.hand = hw.hand.last_camera();
+      images.hand = hw.hand.last_image();
+    }
+    if (hw.head.captures() == 0 || hw.hand.captures() == 0) images = sim::render_scene(seen);
+    const ReadResult r = sim::export_scene(seen, images, opt.export_dir + "/" + name);
+    if (!r.ok) std::cerr << "forcegrasp sim: export of " << name << ": " << r.error << "\n";
+  }
+}
+
 }  // namespace
 
 SimTrial run_sim_trial(const std::string& kind_name, uint64_t seed, const SimOptions& opt, const PlannerConfig& cfg,
@@ -84,146 +258,42 @@ SimTrial run_sim_trial(const std::string& kind_name, uint64_t seed, const SimOpt
   if (!sim::kind_from_name(kind_name, kind)) throw std::invalid_argument("unknown object kind: " + kind_name);
   const Pose hand_eye = robot::default_hand_eye();
   const Rigid tool0_T_camera = Rigid::from_pose(hand_eye);
-  sim::SceneOptions so = sim::SceneOptions::of(opt.distribution);
-  so.gripper = cfg.gripper;
-  so.second_object_rate = opt.second_object_rate;
-  // cell: the wrist camera only where the arm can put it.
-  const sim::WristPoseTest reachable = [&tool0_T_camera](const Rigid& world_T_camera) {
-    double q[6];
-    return capture_joints(world_T_camera, tool0_T_camera, q);
-  };
-  const sim::GeneratedScene scene = sim::make_scene(kind, seed, so, reachable);
+  const sim::GeneratedScene scene = make_trial_scene(kind, seed, opt, cfg, tool0_T_camera);
   out.fits = scene.truth.target_fits;
 
-  // The hardware.
   double q0[6];
   out.wrist_view = capture_joints(scene.hand.world_T_sensor, tool0_T_camera, q0);
-  sim::SimClock clock;
-  sim::SimArm arm(q0, sim::SimArmConfig{}, &clock);
   task::TaskConfig tc;
   tc.world_T_head = scene.head.world_T_sensor.to_pose();
   tc.tool0_T_hand = hand_eye;
-  const Rigid tool0_T_grasp = Rigid::translation(V3(0, 0, tc.tcp_offset_m));
-  sim::SdfContactModel contact(scene.world, sim::mounted_on_tool0(arm, tool0_T_grasp), cfg.gripper);
-  sim::SimGripperConfig gc;
-  gc.geometry = cfg.gripper;
-  gc.initial_width_m = cfg.gripper.max_opening_m;
-  sim::SimGripper gripper(gc, &contact);
-  sim::SimDepthSensorConfig head_cfg, hand_cfg;
-  head_cfg.K = scene.head.K;
-  hand_cfg.K = scene.hand.K;
-  head_cfg.noise = hand_cfg.noise = scene.noise;
-  head_cfg.seed = scene.head_noise_seed;
-  hand_cfg.seed = scene.hand_noise_seed;
-  const Rigid head_pose = scene.head.world_T_sensor;
-  sim::SimDepthSensor head(
-      scene.world, clock, [head_pose] { return head_pose; }, head_cfg);
-  sim::SimDepthSensor hand(scene.world, clock, sim::mounted_on_tool0(arm, tool0_T_camera), hand_cfg);
-  const task::TaskHal hal{clock, &head, &hand, arm, gripper};
-
-  // The task, one step per tick; the open gripper judged on the way in.
+  TrialHardware hw(scene, q0, tc.tcp_offset_m, tool0_T_camera, cfg.gripper);
   task::GraspTask grasp_task;
-  if (grasp_task.start(tc) != Status::ok) throw std::logic_error("the sim task configuration was refused");
-  std::string way_in_hit;
-  double plan_wall_ms = 0.0;
-  uint32_t tick = 0;
-  for (; tick < kMaxTicks; ++tick) {
-    const task::TaskState before = grasp_task.state();
-    const auto t0 = std::chrono::steady_clock::now();
-    const task::TaskState s = grasp_task.step(planner, hal);
-    if (before == task::TaskState::planning)
-      plan_wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    if (s == task::TaskState::succeeded || s == task::TaskState::failed) break;
-    clock.advance_us(kTickUs);
-    arm.tick(kTickUs * 1e-6);
-    gripper.tick(kTickUs * 1e-6);
-    const bool way_in = s == task::TaskState::to_pregrasp || s == task::TaskState::approaching;
-    if (way_in && way_in_hit.empty() && tick % kPathSampleTicks == 0) {
-      way_in_hit = open_pose_hit(scene.world, scene.target, arm.world_T_tool0(), tc.tcp_offset_m, cfg.gripper);
-      if (!way_in_hit.empty()) way_in_hit = std::string(task::to_string(s)) + ":" + way_in_hit;
-    }
-  }
-  out.ticks = tick;
-  out.task_s = static_cast<double>(clock.time_us()) * 1e-6;
+  const TaskRun run = run_task(grasp_task, tc, hw, scene, planner, cfg.gripper);
+
+  out.ticks = run.ticks;
+  out.task_s = static_cast<double>(hw.clock.time_us()) * 1e-6;
   const PlanResult& pr = grasp_task.plan_result();
   out.plan_ms = pr.stage_us[static_cast<int>(Stage::total)] > 0 ? pr.stage_us[static_cast<int>(Stage::total)] * 1e-3
-                                                                : plan_wall_ms;
+                                                                : run.plan_wall_ms;
   out.task_state = std::string(task::to_string(grasp_task.state()));
   if (grasp_task.state() == task::TaskState::failed)
     out.task_state += std::string(":") + task::to_string(grasp_task.failure());
   if (pr.status == Status::no_grasp) out.plan_reason = to_string(pr.reason);
-
-  // The verdict on the true geometry.
-  if (pr.status == Status::no_grasp) {
-    out.success = !out.fits;
-    out.verdict = out.fits ? std::string("no_grasp_on_fitting_target:") + out.plan_reason : "success";
-  } else if (pr.status != Status::ok) {
-    out.verdict = std::string("plan_") + to_string(pr.status);
-  } else {
-    // A grasp on a target the truth says fits nowhere is judged too: that truth takes
-    // the widths of whole parts, and a mesh part may have a thin piece (the blade of
-    // the scissors) a grasp can hold. The judge fails any grasp on a primitive too wide.
-    sim::Grasp g;
-    g.position = pr.grasp.position;
-    g.approach = pr.grasp.approach;
-    g.closing = pr.grasp.closing;
-    g.width = pr.grasp.width;
-    // The criteria of a grasp the task executes: both pads on the target, normals in the
-    // friction cone, no collision, the width within the opening. The reported width is
-    // not one of them (the gripper closes until contact): its error is recorded only.
-    sim::JudgeOptions jo;
-    jo.mu = opt.mu;
-    jo.width_tolerance = std::numeric_limits<double>::infinity();
-    const sim::JudgeResult j = sim::judge_grasp(scene.world, scene.target, g, cfg.gripper, jo);
-    if (j.true_width >= 0.f) out.width_error_m = std::fabs(j.true_width - pr.grasp.width);
-    out.has_grasp = true;
-    out.grasp = pr.grasp;
-    out.angle_left = j.angle_left;
-    out.angle_right = j.angle_right;
-    out.true_width = j.true_width;
-    out.contact_left = j.contact_left;
-    out.contact_right = j.contact_right;
-    if (!j.success) {
-      out.verdict = out.fits ? j.reason : "grasp_on_target_that_fits_nowhere:" + j.reason;
-    } else if (!way_in_hit.empty()) {
-      out.verdict = "way_in:" + way_in_hit;
-    } else if (grasp_task.state() != task::TaskState::succeeded) {
-      out.verdict = "task_" + out.task_state;
-    } else {
-      out.verdict = "success";
-      out.success = true;
-    }
-  }
-
-  const std::string name = kind_name + "-" + std::to_string(seed);
-  if (!opt.pictures_dir.empty() && (pr.status == Status::ok || pr.status == Status::no_grasp)) {
-    std::string err;
-    if (!write_pictures(planner, pr, opt.pictures_dir + "/" + name, err))
-      std::cerr << "forcegrasp sim: pictures of " << name << ": " << err << "\n";
-  }
-  if (!opt.export_dir.empty()) {
-    // The scene as the task saw it: the images it captured, from where it captured them.
-    sim::GeneratedScene seen = scene;
-    sim::SceneImages images;
-    if (head.captures() > 0) {
-      seen.head = head.last_camera();
-      images.head = head.last_image();
-    }
-    if (hand.captures() > 0) {
-      seen.hand = hand.last_camera();
-      images.hand = hand.last_image();
-    }
-    if (head.captures() == 0 || hand.captures() == 0) images = sim::render_scene(seen);
-    const ReadResult r = sim::export_scene(seen, images, opt.export_dir + "/" + name);
-    if (!r.ok) std::cerr << "forcegrasp sim: export of " << name << ": " << r.error << "\n";
-  }
+  give_verdict(out, pr, scene, cfg, opt, run, grasp_task.state());
+  write_trial_files(kind_name + "-" + std::to_string(seed), opt, planner, pr, scene, hw);
   return out;
 }
 
-nlohmann::json run_sim(const SimOptions& opt, const PlannerConfig& cfg, Planner& planner) {
-  using nlohmann::json;
+namespace {
+
+using nlohmann::json;
+
+//! Runs every trial: trial i is kind i % kinds, seed + i. A progress line on stderr
+//! (rewritten in place on a terminal, else every 10 trials).
+std::vector<SimTrial> run_trials(const SimOptions& opt, const PlannerConfig& cfg, Planner& planner) {
   const uint32_t n = opt.trials > 0 ? opt.trials : 20u * static_cast<uint32_t>(opt.kinds.size());
   std::vector<SimTrial> trials;
+  trials.reserve(n);
   const bool tty = isatty(STDERR_FILENO) != 0;
   uint32_t ok = 0;
   for (uint32_t i = 0; i < n; ++i) {
@@ -232,99 +302,122 @@ nlohmann::json run_sim(const SimOptions& opt, const PlannerConfig& cfg, Planner&
     ok += trials.back().success ? 1u : 0u;
     if (opt.progress && (tty || (i + 1) % 10 == 0 || i + 1 == n)) {
       std::fprintf(stderr, "%s[%u/%u] %s-%llu %-40.40s  success so far %u/%u (%.1f%%)%s", tty ? "\r" : "", i + 1, n,
-                   kind.c_str(), static_cast<unsigned long long>(opt.seed + i), trials.back().verdict.c_str(), ok,
+                   kind.c_str(), static_cast<unsigned long long>(opt.seed) + i, trials.back().verdict.c_str(), ok,
                    i + 1, 100.0 * ok / (i + 1), tty ? "" : "\n");
       std::fflush(stderr);
     }
   }
   if (opt.progress && tty) std::fprintf(stderr, "\n");
+  return trials;
+}
 
-  // The table: per kind, then all.
-  struct Row {
-    uint32_t trials = 0, success = 0, fits = 0;
-    std::vector<double> plan_ms;
-    std::map<std::string, uint32_t> failures;
-  };
-  std::map<std::string, Row> rows;
-  std::vector<std::string> order;
-  Row all;
-  for (const SimTrial& t : trials) {
-    if (!rows.count(t.kind)) order.push_back(t.kind);
-    for (Row* r : {&rows[t.kind], &all}) {
-      ++r->trials;
-      r->success += t.success ? 1u : 0u;
-      r->fits += t.fits ? 1u : 0u;
-      r->plan_ms.push_back(t.plan_ms);
-      if (!t.success) {
-        const std::string key = t.verdict.substr(0, t.verdict.find(' '));
-        ++r->failures[key];
-      }
+//! A row of the table: one kind's trials, or all of them.
+struct TableRow {
+  uint32_t trials = 0, success = 0, fits = 0;
+  std::vector<double> plan_ms;
+  std::map<std::string, uint32_t> failures;  // by the verdict's first word
+
+  void add(const SimTrial& t) {
+    ++trials;
+    success += t.success ? 1u : 0u;
+    fits += t.fits ? 1u : 0u;
+    plan_ms.push_back(t.plan_ms);
+    if (!t.success) {
+      const std::string key = t.verdict.substr(0, t.verdict.find(' '));
+      ++failures[key];
     }
   }
-  const auto median = [](std::vector<double> v) {
-    if (v.empty()) return 0.0;
-    std::sort(v.begin(), v.end());
-    return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-  };
-  const auto max_of = [](const std::vector<double>& v) {
-    return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end());
-  };
+};
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+}
+
+double max_of(const std::vector<double>& v) { return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end()); }
+
+//! Prints the row on stdout and returns it as JSON.
+json print_row(const std::string& name, const TableRow& r) {
+  std::string fails;
+  for (const auto& [k, c] : r.failures) fails += (fails.empty() ? "" : ", ") + k + " x" + std::to_string(c);
+  const double rate = r.trials ? 100.0 * r.success / r.trials : 0.0;
+  std::printf("%-22s %6u %5u %8u %8.1f%% %11s %9s  %s\n", name.c_str(), r.trials, r.fits, r.success, rate,
+              fmt_ms(median(r.plan_ms)).c_str(), fmt_ms(max_of(r.plan_ms)).c_str(), fails.c_str());
+  json f = json::object();
+  for (const auto& [k, c] : r.failures) f[k] = c;
+  return json{{"object", name},
+              {"trials", r.trials},
+              {"fits", r.fits},
+              {"success", r.success},
+              {"rate", r.trials ? static_cast<double>(r.success) / r.trials : 0.0},
+              {"plan_ms_median", median(r.plan_ms)},
+              {"plan_ms_max", max_of(r.plan_ms)},
+              {"failures", f}};
+}
+
+//! The table: per kind (in the order the trials met them), then all. Printed on stdout
+//! and returned as JSON.
+json results_table(const std::vector<SimTrial>& trials, const SimOptions& opt) {
+  std::map<std::string, TableRow> rows;
+  std::vector<std::string> order;
+  TableRow all;
+  for (const SimTrial& t : trials) {
+    if (!rows.count(t.kind)) order.push_back(t.kind);
+    rows[t.kind].add(t);
+    all.add(t);
+  }
   json table = json::array();
   std::printf("distribution %s, seed %llu (trial i: seed + i; --distribution %s --seed %llu repeats it)\n",
               sim::distribution_name(opt.distribution), static_cast<unsigned long long>(opt.seed),
               sim::distribution_name(opt.distribution), static_cast<unsigned long long>(opt.seed));
   std::printf("%-22s %6s %5s %8s %9s %11s %9s  %s\n", "object", "trials", "fits", "success", "rate", "plan med ms",
               "max ms", "failures");
-  const auto print_row = [&](const std::string& name, const Row& r) {
-    std::string fails;
-    for (const auto& [k, c] : r.failures) fails += (fails.empty() ? "" : ", ") + k + " x" + std::to_string(c);
-    const double rate = r.trials ? 100.0 * r.success / r.trials : 0.0;
-    std::printf("%-22s %6u %5u %8u %8.1f%% %11s %9s  %s\n", name.c_str(), r.trials, r.fits, r.success, rate,
-                fmt_ms(median(r.plan_ms)).c_str(), fmt_ms(max_of(r.plan_ms)).c_str(), fails.c_str());
-    json f = json::object();
-    for (const auto& [k, c] : r.failures) f[k] = c;
-    table.push_back(json{{"object", name},
-                         {"trials", r.trials},
-                         {"fits", r.fits},
-                         {"success", r.success},
-                         {"rate", r.trials ? static_cast<double>(r.success) / r.trials : 0.0},
-                         {"plan_ms_median", median(r.plan_ms)},
-                         {"plan_ms_max", max_of(r.plan_ms)},
-                         {"failures", f}});
-  };
-  for (const std::string& k : order) print_row(k, rows[k]);
-  print_row("all", all);
-  json records = json::array();
-  const auto vec = [](const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); };
-  for (const SimTrial& t : trials) {
-    json r{{"kind", t.kind},
-           {"seed", t.seed},
-           {"fits", t.fits},
-           {"success", t.success},
-           {"verdict", t.verdict},
-           {"task", t.task_state},
-           {"plan_reason", t.plan_reason},
-           {"plan_ms", t.plan_ms},
-           {"width_error_m", t.width_error_m},
-           {"wrist_view", t.wrist_view},
-           {"task_s", t.task_s},
-           {"ticks", t.ticks}};
-    if (t.has_grasp) {
-      r["grasp"] = json{{"position", vec(t.grasp.position)},
-                        {"approach", vec(t.grasp.approach)},
-                        {"closing", vec(t.grasp.closing)},
-                        {"width", t.grasp.width},
-                        {"beta", t.grasp.beta},
-                        {"dz", t.grasp.dz},
-                        {"family", static_cast<int>(t.grasp.family)}};
-      r["judge"] = json{{"angle_left", t.angle_left}, {"angle_right", t.angle_right}, {"true_width", t.true_width}};
-      if (t.true_width >= 0.f) {
-        r["judge"]["contact_left"] = vec(t.contact_left);
-        r["judge"]["contact_right"] = vec(t.contact_right);
-      }
+  for (const std::string& k : order) table.push_back(print_row(k, rows[k]));
+  table.push_back(print_row("all", all));
+  return table;
+}
+
+json vec_json(const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
+
+//! One trial's record: its outcome and, with a grasp, the grasp and what the judge measured.
+json trial_json(const SimTrial& t) {
+  json r{{"kind", t.kind},
+         {"seed", t.seed},
+         {"fits", t.fits},
+         {"success", t.success},
+         {"verdict", t.verdict},
+         {"task", t.task_state},
+         {"plan_reason", t.plan_reason},
+         {"plan_ms", t.plan_ms},
+         {"width_error_m", t.width_error_m},
+         {"wrist_view", t.wrist_view},
+         {"task_s", t.task_s},
+         {"ticks", t.ticks}};
+  if (t.has_grasp) {
+    r["grasp"] = json{{"position", vec_json(t.grasp.position)},
+                      {"approach", vec_json(t.grasp.approach)},
+                      {"closing", vec_json(t.grasp.closing)},
+                      {"width", t.grasp.width},
+                      {"beta", t.grasp.beta},
+                      {"dz", t.grasp.dz},
+                      {"family", static_cast<int>(t.grasp.family)}};
+    r["judge"] = json{{"angle_left", t.angle_left}, {"angle_right", t.angle_right}, {"true_width", t.true_width}};
+    if (t.true_width >= 0.f) {
+      r["judge"]["contact_left"] = vec_json(t.contact_left);
+      r["judge"]["contact_right"] = vec_json(t.contact_right);
     }
-    records.push_back(r);
   }
+  return r;
+}
+
+}  // namespace
+
+nlohmann::json run_sim(const SimOptions& opt, const PlannerConfig& cfg, Planner& planner) {
+  const std::vector<SimTrial> trials = run_trials(opt, cfg, planner);
+  json table = results_table(trials, opt);
+  json records = json::array();
+  for (const SimTrial& t : trials) records.push_back(trial_json(t));
   return json{{"distribution", sim::distribution_name(opt.distribution)},
               {"seed", opt.seed},
               {"trials", records},

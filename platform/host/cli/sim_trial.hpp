@@ -55,8 +55,8 @@ struct SimTrial {
 
 //! Runs one trial with the planner configuration `cfg`. `planner` is reused between
 //! trials (it is large). Pictures and export go to subfolders <kind>-<seed>.
-SimTrial run_sim_trial(const std::string& kind, uint64_t seed, const SimOptions& opt, const PlannerConfig& cfg,
-                       Planner& planner);
+[[nodiscard]] SimTrial run_sim_trial(const std::string& kind, uint64_t seed, const SimOptions& opt,
+                                     const PlannerConfig& cfg, Planner& planner);
 
 //! Runs every trial, prints the table on stdout; returns the per-trial records and the
 //! table as JSON.

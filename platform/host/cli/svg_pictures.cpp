@@ -20,11 +20,12 @@
 #include <utility>
 #include <vector>
 
+#include "fg/core/constants.hpp"
+
 namespace fg::host {
 namespace {
 
 using V3 = Eigen::Vector3d;
-constexpr double kPi = 3.14159265358979323846;
 // The side view looks along the closing direction when it is within 20 deg of horizontal.
 constexpr double kNearHorizontal = 0.342;
 
@@ -403,6 +404,7 @@ struct GraspFrame {
 
 std::vector<P2> box_outline(const GraspFrame& f, const Box3& b, const View3& view) {
   std::vector<P2> pts;
+  pts.reserve(8);
   for (int k = 0; k < 8; ++k)
     pts.push_back(view(f.at((k & 1) ? b.x1 : b.x0, (k & 2) ? b.y1 : b.y0, (k & 4) ? b.z1 : b.z0)));
   return convex_hull(pts);
@@ -411,6 +413,7 @@ std::vector<P2> box_outline(const GraspFrame& f, const Box3& b, const View3& vie
 //! Draws a projected box outline (a polygon, or a segment when seen edge-on).
 void draw_outline(Svg& svg, const Plot& p, const std::vector<P2>& hull, const std::string& style) {
   std::vector<P2> q;
+  q.reserve(hull.size());
   for (const P2& h : hull) q.push_back(p.map(h));
   if (q.size() >= 3)
     svg.polygon(q, style);
@@ -424,11 +427,13 @@ std::string ramp(double t) {
   t = std::min(1.0, std::max(0.0, t)) * 4.0;
   const int i = std::min(3, static_cast<int>(t));
   const double f = t - i;
+  // The channels are positive: floor(c + 0.5) is the truncation they were always
+  // rounded with (std::lround(c) would differ where the sum c + 0.5 rounds up).
+  const auto channel = [&](int c) {
+    return static_cast<int>(std::floor(stops[i][c] + f * (stops[i + 1][c] - stops[i][c]) + 0.5));
+  };
   char buf[16];
-  std::snprintf(buf, sizeof buf, "#%02x%02x%02x",
-                static_cast<int>(stops[i][0] + f * (stops[i + 1][0] - stops[i][0]) + 0.5),
-                static_cast<int>(stops[i][1] + f * (stops[i + 1][1] - stops[i][1]) + 0.5),
-                static_cast<int>(stops[i][2] + f * (stops[i + 1][2] - stops[i][2]) + 0.5));
+  std::snprintf(buf, sizeof buf, "#%02x%02x%02x", channel(0), channel(1), channel(2));
   return buf;
 }
 
@@ -451,273 +456,367 @@ const char* kPlane = "#8c564b";
 // ---------------------------------------------------------------------------------
 // 1 and 2: the object and the grasp from above and from the side
 
-std::string world_picture(const Planner& planner, const PlanResult& result, bool top) {
-  const PlannerConfig& cfg = planner.config();
-  const GripperGeometry& g = cfg.gripper;
-  const PointSpan& obj = planner.object_points();
-  const bool ok = result.status == Status::ok;
-  const Grasp& gr = result.grasp;
-
+GraspFrame grasp_frame(const Grasp& gr) {
   GraspFrame f;
   f.o = gr.position.cast<double>();
   f.z = gr.approach.cast<double>().normalized();
   f.x = gr.closing.cast<double>().normalized();
   f.y = f.z.cross(f.x).normalized();
+  return f;
+}
 
+//! The gripper's boxes in the grasp frame: open (max opening) and closed (the grasp's
+//! width), and the approach arrow behind the palm.
+struct GripperBoxes {
+  Box3 palm;
+  Box3 fingers_open[2], fingers_closed[2], pads_open[2], pads_closed[2];
+  double half_width;  // of the grasp
+  V3 ap_from, ap_to;  // the approach arrow
+};
+
+GripperBoxes gripper_boxes(const GripperGeometry& g, const Grasp& gr, const GraspFrame& f) {
+  const double hf = 0.5 * g.finger_depth_m, hw = 0.5 * g.finger_width_m, t = g.finger_thickness_m;
+  const double ho = 0.5 * g.max_opening_m, wc = 0.5 * gr.width;
+  GripperBoxes bx{};
+  bx.palm = {-(ho + t), ho + t, -0.5 * g.palm_width_m, 0.5 * g.palm_width_m, -hf - g.palm_depth_m, -hf};
+  bx.fingers_open[0] = {-ho - t, -ho, -hw, hw, -hf, hf};
+  bx.fingers_open[1] = {ho, ho + t, -hw, hw, -hf, hf};
+  bx.fingers_closed[0] = {-wc - t, -wc, -hw, hw, -hf, hf};
+  bx.fingers_closed[1] = {wc, wc + t, -hw, hw, -hf, hf};
+  bx.pads_open[0] = {-ho, -ho, -hw, hw, -hf, hf};
+  bx.pads_open[1] = {ho, ho, -hw, hw, -hf, hf};
+  bx.pads_closed[0] = {-wc, -wc, -hw, hw, -hf, hf};
+  bx.pads_closed[1] = {wc, wc, -hw, hw, -hf, hf};
+  bx.half_width = wc;
+  const double back = hf + g.palm_depth_m;  // behind the palm
+  const double arrow_len = std::max(0.03, 0.75 * g.max_opening_m);
+  bx.ap_from = f.o - f.z * (back + 0.01 + arrow_len);
+  bx.ap_to = f.o - f.z * (back + 0.01);
+  return bx;
+}
+
+//! What the top and the side picture share: the planner's outputs, the grasp and the view.
+struct WorldScene {
+  WorldScene(const Planner& planner_in, const PlanResult& result_in, bool top_in)
+      : planner(planner_in),
+        result(result_in),
+        cfg(planner_in.config()),
+        obj(planner_in.object_points()),
+        top(top_in),
+        ok(result_in.status == Status::ok),
+        f(grasp_frame(result_in.grasp)),
+        boxes(gripper_boxes(cfg.gripper, result_in.grasp, f)),
+        plane_ref(ok ? f.o : planner_in.object_centroid().cast<double>()),
+        show_plane(!top_in && planner_in.plane_found()) {}
+
+  const Planner& planner;
+  const PlanResult& result;
+  const PlannerConfig& cfg;
+  const PointSpan& obj;
+  const bool top;
+  const bool ok;
+  const GraspFrame f;
+  const GripperBoxes boxes;
+  const V3 plane_ref;  // the side view's support plane is drawn through here
+  const bool show_plane;
   View3 view;
   std::string xlabel, ylabel, seen;
-  if (top) {
-    view.u = V3::UnitX();
-    view.v = V3::UnitY();
-    view.into = -V3::UnitZ();
-    xlabel = "world x (mm)";
-    ylabel = "world y (mm)";
-    seen = "seen from above (looking down world -z)";
-  } else {
-    V3 d = V3::UnitY();
-    if (ok && std::fabs(f.x.z()) < kNearHorizontal) {
-      V3 h(f.x.x(), f.x.y(), 0.0);
-      if (h.norm() > 1e-6) d = h.normalized();
-    }
-    view.into = d;
-    view.u = d.cross(V3::UnitZ()).normalized();
-    view.v = V3::UnitZ();
-    const bool along_y = (d - V3::UnitY()).norm() < 1e-9;
-    xlabel = view.u.x() > 0.9999    ? "world x (mm)"
+};
+
+//! Top: looking down world -z. Side: along the closing direction when it is near
+//! horizontal (the two fingers overlap), else along world +y.
+void choose_view(WorldScene& s) {
+  if (s.top) {
+    s.view.u = V3::UnitX();
+    s.view.v = V3::UnitY();
+    s.view.into = -V3::UnitZ();
+    s.xlabel = "world x (mm)";
+    s.ylabel = "world y (mm)";
+    s.seen = "seen from above (looking down world -z)";
+    return;
+  }
+  V3 d = V3::UnitY();
+  if (s.ok && std::fabs(s.f.x.z()) < kNearHorizontal) {
+    V3 h(s.f.x.x(), s.f.x.y(), 0.0);
+    if (h.norm() > 1e-6) d = h.normalized();
+  }
+  View3& view = s.view;
+  view.into = d;
+  view.u = d.cross(V3::UnitZ()).normalized();
+  view.v = V3::UnitZ();
+  const bool along_y = (d - V3::UnitY()).norm() < 1e-9;
+  s.xlabel = view.u.x() > 0.9999    ? "world x (mm)"
              : view.u.x() < -0.9999 ? "world -x (mm)"
              : view.u.y() > 0.9999  ? "world y (mm)"
              : view.u.y() < -0.9999 ? "world -y (mm)"
                                     : "horizontal s = p . " + vec_text(view.u, 2) + " (mm)";
-    ylabel = "world z (mm)";
-    seen = along_y ? "seen from the side, looking along world +y"
+  s.ylabel = "world z (mm)";
+  s.seen = along_y ? "seen from the side, looking along world +y"
                    : "seen from the side, looking along the closing direction " + vec_text(d, 2) +
                          " (the two fingers overlap)";
-  }
+}
 
-  const double hf = 0.5 * g.finger_depth_m, hw = 0.5 * g.finger_width_m, t = g.finger_thickness_m;
-  const double ho = 0.5 * g.max_opening_m, wc = 0.5 * gr.width;
-  const Box3 palm{-(ho + t), ho + t, -0.5 * g.palm_width_m, 0.5 * g.palm_width_m, -hf - g.palm_depth_m, -hf};
-  const Box3 fingers_open[2] = {{-ho - t, -ho, -hw, hw, -hf, hf}, {ho, ho + t, -hw, hw, -hf, hf}};
-  const Box3 fingers_closed[2] = {{-wc - t, -wc, -hw, hw, -hf, hf}, {wc, wc + t, -hw, hw, -hf, hf}};
-  const Box3 pads_open[2] = {{-ho, -ho, -hw, hw, -hf, hf}, {ho, ho, -hw, hw, -hf, hf}};
-  const Box3 pads_closed[2] = {{-wc, -wc, -hw, hw, -hf, hf}, {wc, wc, -hw, hw, -hf, hf}};
-  const double back = hf + g.palm_depth_m;  // behind the palm
-  const double arrow_len = std::max(0.03, 0.75 * g.max_opening_m);
-  const V3 ap_from = f.o - f.z * (back + 0.01 + arrow_len), ap_to = f.o - f.z * (back + 0.01);
-
-  // Extent: the object, the gripper (open), the approach arrow and (side view) the
-  // support plane below the reference point.
+//! Extent: the object, the gripper (open), the approach arrow and (side view) the
+//! support plane below the reference point.
+Bounds world_extent(const WorldScene& s) {
+  const Planner& planner = s.planner;
+  const View3& view = s.view;
   Bounds b;
-  for (uint32_t i = 0; i < obj.size(); ++i) b.add(view(obj[i].cast<double>()));
-  const V3 plane_ref = ok ? f.o : planner.object_centroid().cast<double>();
-  if (!top && planner.plane_found() && obj.size() > 0 && std::fabs(planner.plane().n.z()) > 0.5) {
-    const P2 q = view(plane_ref);
-    b.add(q.x, q.y - 1000.0 * planner.plane().height(plane_ref.cast<float>()) / planner.plane().n.z());
+  for (uint32_t i = 0; i < s.obj.size(); ++i) b.add(view(s.obj[i].cast<double>()));
+  if (!s.top && planner.plane_found() && s.obj.size() > 0 && std::fabs(planner.plane().n.z()) > 0.5) {
+    const P2 q = view(s.plane_ref);
+    b.add(q.x, q.y - 1000.0 * planner.plane().height(s.plane_ref.cast<float>()) / planner.plane().n.z());
   }
-  if (ok) {
-    for (const P2& q : box_outline(f, palm, view)) b.add(q);
-    for (const Box3& fb : fingers_open)
-      for (const P2& q : box_outline(f, fb, view)) b.add(q);
-    b.add(view(ap_from));
-    b.add(view(f.o));
+  if (s.ok) {
+    for (const P2& q : box_outline(s.f, s.boxes.palm, view)) b.add(q);
+    for (const Box3& fb : s.boxes.fingers_open)
+      for (const P2& q : box_outline(s.f, fb, view)) b.add(q);
+    b.add(view(s.boxes.ap_from));
+    b.add(view(s.f.o));
   }
-  Svg svg(1040, 780);
-  const Plot p = make_plot(95, 110, 640, 590, b, 0.06, 20.0, true);
+  return b;
+}
 
+void draw_world_title(Svg& svg, const WorldScene& s) {
+  const Grasp& gr = s.result.grasp;
   std::vector<std::string> sub;
-  sub.push_back(std::to_string(obj.size()) + " object points (voxel centroids, " + fmt(cfg.voxel_leaf_m * 1000, 1) +
-                " mm leaf), " + seen);
-  if (!ok) sub.push_back(status_line(result));
-  if (ok)
-    sub.push_back("grasp at " + vec_text(f.o * 1000, 1) + " mm, approach " + vec_text(f.z, 2) + ", closing " +
-                  vec_text(f.x, 2) + ", width " + fmt(gr.width * 1000, 1) + " mm");
-  draw_title(svg, top ? "Object cloud and grasp, top view" : "Object cloud and grasp, side view", sub);
-  draw_axes(svg, p, xlabel, ylabel, top ? "clip_top" : "clip_side");
+  sub.push_back(std::to_string(s.obj.size()) + " object points (voxel centroids, " + fmt(s.cfg.voxel_leaf_m * 1000, 1) +
+                " mm leaf), " + s.seen);
+  if (!s.ok) sub.push_back(status_line(s.result));
+  if (s.ok)
+    sub.push_back("grasp at " + vec_text(s.f.o * 1000, 1) + " mm, approach " + vec_text(s.f.z, 2) + ", closing " +
+                  vec_text(s.f.x, 2) + ", width " + fmt(gr.width * 1000, 1) + " mm");
+  draw_title(svg, s.top ? "Object cloud and grasp, top view" : "Object cloud and grasp, side view", sub);
+}
 
-  svg.open(std::string("g clip-path=\"url(#") + (top ? "clip_top" : "clip_side") + ")\"");
-  // Support plane (side view): its trace in the vertical picture plane through the
-  // grasp (or the object centroid), with hatching below it.
-  const bool show_plane = !top && planner.plane_found();
-  if (show_plane) {
-    const Plane& pl = planner.plane();
-    const V3 n = pl.n.cast<double>();
-    const double depth = view.into.dot(plane_ref);
-    auto h_at = [&](double s_mm) {  // picture height (mm) of the plane at picture x s_mm
-      const double s = s_mm / 1000.0;
-      return 1000.0 * -(pl.d + depth * n.dot(view.into) + s * n.dot(view.u)) / n.z();
-    };
-    if (std::fabs(n.z()) > 1e-6) {
-      const P2 a = p.map(p.x0, h_at(p.x0)), c = p.map(p.x1, h_at(p.x1));
-      svg.def(
-          "<pattern id=\"hatch\" patternUnits=\"userSpaceOnUse\" width=\"10\" height=\"10\">"
-          "<path d=\"M0,10 L10,0\" stroke=\"#c9a89a\" stroke-width=\"1\"/></pattern>");
-      svg.polygon({a, c, {c.x, p.top + p.h + 50}, {a.x, p.top + p.h + 50}}, "stroke=\"none\" fill=\"url(#hatch)\"");
-      svg.line(a, c, attrs(kPlane, 2.5, "none"));
-    }
+//! Support plane (side view): its trace in the vertical picture plane through the
+//! grasp (or the object centroid), with hatching below it.
+void draw_support_plane(Svg& svg, const Plot& p, const WorldScene& s) {
+  const Plane& pl = s.planner.plane();
+  const V3 n = pl.n.cast<double>();
+  const View3& view = s.view;
+  const double depth = view.into.dot(s.plane_ref);
+  auto h_at = [&](double s_mm) {  // picture height (mm) of the plane at picture x s_mm
+    const double sm = s_mm / 1000.0;
+    return 1000.0 * -(pl.d + depth * n.dot(view.into) + sm * n.dot(view.u)) / n.z();
+  };
+  if (std::fabs(n.z()) > 1e-6) {
+    const P2 a = p.map(p.x0, h_at(p.x0)), c = p.map(p.x1, h_at(p.x1));
+    svg.def(
+        "<pattern id=\"hatch\" patternUnits=\"userSpaceOnUse\" width=\"10\" height=\"10\">"
+        "<path d=\"M0,10 L10,0\" stroke=\"#c9a89a\" stroke-width=\"1\"/></pattern>");
+    svg.polygon({a, c, {c.x, p.top + p.h + 50}, {a.x, p.top + p.h + 50}}, "stroke=\"none\" fill=\"url(#hatch)\"");
+    svg.line(a, c, attrs(kPlane, 2.5, "none"));
   }
-  // Other points of the scene (neither the target nor the support plane) in reach of
-  // the picture: neighbouring objects, occluders.
+}
+
+//! Other points of the scene (neither the target nor the support plane) in reach of
+//! the picture: neighbouring objects, occluders. Returns how many were drawn.
+uint32_t draw_other_points(Svg& svg, const Plot& p, const WorldScene& s) {
   uint32_t n_other = 0;
-  {
-    const VoxelGrid& grid = planner.voxels();
-    const double m = 8.0;  // mm beyond the frame
-    svg.open("g stroke=\"none\" fill=\"#b0b0b0\" fill-opacity=\"0.7\"");
-    for (uint32_t i = 0; i < grid.size() && obj.size() > 0; ++i) {
-      const uint8_t s = planner.voxel_state(i);
-      if (s == kVoxelRemoved || s == kVoxelTarget) continue;
-      const P2 q = view(grid.centroid(i).cast<double>());
-      if (q.x < p.x0 - m || q.x > p.x1 + m || q.y < p.y0 - m || q.y > p.y1 + m) continue;
-      svg.circle(p.map(q), 1.3, "");
-      ++n_other;
-    }
-    svg.close("g");
+  const VoxelGrid& grid = s.planner.voxels();
+  const double m = 8.0;  // mm beyond the frame
+  svg.open("g stroke=\"none\" fill=\"#b0b0b0\" fill-opacity=\"0.7\"");
+  for (uint32_t i = 0; i < grid.size() && s.obj.size() > 0; ++i) {
+    const uint8_t st = s.planner.voxel_state(i);
+    if (st == kVoxelRemoved || st == kVoxelTarget) continue;
+    const P2 q = s.view(grid.centroid(i).cast<double>());
+    if (q.x < p.x0 - m || q.x > p.x1 + m || q.y < p.y0 - m || q.y > p.y1 + m) continue;
+    svg.circle(p.map(q), 1.3, "");
+    ++n_other;
   }
-  // Object points: seen from above, coloured by height and drawn low to high.
-  const double r = std::min(4.0, std::max(1.0, 0.45 * cfg.voxel_leaf_m * 1000 * p.sx()));
+  svg.close("g");
+  return n_other;
+}
+
+struct HeightRange {
+  double min = 0, max = 0;  // mm
+};
+
+//! Object points: seen from above, coloured by height and drawn low to high. Returns
+//! the heights' range (above the support plane when there is one, else world z).
+HeightRange draw_object_points(Svg& svg, const Plot& p, const WorldScene& s) {
+  const PointSpan& obj = s.obj;
+  const double r = std::min(4.0, std::max(1.0, 0.45 * s.cfg.voxel_leaf_m * 1000 * p.sx()));
   double hmin = 0, hmax = 0;
   std::vector<uint32_t> order(obj.size());
   std::vector<double> height(obj.size());
   for (uint32_t i = 0; i < obj.size(); ++i) {
     order[i] = i;
-    height[i] = 1000.0 * (planner.plane_found() ? planner.plane().height(obj[i]) : obj[i].z());
+    height[i] = 1000.0 * (s.planner.plane_found() ? s.planner.plane().height(obj[i]) : obj[i].z());
     hmin = i == 0 ? height[i] : std::min(hmin, height[i]);
     hmax = i == 0 ? height[i] : std::max(hmax, height[i]);
   }
-  if (top) {
+  if (s.top) {
     std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t c) { return height[a] < height[c]; });
     svg.open("g stroke=\"none\" fill-opacity=\"0.85\"");
     for (const uint32_t i : order)
-      svg.circle(p.map(view(obj[i].cast<double>())), r,
+      svg.circle(p.map(s.view(obj[i].cast<double>())), r,
                  "fill=\"" + ramp(hmax > hmin ? (height[i] - hmin) / (hmax - hmin) : 0.5) + "\"");
   } else {
     svg.open(std::string("g stroke=\"none\" fill=\"") + kPoints + "\" fill-opacity=\"0.55\"");
-    for (const uint32_t i : order) svg.circle(p.map(view(obj[i].cast<double>())), r, "");
+    for (const uint32_t i : order) svg.circle(p.map(s.view(obj[i].cast<double>())), r, "");
   }
   svg.close("g");
+  return {hmin, hmax};
+}
 
-  if (ok) {
-    // Palm, fingers (open dashed, closed filled), pads, arrows and the grasp centre.
-    draw_outline(svg, p, box_outline(f, palm, view), attrs(kPalm, 1.5, kPalm, "fill-opacity=\"0.22\""));
-    for (const Box3& fb : fingers_open)
-      draw_outline(svg, p, box_outline(f, fb, view),
-                   attrs(kFinger, 1.5, kFinger, "fill-opacity=\"0.08\" stroke-dasharray=\"6,4\""));
-    for (const Box3& fb : pads_open)
-      draw_outline(svg, p, box_outline(f, fb, view), attrs(kPad, 1.5, "none", "stroke-dasharray=\"6,4\""));
-    for (const Box3& fb : fingers_closed)
-      draw_outline(svg, p, box_outline(f, fb, view), attrs("#a04000", 1.5, kFinger, "fill-opacity=\"0.45\""));
-    for (const Box3& fb : pads_closed)
-      draw_outline(svg, p, box_outline(f, fb, view),
-                   attrs(kPad, 3, kPad, "fill-opacity=\"0.35\" stroke-linejoin=\"round\""));
+//! Palm, fingers (open dashed, closed filled), pads, arrows and the grasp centre.
+void draw_gripper(Svg& svg, const Plot& p, const WorldScene& s) {
+  const GraspFrame& f = s.f;
+  const GripperBoxes& bx = s.boxes;
+  const View3& view = s.view;
+  draw_outline(svg, p, box_outline(f, bx.palm, view), attrs(kPalm, 1.5, kPalm, "fill-opacity=\"0.22\""));
+  for (const Box3& fb : bx.fingers_open)
+    draw_outline(svg, p, box_outline(f, fb, view),
+                 attrs(kFinger, 1.5, kFinger, "fill-opacity=\"0.08\" stroke-dasharray=\"6,4\""));
+  for (const Box3& fb : bx.pads_open)
+    draw_outline(svg, p, box_outline(f, fb, view), attrs(kPad, 1.5, "none", "stroke-dasharray=\"6,4\""));
+  for (const Box3& fb : bx.fingers_closed)
+    draw_outline(svg, p, box_outline(f, fb, view), attrs("#a04000", 1.5, kFinger, "fill-opacity=\"0.45\""));
+  for (const Box3& fb : bx.pads_closed)
+    draw_outline(svg, p, box_outline(f, fb, view),
+                 attrs(kPad, 3, kPad, "fill-opacity=\"0.35\" stroke-linejoin=\"round\""));
 
-    const P2 c = p.map(view(f.o));
-    // Approach: an arrow behind the palm, or a symbol when it points into / out of the picture.
-    const P2 a0 = p.map(view(ap_from)), a1 = p.map(view(ap_to));
-    const bool long_arrow = std::hypot(a1.x - a0.x, a1.y - a0.y) > 15;
-    if (long_arrow) svg.arrow(a0, a1, kApproach, 3, 13);
-    if (!long_arrow || std::fabs(f.z.dot(view.into)) > 0.7) {
-      const bool into = f.z.dot(view.into) > 0;
-      svg.circle(c, 13, attrs(kApproach, 2.5, "none"));
-      if (into) {
-        svg.line({c.x - 9, c.y - 9}, {c.x + 9, c.y + 9}, attrs(kApproach, 2.5, "none"));
-        svg.line({c.x - 9, c.y + 9}, {c.x + 9, c.y - 9}, attrs(kApproach, 2.5, "none"));
-      } else {
-        svg.circle(c, 3.5, attrs("none", 0, kApproach));
-      }
+  const P2 c = p.map(view(f.o));
+  // Approach: an arrow behind the palm, or a symbol when it points into / out of the picture.
+  const P2 a0 = p.map(view(bx.ap_from)), a1 = p.map(view(bx.ap_to));
+  const bool long_arrow = std::hypot(a1.x - a0.x, a1.y - a0.y) > 15;
+  if (long_arrow) svg.arrow(a0, a1, kApproach, 3, 13);
+  if (!long_arrow || std::fabs(f.z.dot(view.into)) > 0.7) {
+    const bool into = f.z.dot(view.into) > 0;
+    svg.circle(c, 13, attrs(kApproach, 2.5, "none"));
+    if (into) {
+      svg.line({c.x - 9, c.y - 9}, {c.x + 9, c.y + 9}, attrs(kApproach, 2.5, "none"));
+      svg.line({c.x - 9, c.y + 9}, {c.x + 9, c.y - 9}, attrs(kApproach, 2.5, "none"));
+    } else {
+      svg.circle(c, 3.5, attrs("none", 0, kApproach));
     }
-    // Closing: from the left pad to the right one.
-    const P2 c0 = p.map(view(f.o - f.x * std::max(wc, 0.01))), c1 = p.map(view(f.o + f.x * std::max(wc, 0.01)));
-    if (std::hypot(c1.x - c0.x, c1.y - c0.y) > 12) svg.arrow(c0, c1, kClosing, 2.5, 11);
-    svg.circle(c, 4.5, attrs("#000000", 1.5, "#ffffff"));
-    svg.line({c.x - 7, c.y}, {c.x + 7, c.y}, attrs("#000000", 1.2, "none"));
-    svg.line({c.x, c.y - 7}, {c.x, c.y + 7}, attrs("#000000", 1.2, "none"));
   }
-  // Object centroid.
-  if (obj.size() > 0) {
-    const P2 oc = p.map(view(planner.object_centroid().cast<double>()));
-    svg.polygon({{oc.x, oc.y - 6}, {oc.x + 6, oc.y}, {oc.x, oc.y + 6}, {oc.x - 6, oc.y}},
-                attrs("#000000", 1.2, "none"));
-  }
-  svg.close("g");
-  if (obj.size() == 0) draw_note(svg, p, "no object points (" + status_line(result) + ")");
+  // Closing: from the left pad to the right one.
+  const double wc = bx.half_width;
+  const P2 c0 = p.map(view(f.o - f.x * std::max(wc, 0.01))), c1 = p.map(view(f.o + f.x * std::max(wc, 0.01)));
+  if (std::hypot(c1.x - c0.x, c1.y - c0.y) > 12) svg.arrow(c0, c1, kClosing, 2.5, 11);
+  svg.circle(c, 4.5, attrs("#000000", 1.5, "#ffffff"));
+  svg.line({c.x - 7, c.y}, {c.x + 7, c.y}, attrs("#000000", 1.2, "none"));
+  svg.line({c.x, c.y - 7}, {c.x, c.y + 7}, attrs("#000000", 1.2, "none"));
+}
 
-  // Legend, colour bar and scale bar.
+//! The legend's entries of the gripper (a grasp was found).
+void add_gripper_legend(Legend& lg) {
+  lg.add(
+      [](Svg& s, P2 q) {
+        s.circle(q, 4.5, attrs("#000000", 1.5, "#ffffff"));
+        s.line({q.x - 7, q.y}, {q.x + 7, q.y}, attrs("#000000", 1.2, "none"));
+      },
+      "grasp position");
+  lg.add([](Svg& s, P2 q) { s.rect(q.x - 14, q.y - 6, 28, 12, attrs(kPalm, 1.5, kPalm, "fill-opacity=\"0.22\"")); },
+         "palm");
+  lg.add(
+      [](Svg& s, P2 q) {
+        s.rect(q.x - 14, q.y - 6, 28, 12,
+               attrs(kFinger, 1.5, kFinger, "fill-opacity=\"0.08\" stroke-dasharray=\"6,4\""));
+      },
+      "fingers, open (max opening)");
+  lg.add(
+      [](Svg& s, P2 q) { s.rect(q.x - 14, q.y - 6, 28, 12, attrs("#a04000", 1.5, kFinger, "fill-opacity=\"0.45\"")); },
+      "fingers, closed (width)");
+  lg.add(
+      [](Svg& s, P2 q) {
+        s.line({q.x - 14, q.y}, {q.x + 14, q.y}, attrs(kPad, 3, "none"));
+      },
+      "finger pads (dashed: open)");
+  lg.add(
+      [](Svg& s, P2 q) {
+        s.arrow({q.x - 15, q.y}, {q.x + 15, q.y}, kApproach, 3, 10);
+      },
+      "approach (\u2297: into the picture)");
+  lg.add([](Svg& s, P2 q) { s.arrow({q.x - 15, q.y}, {q.x + 15, q.y}, kClosing, 2.5, 10); }, "closing direction");
+}
+
+//! The legend panel; returns the y below it.
+double draw_world_legend(Svg& svg, const WorldScene& s, uint32_t n_other) {
   Legend lg(760, 110, 265);
-  if (top) {
+  if (s.top) {
     lg.add(
-        [&](Svg& s, P2 q) {
+        [&](Svg& sv, P2 q) {
           for (int k = 0; k < 4; ++k)
-            s.circle({q.x - 9 + 6.0 * k, q.y}, 2.5, "stroke=\"none\" fill=\"" + ramp(k / 3.0) + "\"");
+            sv.circle({q.x - 9 + 6.0 * k, q.y}, 2.5, "stroke=\"none\" fill=\"" + ramp(k / 3.0) + "\"");
         },
         "object point (colour: height)");
   } else {
     lg.add(
-        [&](Svg& s, P2 q) {
+        [&](Svg& sv, P2 q) {
           for (int k = 0; k < 4; ++k)
-            s.circle({q.x - 9 + 6.0 * k, q.y}, 2.5, std::string("stroke=\"none\" fill=\"") + kPoints + "\"");
+            sv.circle({q.x - 9 + 6.0 * k, q.y}, 2.5, std::string("stroke=\"none\" fill=\"") + kPoints + "\"");
         },
         "object point");
   }
   lg.add(
-      [](Svg& s, P2 q) {
-        s.polygon({{q.x, q.y - 6}, {q.x + 6, q.y}, {q.x, q.y + 6}, {q.x - 6, q.y}}, attrs("#000000", 1.2, "none"));
+      [](Svg& sv, P2 q) {
+        sv.polygon({{q.x, q.y - 6}, {q.x + 6, q.y}, {q.x, q.y + 6}, {q.x - 6, q.y}}, attrs("#000000", 1.2, "none"));
       },
       "object centroid");
   if (n_other > 0)
     lg.add(
-        [](Svg& s, P2 q) {
-          for (int k = 0; k < 4; ++k) s.circle({q.x - 9 + 6.0 * k, q.y}, 1.6, "stroke=\"none\" fill=\"#b0b0b0\"");
+        [](Svg& sv, P2 q) {
+          for (int k = 0; k < 4; ++k) sv.circle({q.x - 9 + 6.0 * k, q.y}, 1.6, "stroke=\"none\" fill=\"#b0b0b0\"");
         },
         "other points (not target/table)");
-  if (show_plane)
-    lg.add([](Svg& s, P2 q) { s.line({q.x - 14, q.y}, {q.x + 14, q.y}, attrs(kPlane, 2.5, "none")); }, "support plane");
-  if (ok) {
+  if (s.show_plane)
     lg.add(
-        [](Svg& s, P2 q) {
-          s.circle(q, 4.5, attrs("#000000", 1.5, "#ffffff"));
-          s.line({q.x - 7, q.y}, {q.x + 7, q.y}, attrs("#000000", 1.2, "none"));
+        [](Svg& sv, P2 q) {
+          sv.line({q.x - 14, q.y}, {q.x + 14, q.y}, attrs(kPlane, 2.5, "none"));
         },
-        "grasp position");
-    lg.add([](Svg& s, P2 q) { s.rect(q.x - 14, q.y - 6, 28, 12, attrs(kPalm, 1.5, kPalm, "fill-opacity=\"0.22\"")); },
-           "palm");
-    lg.add(
-        [](Svg& s, P2 q) {
-          s.rect(q.x - 14, q.y - 6, 28, 12,
-                 attrs(kFinger, 1.5, kFinger, "fill-opacity=\"0.08\" stroke-dasharray=\"6,4\""));
-        },
-        "fingers, open (max opening)");
-    lg.add([](Svg& s,
-              P2 q) { s.rect(q.x - 14, q.y - 6, 28, 12, attrs("#a04000", 1.5, kFinger, "fill-opacity=\"0.45\"")); },
-           "fingers, closed (width)");
-    lg.add(
-        [](Svg& s, P2 q) {
-          s.line({q.x - 14, q.y}, {q.x + 14, q.y}, attrs(kPad, 3, "none"));
-        },
-        "finger pads (dashed: open)");
-    lg.add(
-        [](Svg& s, P2 q) {
-          s.arrow({q.x - 15, q.y}, {q.x + 15, q.y}, kApproach, 3, 10);
-        },
-        "approach (\u2297: into the picture)");
-    lg.add([](Svg& s, P2 q) { s.arrow({q.x - 15, q.y}, {q.x + 15, q.y}, kClosing, 2.5, 10); }, "closing direction");
+        "support plane");
+  if (s.ok) add_gripper_legend(lg);
+  return lg.draw(svg);
+}
+
+//! The top view's colour bar of the heights; returns the y below it.
+double draw_height_bar(Svg& svg, const WorldScene& s, HeightRange h, double y) {
+  svg.def(
+      "<linearGradient id=\"heightramp\" x1=\"0\" y1=\"0\" x2=\"1\" y2=\"0\">"
+      "<stop offset=\"0\" stop-color=\"" +
+      ramp(0) + "\"/><stop offset=\"0.25\" stop-color=\"" + ramp(0.25) + "\"/><stop offset=\"0.5\" stop-color=\"" +
+      ramp(0.5) + "\"/><stop offset=\"0.75\" stop-color=\"" + ramp(0.75) + "\"/><stop offset=\"1\" stop-color=\"" +
+      ramp(1) + "\"/></linearGradient>");
+  svg.text({760, y}, s.planner.plane_found() ? "Height above support plane" : "Height (world z)",
+           "font-weight=\"bold\"");
+  svg.rect(760, y + 8, 220, 14, "stroke=\"#666666\" stroke-width=\"1\" fill=\"url(#heightramp)\"");
+  svg.text({760, y + 38}, fmt(h.min, 0) + " mm", "font-size=\"12\"");
+  svg.text({980, y + 38}, fmt(h.max, 0) + " mm", "font-size=\"12\" text-anchor=\"end\"");
+  return y + 66;
+}
+
+std::string world_picture(const Planner& planner, const PlanResult& result, bool top) {
+  WorldScene s(planner, result, top);
+  choose_view(s);
+  Svg svg(1040, 780);
+  const Plot p = make_plot(95, 110, 640, 590, world_extent(s), 0.06, 20.0, true);
+  draw_world_title(svg, s);
+  draw_axes(svg, p, s.xlabel, s.ylabel, top ? "clip_top" : "clip_side");
+
+  svg.open(std::string("g clip-path=\"url(#") + (top ? "clip_top" : "clip_side") + ")\"");
+  if (s.show_plane) draw_support_plane(svg, p, s);
+  const uint32_t n_other = draw_other_points(svg, p, s);
+  const HeightRange heights = draw_object_points(svg, p, s);
+  if (s.ok) draw_gripper(svg, p, s);
+  // Object centroid.
+  if (s.obj.size() > 0) {
+    const P2 oc = p.map(s.view(planner.object_centroid().cast<double>()));
+    svg.polygon({{oc.x, oc.y - 6}, {oc.x + 6, oc.y}, {oc.x, oc.y + 6}, {oc.x - 6, oc.y}},
+                attrs("#000000", 1.2, "none"));
   }
-  double y = lg.draw(svg) + 28;
-  if (top && obj.size() > 0) {
-    svg.def(
-        "<linearGradient id=\"heightramp\" x1=\"0\" y1=\"0\" x2=\"1\" y2=\"0\">"
-        "<stop offset=\"0\" stop-color=\"" +
-        ramp(0) + "\"/><stop offset=\"0.25\" stop-color=\"" + ramp(0.25) + "\"/><stop offset=\"0.5\" stop-color=\"" +
-        ramp(0.5) + "\"/><stop offset=\"0.75\" stop-color=\"" + ramp(0.75) + "\"/><stop offset=\"1\" stop-color=\"" +
-        ramp(1) + "\"/></linearGradient>");
-    svg.text({760, y}, planner.plane_found() ? "Height above support plane" : "Height (world z)",
-             "font-weight=\"bold\"");
-    svg.rect(760, y + 8, 220, 14, "stroke=\"#666666\" stroke-width=\"1\" fill=\"url(#heightramp)\"");
-    svg.text({760, y + 38}, fmt(hmin, 0) + " mm", "font-size=\"12\"");
-    svg.text({980, y + 38}, fmt(hmax, 0) + " mm", "font-size=\"12\" text-anchor=\"end\"");
-    y += 66;
-  }
+  svg.close("g");
+  if (s.obj.size() == 0) draw_note(svg, p, "no object points (" + status_line(result) + ")");
+
+  // Legend, colour bar and scale bar.
+  double y = draw_world_legend(svg, s, n_other) + 28;
+  if (top && s.obj.size() > 0) y = draw_height_bar(svg, s, heights, y);
   draw_scale_bar(svg, 760, y, p.sx(), 200, "mm");
   return svg.str(top ? "forcegrasp: object and grasp, top view" : "forcegrasp: object and grasp, side view",
-                 "Object cloud in the world frame and the planned parallel-gripper grasp; " + seen + ".");
+                 "Object cloud in the world frame and the planned parallel-gripper grasp; " + s.seen + ".");
 }
 
 // ---------------------------------------------------------------------------------
@@ -736,133 +835,139 @@ int32_t picture_view(const Planner& planner) {
   return best;
 }
 
-std::string silhouette_picture(Planner& planner, const PlanResult& result) {
-  const PlannerConfig& cfg = planner.config();
-  const int32_t vi = picture_view(planner);
-  auto detail = std::make_unique<ViewDetail>();
-  Status st = Status::invalid_argument;
-  if (vi >= 0) st = planner.analyze_view(static_cast<uint32_t>(vi), *detail);
-  const ViewDetail& d = *detail;
-  const bool have = st == Status::ok;
+//! The chosen (or best) viewpoint's analysis, which the silhouette picture shows.
+struct SilhouetteScene {
+  const Planner& planner;
+  const PlanResult& result;
+  int32_t vi;  // the viewpoint, -1 when none was analysed
+  Status st;   // of analyze_view
+  const ViewDetail& d;
+  bool have;    // analyze_view succeeded
+  bool chosen;  // vi is the viewpoint the grasp came from
+};
 
-  Bounds b;
-  if (have) {
-    for (uint32_t i = 0; i < d.n_points; ++i) b.add(1000.0 * d.points[i].x, 1000.0 * d.points[i].y);
-    for (uint32_t i = 0; i < d.n_contour; ++i) b.add(1000.0 * d.contour[i].x, 1000.0 * d.contour[i].y);
-  }
-  Svg svg(1040, 780);
-  const Plot p = make_plot(95, 110, 640, 590, b, 0.06, 20.0, true);
+//! A text box drawn after the plot's clip group (draw_label).
+struct Label {
+  P2 at;
+  std::vector<std::string> lines;
+  std::string colour;
+};
 
+std::vector<std::string> silhouette_subtitle(const SilhouetteScene& s) {
+  const ViewDetail& d = s.d;
   std::vector<std::string> sub;
   uint32_t kept = 0, hit = 0;
-  for (uint32_t j = 0; have && j < d.n_lines; ++j) {
+  for (uint32_t j = 0; s.have && j < d.n_lines; ++j) {
     kept += d.lines[j].kept ? 1u : 0u;
     hit += d.lines[j].hit ? 1u : 0u;
   }
-  const bool chosen = vi >= 0 && vi == planner.chosen_view();
-  if (vi >= 0) {
-    const ViewRecord& v = planner.view(static_cast<uint32_t>(vi));
-    sub.push_back(std::string(chosen ? "chosen viewpoint " : "viewpoint (none chosen; best beta) ") +
-                  std::to_string(vi) + ": family " + to_string(v.family) + ", theta " + fmt(v.theta * 180.0 / kPi, 1) +
-                  " deg; seen along its Z " + vec_text(v.Z.cast<double>(), 2) + ", origin at the object centroid");
+  if (s.vi >= 0) {
+    const ViewRecord& v = s.planner.view(static_cast<uint32_t>(s.vi));
+    sub.push_back(std::string(s.chosen ? "chosen viewpoint " : "viewpoint (none chosen; best beta) ") +
+                  std::to_string(s.vi) + ": family " + to_string(v.family) + ", theta " +
+                  fmt(v.theta * 180.0 / kPi, 1) + " deg; seen along its Z " + vec_text(v.Z.cast<double>(), 2) +
+                  ", origin at the object centroid");
     sub.push_back(std::to_string(d.n_points) + " projected points, " + std::to_string(d.n_contour) +
                   "-vertex concave hull, " + std::to_string(d.n_lines) + " scan lines (" + std::to_string(hit) +
                   " crossing, " + std::to_string(kept) + " graspable)");
   }
-  sub.push_back(status_line(result));
-  draw_title(svg, "Silhouette, scan lines and force balance (XOY)", sub);
-  draw_axes(svg, p, "x: closing direction X (mm)", "y: principal axis Y (mm)", "clip_sil");
+  sub.push_back(status_line(s.result));
+  return sub;
+}
 
-  struct Label {
-    P2 at;
-    std::vector<std::string> lines;
-    std::string colour;
-  };
-  std::vector<Label> labels;
-  svg.open("g clip-path=\"url(#clip_sil)\"");
-  if (have) {
-    double cx0 = 0, cx1 = 0;
-    for (uint32_t i = 0; i < d.n_contour; ++i) {
-      cx0 = i == 0 ? d.contour[i].x : std::min<double>(cx0, d.contour[i].x);
-      cx1 = i == 0 ? d.contour[i].x : std::max<double>(cx1, d.contour[i].x);
-    }
-    cx0 = 1000.0 * cx0 - 4;
-    cx1 = 1000.0 * cx1 + 4;
-    // Points, contour.
-    const double r = std::min(3.0, std::max(0.9, 0.35 * cfg.voxel_leaf_m * 1000 * p.sx()));
-    svg.open("g stroke=\"none\" fill=\"#7a8ca8\" fill-opacity=\"0.55\"");
-    for (uint32_t i = 0; i < d.n_points; ++i) svg.circle(p.map(1000.0 * d.points[i].x, 1000.0 * d.points[i].y), r, "");
-    svg.close("g");
-    std::vector<P2> poly;
-    for (uint32_t i = 0; i < d.n_contour; ++i) poly.push_back(p.map(1000.0 * d.contour[i].x, 1000.0 * d.contour[i].y));
-    svg.polygon(poly, attrs(kPoints, 1.6, kPoints, "fill-opacity=\"0.10\" stroke-linejoin=\"round\""));
-    // Scan lines: all thin grey; the graspable ones green between L and R.
-    svg.open("g stroke=\"#9a9a9a\" stroke-width=\"0.6\"");
-    for (uint32_t j = 0; j < d.n_lines; ++j) {
-      const double y = 1000.0 * d.lines[j].y;
-      svg.line(p.map(cx0, y), p.map(cx1, y), "");
-    }
-    svg.close("g");
-    const double lr = std::max(1.6, std::min(3.0, 0.3 * cfg.scan_delta_m * 1000 * p.sy()));
-    svg.open("g stroke=\"#2ca02c\" stroke-width=\"1.2\"");
-    for (uint32_t j = 0; j < d.n_lines; ++j)
-      if (d.lines[j].kept)
-        svg.line(p.map(1000.0 * d.lines[j].left, 1000.0 * d.lines[j].y),
-                 p.map(1000.0 * d.lines[j].right, 1000.0 * d.lines[j].y), "");
-    svg.close("g");
-    svg.open("g stroke=\"#105010\" stroke-width=\"0.8\"");
-    for (uint32_t j = 0; j < d.n_lines; ++j) {
-      if (!d.lines[j].kept) continue;
-      svg.circle(p.map(1000.0 * d.lines[j].left, 1000.0 * d.lines[j].y), lr, "fill=\"#2ca02c\"");
-      svg.circle(p.map(1000.0 * d.lines[j].right, 1000.0 * d.lines[j].y), lr, "fill=\"#ffffff\"");
-    }
-    svg.close("g");
-    // Best window: its band and the two fitted sides x = a y + b.
-    if (d.has_best && d.best.count > 0 && d.best.first + d.best.count <= d.n_lines) {
-      const SideFit& w = d.best;
-      const double y0 = d.lines[w.first].y, y1 = d.lines[w.first + w.count - 1].y;
-      const P2 b0 = p.map(cx0, 1000.0 * y1), b1 = p.map(cx1, 1000.0 * y0);
-      svg.rect(b0.x, b0.y, b1.x - b0.x, b1.y - b0.y, "stroke=\"none\" fill=\"#d62728\" fill-opacity=\"0.10\"");
-      auto side = [&](double a, double bb, double y) { return p.map(1000.0 * (a * y + bb), 1000.0 * y); };
-      // Thin dashed extensions show the fitted directions beyond the window.
-      const double ext = std::max(0.5 * (y1 - y0), 0.006);
-      for (int s = 0; s < 2; ++s) {
-        const double a = s == 0 ? w.a_left : w.a_right, bb = s == 0 ? w.b_left : w.b_right;
-        svg.line(side(a, bb, y0 - ext), side(a, bb, y1 + ext), attrs(kPad, 1, "none", "stroke-dasharray=\"4,3\""));
-        svg.line(side(a, bb, y0), side(a, bb, y1), attrs(kPad, 3.2, "none", "stroke-linecap=\"round\""));
-      }
-      const P2 lab = side(w.a_right, w.b_right, y1 + ext);
-      labels.push_back({lab,
-                        {"beta = " + rad_text(w.beta) + " rad (" + fmt(w.beta * 180.0 / kPi, 2) + " deg)",
-                         "best window: width " + fmt(w.width * 1000, 1) + " mm"},
-                        kPad});
-    }
-    // The planned grasp in this frame (its window may be another of the viewpoint's candidates).
-    if (chosen && result.status == Status::ok) {
-      const ViewRecord& v = planner.view(static_cast<uint32_t>(vi));
-      const V3 rel = (result.grasp.position - planner.object_centroid()).cast<double>();
-      const double gx = 1000.0 * v.X.cast<double>().dot(rel), gy = 1000.0 * v.Y.cast<double>().dot(rel);
-      const double hw = 500.0 * cfg.gripper.finger_width_m, wc = 500.0 * result.grasp.width;
-      for (int s = -1; s <= 1; s += 2)
-        svg.line(p.map(gx + s * wc, gy - hw), p.map(gx + s * wc, gy + hw),
-                 attrs(kFinger, 4, "none", "stroke-opacity=\"0.85\""));
-      const P2 c = p.map(gx, gy);
-      svg.circle(c, 4.5, attrs("#000000", 1.5, "#ffffff"));
-      svg.line({c.x - 7, c.y}, {c.x + 7, c.y}, attrs("#000000", 1.2, "none"));
-      svg.line({c.x, c.y - 7}, {c.x, c.y + 7}, attrs("#000000", 1.2, "none"));
-      labels.push_back({p.map(gx + wc, gy - hw),
-                        {"planned grasp", "beta " + rad_text(result.grasp.beta) + " rad, width " +
-                                              fmt(result.grasp.width * 1000, 1) + " mm"},
-                        "#a04000"});
-    }
+//! The scan lines' x range (mm): the contour's, 4 mm wider on each side.
+struct XRange {
+  double x0, x1;
+};
+XRange scan_line_range(const ViewDetail& d) {
+  double cx0 = 0, cx1 = 0;
+  for (uint32_t i = 0; i < d.n_contour; ++i) {
+    cx0 = i == 0 ? d.contour[i].x : std::min<double>(cx0, d.contour[i].x);
+    cx1 = i == 0 ? d.contour[i].x : std::max<double>(cx1, d.contour[i].x);
+  }
+  return {1000.0 * cx0 - 4, 1000.0 * cx1 + 4};
+}
+
+//! Points, contour.
+void draw_silhouette(Svg& svg, const Plot& p, const ViewDetail& d, const PlannerConfig& cfg) {
+  const double r = std::min(3.0, std::max(0.9, 0.35 * cfg.voxel_leaf_m * 1000 * p.sx()));
+  svg.open("g stroke=\"none\" fill=\"#7a8ca8\" fill-opacity=\"0.55\"");
+  for (uint32_t i = 0; i < d.n_points; ++i) svg.circle(p.map(1000.0 * d.points[i].x, 1000.0 * d.points[i].y), r, "");
+  svg.close("g");
+  std::vector<P2> poly;
+  poly.reserve(d.n_contour);
+  for (uint32_t i = 0; i < d.n_contour; ++i) poly.push_back(p.map(1000.0 * d.contour[i].x, 1000.0 * d.contour[i].y));
+  svg.polygon(poly, attrs(kPoints, 1.6, kPoints, "fill-opacity=\"0.10\" stroke-linejoin=\"round\""));
+}
+
+//! Scan lines: all thin grey; the graspable ones green between L and R.
+void draw_scan_lines(Svg& svg, const Plot& p, const ViewDetail& d, XRange cx, const PlannerConfig& cfg) {
+  svg.open("g stroke=\"#9a9a9a\" stroke-width=\"0.6\"");
+  for (uint32_t j = 0; j < d.n_lines; ++j) {
+    const double y = 1000.0 * d.lines[j].y;
+    svg.line(p.map(cx.x0, y), p.map(cx.x1, y), "");
   }
   svg.close("g");
-  for (const Label& l : labels) draw_label(svg, p, l.at, l.lines, l.colour);
-  if (!have)
-    draw_note(svg, p,
-              vi < 0 ? "no viewpoint was analysed (" + status_line(result) + ")"
-                     : std::string("analyze_view failed: ") + to_string(st));
+  const double lr = std::max(1.6, std::min(3.0, 0.3 * cfg.scan_delta_m * 1000 * p.sy()));
+  svg.open("g stroke=\"#2ca02c\" stroke-width=\"1.2\"");
+  for (uint32_t j = 0; j < d.n_lines; ++j)
+    if (d.lines[j].kept)
+      svg.line(p.map(1000.0 * d.lines[j].left, 1000.0 * d.lines[j].y),
+               p.map(1000.0 * d.lines[j].right, 1000.0 * d.lines[j].y), "");
+  svg.close("g");
+  svg.open("g stroke=\"#105010\" stroke-width=\"0.8\"");
+  for (uint32_t j = 0; j < d.n_lines; ++j) {
+    if (!d.lines[j].kept) continue;
+    svg.circle(p.map(1000.0 * d.lines[j].left, 1000.0 * d.lines[j].y), lr, "fill=\"#2ca02c\"");
+    svg.circle(p.map(1000.0 * d.lines[j].right, 1000.0 * d.lines[j].y), lr, "fill=\"#ffffff\"");
+  }
+  svg.close("g");
+}
 
+//! Best window: its band and the two fitted sides x = a y + b.
+void draw_best_window(Svg& svg, const Plot& p, const ViewDetail& d, XRange cx, std::vector<Label>& labels) {
+  const SideFit& w = d.best;
+  const double y0 = d.lines[w.first].y, y1 = d.lines[w.first + w.count - 1].y;
+  const P2 b0 = p.map(cx.x0, 1000.0 * y1), b1 = p.map(cx.x1, 1000.0 * y0);
+  svg.rect(b0.x, b0.y, b1.x - b0.x, b1.y - b0.y, "stroke=\"none\" fill=\"#d62728\" fill-opacity=\"0.10\"");
+  auto side = [&](double a, double bb, double y) { return p.map(1000.0 * (a * y + bb), 1000.0 * y); };
+  // Thin dashed extensions show the fitted directions beyond the window.
+  const double ext = std::max(0.5 * (y1 - y0), 0.006);
+  for (int s = 0; s < 2; ++s) {
+    const double a = s == 0 ? w.a_left : w.a_right, bb = s == 0 ? w.b_left : w.b_right;
+    svg.line(side(a, bb, y0 - ext), side(a, bb, y1 + ext), attrs(kPad, 1, "none", "stroke-dasharray=\"4,3\""));
+    svg.line(side(a, bb, y0), side(a, bb, y1), attrs(kPad, 3.2, "none", "stroke-linecap=\"round\""));
+  }
+  const P2 lab = side(w.a_right, w.b_right, y1 + ext);
+  labels.push_back({lab,
+                    {"beta = " + rad_text(w.beta) + " rad (" + fmt(w.beta * 180.0 / kPi, 2) + " deg)",
+                     "best window: width " + fmt(w.width * 1000, 1) + " mm"},
+                    kPad});
+}
+
+//! The planned grasp in this frame (its window may be another of the viewpoint's candidates).
+void draw_grasp_in_view(Svg& svg, const Plot& p, const SilhouetteScene& s, std::vector<Label>& labels) {
+  const PlannerConfig& cfg = s.planner.config();
+  const PlanResult& result = s.result;
+  const ViewRecord& v = s.planner.view(static_cast<uint32_t>(s.vi));
+  const V3 rel = (result.grasp.position - s.planner.object_centroid()).cast<double>();
+  const double gx = 1000.0 * v.X.cast<double>().dot(rel), gy = 1000.0 * v.Y.cast<double>().dot(rel);
+  const double hw = 500.0 * cfg.gripper.finger_width_m, wc = 500.0 * result.grasp.width;
+  for (int k = -1; k <= 1; k += 2)
+    svg.line(p.map(gx + k * wc, gy - hw), p.map(gx + k * wc, gy + hw),
+             attrs(kFinger, 4, "none", "stroke-opacity=\"0.85\""));
+  const P2 c = p.map(gx, gy);
+  svg.circle(c, 4.5, attrs("#000000", 1.5, "#ffffff"));
+  svg.line({c.x - 7, c.y}, {c.x + 7, c.y}, attrs("#000000", 1.2, "none"));
+  svg.line({c.x, c.y - 7}, {c.x, c.y + 7}, attrs("#000000", 1.2, "none"));
+  labels.push_back({p.map(gx + wc, gy - hw),
+                    {"planned grasp", "beta " + rad_text(result.grasp.beta) + " rad, width " +
+                                          fmt(result.grasp.width * 1000, 1) + " mm"},
+                    "#a04000"});
+}
+
+//! The legend panel and the scale bar.
+void draw_silhouette_legend(Svg& svg, const Plot& p, bool show_grasp) {
   Legend lg(760, 110, 265);
   lg.add(
       [](Svg& s, P2 q) {
@@ -891,7 +996,7 @@ std::string silhouette_picture(Planner& planner, const PlanResult& result) {
         s.line({q.x - 14, q.y}, {q.x + 14, q.y}, attrs(kPad, 3.2, "none"));
       },
       "fitted sides x = a y + b");
-  if (chosen && result.status == Status::ok)
+  if (show_grasp)
     lg.add(
         [](Svg& s, P2 q) {
           s.line({q.x - 10, q.y - 7}, {q.x - 10, q.y + 7}, attrs(kFinger, 4, "none"));
@@ -901,6 +1006,45 @@ std::string silhouette_picture(Planner& planner, const PlanResult& result) {
         "planned grasp: centre, pads");
   const double y = lg.draw(svg) + 28;
   draw_scale_bar(svg, 760, y, p.sx(), 200, "mm");
+}
+
+std::string silhouette_picture(Planner& planner, const PlanResult& result) {
+  const PlannerConfig& cfg = planner.config();
+  const int32_t vi = picture_view(planner);
+  auto detail = std::make_unique<ViewDetail>();
+  Status st = Status::invalid_argument;
+  if (vi >= 0) st = planner.analyze_view(static_cast<uint32_t>(vi), *detail);
+  const ViewDetail& d = *detail;
+  const SilhouetteScene s{planner, result, vi, st, d, st == Status::ok, vi >= 0 && vi == planner.chosen_view()};
+
+  Bounds b;
+  if (s.have) {
+    for (uint32_t i = 0; i < d.n_points; ++i) b.add(1000.0 * d.points[i].x, 1000.0 * d.points[i].y);
+    for (uint32_t i = 0; i < d.n_contour; ++i) b.add(1000.0 * d.contour[i].x, 1000.0 * d.contour[i].y);
+  }
+  Svg svg(1040, 780);
+  const Plot p = make_plot(95, 110, 640, 590, b, 0.06, 20.0, true);
+  draw_title(svg, "Silhouette, scan lines and force balance (XOY)", silhouette_subtitle(s));
+  draw_axes(svg, p, "x: closing direction X (mm)", "y: principal axis Y (mm)", "clip_sil");
+
+  std::vector<Label> labels;
+  svg.open("g clip-path=\"url(#clip_sil)\"");
+  if (s.have) {
+    const XRange cx = scan_line_range(d);
+    draw_silhouette(svg, p, d, cfg);
+    draw_scan_lines(svg, p, d, cx, cfg);
+    if (d.has_best && d.best.count > 0 && d.best.first + d.best.count <= d.n_lines)
+      draw_best_window(svg, p, d, cx, labels);
+    if (s.chosen && result.status == Status::ok) draw_grasp_in_view(svg, p, s, labels);
+  }
+  svg.close("g");
+  for (const Label& l : labels) draw_label(svg, p, l.at, l.lines, l.colour);
+  if (!s.have)
+    draw_note(svg, p,
+              vi < 0 ? "no viewpoint was analysed (" + status_line(result) + ")"
+                     : std::string("analyze_view failed: ") + to_string(st));
+
+  draw_silhouette_legend(svg, p, s.chosen && result.status == Status::ok);
   return svg.str("forcegrasp: silhouette of the chosen viewpoint",
                  "Object points projected onto the viewpoint's XOY plane, their concave hull, the scan lines, "
                  "the graspable lines with their leftmost and rightmost contour points, and the best window's "
@@ -951,37 +1095,96 @@ const char* family_colour(ViewFamily f) {
   return "#000000";
 }
 
-std::string balance_picture(const Planner& planner, const PlanResult& result) {
-  const PlannerConfig& cfg = planner.config();
-  const double beta_max = cfg.beta_max_rad;
+//! The viewpoints the balance picture plots: each one's best candidate with contacts.
+struct BalanceRows {
   struct Row {
     ViewFamily f;
     double theta_deg, beta, dz_mm;
     uint32_t index;
   };
   std::vector<Row> rows;
-  uint32_t no_cand = 0, no_contact = 0;
+  uint32_t no_cand = 0, no_contact = 0;  // left out: without a candidate, with dz = -1
   bool fam_used[kViewFamilies] = {};
-  Bounds tb;
+  Bounds tb;  // of every viewpoint's theta (deg)
+};
+
+BalanceRows balance_rows(const Planner& planner) {
+  BalanceRows b;
   for (uint32_t i = 0; i < planner.view_count(); ++i) {
     const ViewRecord& v = planner.view(i);
-    tb.add(v.theta * 180.0 / kPi, 0);
+    b.tb.add(v.theta * 180.0 / kPi, 0);
     if (!v.has_candidate) {
-      ++no_cand;
+      ++b.no_cand;
       continue;
     }
     if (v.dz < 0) {
-      ++no_contact;
+      ++b.no_contact;
       continue;
     }
-    rows.push_back({v.family, v.theta * 180.0 / kPi, v.beta, v.dz * 1000.0, i});
-    fam_used[static_cast<int>(v.family)] = true;
+    b.rows.push_back({v.family, v.theta * 180.0 / kPi, v.beta, v.dz * 1000.0, i});
+    b.fam_used[static_cast<int>(v.family)] = true;
   }
+  return b;
+}
+
+//! One panel's marks (0: beta with beta_max, 1: dz) inside its clip group.
+void draw_balance_panel(Svg& svg, const Plot& p, int panel, const BalanceRows& b, const Planner& planner,
+                        const PlanResult& result, bool have_chosen) {
+  const double beta_max = planner.config().beta_max_rad;
+  svg.open(std::string("g clip-path=\"url(#") + (panel == 0 ? "clip_beta" : "clip_dz") + ")\"");
+  if (panel == 0) {
+    svg.line(p.map(p.x0, beta_max), p.map(p.x1, beta_max), attrs(kPad, 1.8, "none", "stroke-dasharray=\"8,5\""));
+    const P2 lab = p.map(p.x1, beta_max);
+    svg.text({lab.x - 6, lab.y - 6}, "beta_max = " + fmt(beta_max, 3) + " rad",
+             std::string("text-anchor=\"end\" font-size=\"12\" fill=\"") + kPad + "\"");
+  }
+  if (have_chosen) {
+    const double th = planner.view(static_cast<uint32_t>(planner.chosen_view())).theta * 180.0 / kPi;
+    const double val = panel == 0 ? result.grasp.beta : result.grasp.dz * 1000.0;
+    svg.line(p.map(th, p.y0), p.map(th, p.y1), attrs("#d62728", 1, "none", "stroke-opacity=\"0.35\""));
+    svg.circle(p.map(th, val), 10, attrs("#d62728", 2.5, "#ffd84d", "fill-opacity=\"0.6\""));
+  }
+  for (const BalanceRows::Row& r : b.rows) {
+    const P2 c = p.map(r.theta_deg, panel == 0 ? r.beta : r.dz_mm);
+    draw_marker(svg, r.f, c, 4.2, attrs("#222222", 0.8, family_colour(r.f), "fill-opacity=\"0.85\""));
+  }
+  if (b.rows.empty()) draw_note(svg, p, "no viewpoint has a candidate with contacts");
+  svg.close("g");
+}
+
+//! The legend panel and the selection rule below it.
+void draw_balance_legend(Svg& svg, const BalanceRows& b, bool have_chosen) {
+  Legend lg(760, 110, 265);
+  for (int k = 0; k < kViewFamilies; ++k) {
+    const ViewFamily f = static_cast<ViewFamily>(k);
+    if (!b.fam_used[k] && k != 0) continue;
+    lg.add([f](Svg& s, P2 q) { draw_marker(s, f, q, 4.5, attrs("#222222", 0.8, family_colour(f))); },
+           std::string("viewpoint, ") + to_string(f));
+  }
+  if (have_chosen)
+    lg.add([](Svg& s, P2 q) { s.circle(q, 9, attrs("#d62728", 2.5, "#ffd84d", "fill-opacity=\"0.6\"")); },
+           "chosen grasp (its candidate)");
+  lg.add(
+      [](Svg& s, P2 q) {
+        s.line({q.x - 14, q.y}, {q.x + 14, q.y}, attrs(kPad, 1.8, "none", "stroke-dasharray=\"8,5\""));
+      },
+      "beta_max (balanced below)");
+  const double y = lg.draw(svg) + 30;
+  svg.text({760, y}, "Selection (design E.3):", "font-weight=\"bold\" font-size=\"12.5\"");
+  svg.text({760, y + 18}, "among beta <= beta_max the smallest", "font-size=\"12\"");
+  svg.text({760, y + 34}, "dz wins, else the smallest beta, then", "font-size=\"12\"");
+  svg.text({760, y + 50}, "the executability checks.", "font-size=\"12\"");
+}
+
+std::string balance_picture(const Planner& planner, const PlanResult& result) {
+  const PlannerConfig& cfg = planner.config();
+  const double beta_max = cfg.beta_max_rad;
+  const BalanceRows b = balance_rows(planner);
   const bool ok = result.status == Status::ok;
   const int32_t cv = planner.chosen_view();
   const bool have_chosen = ok && cv >= 0 && static_cast<uint32_t>(cv) < planner.view_count();
   double bmax = beta_max, dmax = 0;
-  for (const Row& r : rows) {
+  for (const BalanceRows::Row& r : b.rows) {
     bmax = std::max(bmax, r.beta);
     dmax = std::max(dmax, r.dz_mm);
   }
@@ -990,6 +1193,7 @@ std::string balance_picture(const Planner& planner, const PlanResult& result) {
     dmax = std::max<double>(dmax, result.grasp.dz * 1000.0);
   }
   if (!(dmax > 0)) dmax = 1;
+  Bounds tb = b.tb;
   if (tb.empty()) tb.add(0, 0);
   const double span = std::max(10.0, tb.x1 - tb.x0);
   const double tx0 = tb.x0 - 0.04 * span, tx1 = tb.x1 + 0.04 * span;
@@ -1009,9 +1213,9 @@ std::string balance_picture(const Planner& planner, const PlanResult& result) {
   pd.y1 = dmax * 1.1;
 
   std::vector<std::string> sub;
-  sub.push_back(std::to_string(planner.view_count()) + " viewpoints analysed, " + std::to_string(rows.size()) +
-                " plotted; left out: " + std::to_string(no_cand) + " without a candidate, " +
-                std::to_string(no_contact) + " with no contact within the pads' reach (dz = -1)");
+  sub.push_back(std::to_string(planner.view_count()) + " viewpoints analysed, " + std::to_string(b.rows.size()) +
+                " plotted; left out: " + std::to_string(b.no_cand) + " without a candidate, " +
+                std::to_string(b.no_contact) + " with no contact within the pads' reach (dz = -1)");
   sub.push_back("each viewpoint's best candidate (smallest rank); " + status_line(result) +
                 (have_chosen ? "; chosen grasp: beta " + rad_text(result.grasp.beta) + " rad, dz " +
                                    fmt(result.grasp.dz * 1000, 2) + " mm"
@@ -1023,50 +1227,9 @@ std::string balance_picture(const Planner& planner, const PlanResult& result) {
            "font-size=\"12.5\" fill=\"#444444\"");
   svg.text({pd.left + 8, pd.top + 18}, "XOZ balance: depth difference of the contact regions",
            "font-size=\"12.5\" fill=\"#444444\"");
-
-  for (int panel = 0; panel < 2; ++panel) {
-    const Plot& p = panel == 0 ? pb : pd;
-    svg.open(std::string("g clip-path=\"url(#") + (panel == 0 ? "clip_beta" : "clip_dz") + ")\"");
-    if (panel == 0) {
-      svg.line(p.map(p.x0, beta_max), p.map(p.x1, beta_max), attrs(kPad, 1.8, "none", "stroke-dasharray=\"8,5\""));
-      const P2 lab = p.map(p.x1, beta_max);
-      svg.text({lab.x - 6, lab.y - 6}, "beta_max = " + fmt(beta_max, 3) + " rad",
-               std::string("text-anchor=\"end\" font-size=\"12\" fill=\"") + kPad + "\"");
-    }
-    if (have_chosen) {
-      const double th = planner.view(static_cast<uint32_t>(cv)).theta * 180.0 / kPi;
-      const double val = panel == 0 ? result.grasp.beta : result.grasp.dz * 1000.0;
-      svg.line(p.map(th, p.y0), p.map(th, p.y1), attrs("#d62728", 1, "none", "stroke-opacity=\"0.35\""));
-      svg.circle(p.map(th, val), 10, attrs("#d62728", 2.5, "#ffd84d", "fill-opacity=\"0.6\""));
-    }
-    for (const Row& r : rows) {
-      const P2 c = p.map(r.theta_deg, panel == 0 ? r.beta : r.dz_mm);
-      draw_marker(svg, r.f, c, 4.2, attrs("#222222", 0.8, family_colour(r.f), "fill-opacity=\"0.85\""));
-    }
-    if (rows.empty()) draw_note(svg, p, "no viewpoint has a candidate with contacts");
-    svg.close("g");
-  }
-
-  Legend lg(760, 110, 265);
-  for (int k = 0; k < kViewFamilies; ++k) {
-    const ViewFamily f = static_cast<ViewFamily>(k);
-    if (!fam_used[k] && k != 0) continue;
-    lg.add([f](Svg& s, P2 q) { draw_marker(s, f, q, 4.5, attrs("#222222", 0.8, family_colour(f))); },
-           std::string("viewpoint, ") + to_string(f));
-  }
-  if (have_chosen)
-    lg.add([](Svg& s, P2 q) { s.circle(q, 9, attrs("#d62728", 2.5, "#ffd84d", "fill-opacity=\"0.6\"")); },
-           "chosen grasp (its candidate)");
-  lg.add(
-      [](Svg& s, P2 q) {
-        s.line({q.x - 14, q.y}, {q.x + 14, q.y}, attrs(kPad, 1.8, "none", "stroke-dasharray=\"8,5\""));
-      },
-      "beta_max (balanced below)");
-  const double y = lg.draw(svg) + 30;
-  svg.text({760, y}, "Selection (design E.3):", "font-weight=\"bold\" font-size=\"12.5\"");
-  svg.text({760, y + 18}, "among beta <= beta_max the smallest", "font-size=\"12\"");
-  svg.text({760, y + 34}, "dz wins, else the smallest beta, then", "font-size=\"12\"");
-  svg.text({760, y + 50}, "the executability checks.", "font-size=\"12\"");
+  draw_balance_panel(svg, pb, 0, b, planner, result, have_chosen);
+  draw_balance_panel(svg, pd, 1, b, planner, result, have_chosen);
+  draw_balance_legend(svg, b, have_chosen);
   return svg.str("forcegrasp: force balance over the viewpoints",
                  "beta (XOY force balance, rad) and dz (XOZ force balance, mm) of each viewpoint's best "
                  "candidate against the viewpoint angle, by viewpoint family.");
@@ -1101,7 +1264,7 @@ std::string index_html(const PlanResult& result) {
   return o.str();
 }
 
-bool write_file(const std::filesystem::path& path, const std::string& text, std::string& error) {
+[[nodiscard]] bool write_file(const std::filesystem::path& path, const std::string& text, std::string& error) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
   if (!out) {
     error = "cannot write " + path.string() + ": " + std::strerror(errno);

@@ -9,6 +9,7 @@ namespace fg::host {
 //! Writes object_top.svg, object_side.svg (object cloud, grasp and gripper),
 //! silhouette.svg (chosen viewpoint: silhouette, contour, scan lines, kept lines,
 //! fitted sides) and balance.svg (beta and dz over the viewpoints) into dir.
-bool write_pictures(Planner& planner, const PlanResult& result, const std::string& dir, std::string& error);
+[[nodiscard]] bool write_pictures(Planner& planner, const PlanResult& result, const std::string& dir,
+                                  std::string& error);
 
 }  // namespace fg::host
