@@ -40,7 +40,8 @@ struct ConcaveHullScratch {
   // component labelling then reuses that memory for runs (a raster with more runs than
   // fit is labelled by flooding instead).
   static constexpr uint32_t kRowWords = (kHullGridDim + 63) / 64;
-  static constexpr uint32_t kMaxRuns = 2 * kHullGridDim * kRowWords * sizeof(uint64_t) / sizeof(HullRun);
+  static constexpr uint32_t kMaxRuns =
+      static_cast<uint32_t>(size_t{2} * kHullGridDim * kRowWords * sizeof(uint64_t) / sizeof(HullRun));
   union {
     uint64_t rows[2][kHullGridDim * kRowWords];
     HullRun runs[kMaxRuns];

@@ -20,8 +20,6 @@
 
 namespace fg {
 
-constexpr uint32_t detail_log2u(uint32_t v) { return v <= 1 ? 0 : 1 + detail_log2u(v >> 1); }
-
 //! What a voxel holds besides its centroid.
 struct Voxel {
   uint32_t key;    //!< x | y << 11 | z << 22 (cell indices relative to the grid origin)
@@ -174,9 +172,9 @@ class VoxelGrid {
   uint32_t add_at(uint32_t s, uint32_t tag, uint32_t key);
   [[nodiscard]] bool rebuild_index(const uint8_t* keep, uint32_t bits);
   uint32_t slot_of(uint32_t key) const { return mix(key) >> (32 - slot_bits_); }
-  static constexpr uint32_t kSlotBits = detail_log2u(kVoxelHashSlots);
+  static constexpr uint32_t kSlotBits = floor_log2(kVoxelHashSlots);
   // A slot: index + 1 (0 = empty) in the low kIndexBits, the key's tag above.
-  static constexpr uint32_t kIndexBits = detail_log2u(kMaxVoxels) + 1;
+  static constexpr uint32_t kIndexBits = floor_log2(kMaxVoxels) + 1;
   static constexpr uint32_t kIndexMask = (1u << kIndexBits) - 1u;
   static_assert(kIndexBits <= 23, "the slot word keeps at least 8 tag bits below its top bit");
   // The tag: low bits of the mixed key, which the slot (its high bits) does not use,
@@ -298,7 +296,7 @@ inline uint32_t VoxelGrid::find_or_add(uint32_t key) {
 inline uint32_t VoxelGrid::add_at(uint32_t s, uint32_t tag, uint32_t key) {
   if (size_ >= kMaxVoxels) return kNone;
   keys_[size_] = key;
-  float* acc = store_ + 4 * size_;
+  float* acc = store_ + size_t{4} * size_;
   acc[0] = acc[1] = acc[2] = acc[3] = 0.f;
   slots_[s] = tag | ++size_;
   return size_ - 1;
