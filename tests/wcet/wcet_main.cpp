@@ -91,7 +91,7 @@ double median(std::vector<double> v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-fg::Status add_sensor(fg::Planner& p, const fg::wcet::SensorInput& s) {
+[[nodiscard]] fg::Status add_sensor(fg::Planner& p, const fg::wcet::SensorInput& s) {
   if (s.is_image()) return p.add_depth_image(s.role, s.depth.data(), s.width, s.height, s.k, s.pose);
   return p.add_points(s.role, s.xyz.data(), s.points(), 12, s.pose);
 }
@@ -331,9 +331,7 @@ nlohmann::json to_json(const std::vector<CaseReport>& reps, const Options& o) {
 
 std::string number(double v, bool ir) {
   char b[64];
-  if (ir)
-    std::snprintf(b, sizeof b, "%.0f", v);
-  else if (v >= 100)
+  if (ir || v >= 100)  // instructions, and times from 100 us on, in whole units
     std::snprintf(b, sizeof b, "%.0f", v);
   else
     std::snprintf(b, sizeof b, "%.1f", v);
@@ -366,8 +364,13 @@ std::string table(const std::vector<CaseReport>& reps, const Options& o, bool ma
           << (markdown ? " |\n" : "\n");
       continue;
     }
-    std::string status = status_text(r);
-    if (r.add_status != fg::Status::ok) status = std::string("add ") + fg::to_string(r.add_status) + ", " + status;
+    std::string status;  // "add <status>, " first when an add_* call failed
+    if (r.add_status != fg::Status::ok) {
+      status = "add ";
+      status += fg::to_string(r.add_status);
+      status += ", ";
+    }
+    status += status_text(r);
     char b[256];
     if (markdown)
       std::snprintf(b, sizeof b, "| %s | %s | %u | %u | %u | %u |", r.input.name.c_str(), status.c_str(),
@@ -402,7 +405,7 @@ std::vector<std::string> split(const std::string& s) {
   return v;
 }
 
-int usage() {
+[[nodiscard]] int usage() {
   std::fprintf(stderr,
                "usage: fg_wcet [--runs N] [--case a,b] [--json FILE] [--markdown FILE] [--points N] [--no-warmup]\n"
                "              [--hash-cells N] [--quiet]\n"
