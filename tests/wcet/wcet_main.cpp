@@ -23,6 +23,7 @@
 #include <functional>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -91,7 +92,7 @@ double median(std::vector<double> v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-fg::Status add_sensor(fg::Planner& p, const fg::wcet::SensorInput& s) {
+[[nodiscard]] fg::Status add_sensor(fg::Planner& p, const fg::wcet::SensorInput& s) {
   if (s.is_image()) return p.add_depth_image(s.role, s.depth.data(), s.width, s.height, s.k, s.pose);
   return p.add_points(s.role, s.xyz.data(), s.points(), 12, s.pose);
 }
@@ -331,9 +332,7 @@ nlohmann::json to_json(const std::vector<CaseReport>& reps, const Options& o) {
 
 std::string number(double v, bool ir) {
   char b[64];
-  if (ir)
-    std::snprintf(b, sizeof b, "%.0f", v);
-  else if (v >= 100)
+  if (ir || v >= 100)  // instructions, and times from 100 us on, in whole units
     std::snprintf(b, sizeof b, "%.0f", v);
   else
     std::snprintf(b, sizeof b, "%.1f", v);
@@ -366,8 +365,13 @@ std::string table(const std::vector<CaseReport>& reps, const Options& o, bool ma
           << (markdown ? " |\n" : "\n");
       continue;
     }
-    std::string status = status_text(r);
-    if (r.add_status != fg::Status::ok) status = std::string("add ") + fg::to_string(r.add_status) + ", " + status;
+    std::string status;  // "add <status>, " first when an add_* call failed
+    if (r.add_status != fg::Status::ok) {
+      status = "add ";
+      status += fg::to_string(r.add_status);
+      status += ", ";
+    }
+    status += status_text(r);
     char b[256];
     if (markdown)
       std::snprintf(b, sizeof b, "| %s | %s | %u | %u | %u | %u |", r.input.name.c_str(), status.c_str(),
@@ -402,7 +406,7 @@ std::vector<std::string> split(const std::string& s) {
   return v;
 }
 
-int usage() {
+[[nodiscard]] int usage() {
   std::fprintf(stderr,
                "usage: fg_wcet [--runs N] [--case a,b] [--json FILE] [--markdown FILE] [--points N] [--no-warmup]\n"
                "              [--hash-cells N] [--quiet]\n"
@@ -411,19 +415,26 @@ int usage() {
   return 2;
 }
 
-}  // namespace
+void print_case_list() {
+  for (const CaseInfo& c : fg::wcet::case_list())
+    std::printf("%-16s %-22s %s%s\n", c.name, c.targets, c.what, c.typical ? " [typical]" : "");
+}
 
-int main(int argc, char** argv) {
-  Options o;
+// The value after option argv[i] (i moves onto it); a missing value ends the program.
+std::string option_value(int argc, char** argv, int& i) {
+  if (i + 1 >= argc) {
+    std::fprintf(stderr, "%s needs a value\n", argv[i]);
+    std::exit(2);
+  }
+  return argv[++i];
+}
+
+// Every option in its order. Returns the exit code when the program ends here (--list,
+// an unknown option), else nothing.
+[[nodiscard]] std::optional<int> parse_options(int argc, char** argv, Options& o) {
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    auto next = [&]() -> std::string {
-      if (i + 1 >= argc) {
-        std::fprintf(stderr, "%s needs a value\n", a.c_str());
-        std::exit(2);
-      }
-      return argv[++i];
-    };
+    auto next = [&]() { return option_value(argc, argv, i); };
     if (a == "--runs")
       o.runs = std::max(1, std::atoi(next().c_str()));
     else if (a == "--case")
@@ -449,19 +460,24 @@ int main(int argc, char** argv) {
     else if (a == "--quiet")
       o.quiet = true;
     else if (a == "--list") {
-      for (const CaseInfo& c : fg::wcet::case_list())
-        std::printf("%-16s %-22s %s%s\n", c.name, c.targets, c.what, c.typical ? " [typical]" : "");
+      print_case_list();
       return 0;
     } else {
       return usage();
     }
   }
+  return std::nullopt;
+}
+
+// The options' consequences: the default point count, the instruction clock (false when
+// it cannot be used), --smoke's single run without warm-up.
+[[nodiscard]] bool apply_options(Options& o) {
   if (o.points == 0) o.points = fg::wcet::default_points_per_sensor();
   if (!o.ir_prefix.empty()) {
     std::string err;
     if (!fg::wcet::use_instruction_clock(o.ir_prefix, err)) {
       std::fprintf(stderr, "fg_wcet: %s\n", err.c_str());
-      return 2;
+      return false;
     }
   }
   if (o.profile && !fg::wcet::under_valgrind())
@@ -470,7 +486,12 @@ int main(int argc, char** argv) {
     o.runs = 1;
     o.warmup = false;
   }
-  std::vector<const CaseInfo*> todo;
+  return true;
+}
+
+// The cases to run, in case_list's order: those named by --case, else all (--smoke: the
+// cheap ones). False on an unknown name, or when --once does not get exactly one case.
+[[nodiscard]] bool select_cases(const Options& o, std::vector<const CaseInfo*>& todo) {
   for (const CaseInfo& c : fg::wcet::case_list()) {
     const bool wanted =
         o.cases.empty() ? (!o.smoke || c.smoke) : std::find(o.cases.begin(), o.cases.end(), c.name) != o.cases.end();
@@ -481,84 +502,105 @@ int main(int argc, char** argv) {
     for (const CaseInfo& c : fg::wcet::case_list()) known = known || n == c.name;
     if (!known) {
       std::fprintf(stderr, "fg_wcet: unknown case %s (--list)\n", n.c_str());
-      return 2;
+      return false;
     }
   }
   if (o.once && todo.size() != 1) {
     std::fprintf(stderr, "fg_wcet: --once needs exactly one --case\n");
-    return 2;
+    return false;
   }
+  return true;
+}
 
+void print_header(const Options& o) {
   const bool ir = !o.ir_prefix.empty();
-  if (!o.quiet)
-    std::printf("fg_wcet: limits %s, sizeof(fg::Planner) = %zu bytes, %u points per sensor, %s\n", FG_WCET_LIMITS,
-                sizeof(fg::Planner), o.points,
-                ir ? "instructions (callgrind)" : (o.once ? "one run (us)" : "microseconds, median / max"));
-  static fg::Planner planner;  // large: static storage
-  // The robot's check as the grasp task installs it (firmware_api/src/grasp_task.cpp):
-  // inverse kinematics from the arm's joints at the capture, the joint path with its
-  // per-plan budget, and (where the firmware image has libccd: the host configuration)
-  // the whole tool against the plane and the target. The arm starts from one fixed
-  // capture pose over the table (the synthetic cases put the object about the default
-  // workspace centre, 0.5 m in front of the base).
-  static fg::robot::Ur5GraspCheck check;  // 68 KiB of scratch
-  static const double kCaptureJoints[6] = {0.0, -1.9, 1.9, -1.57, -1.57, 0.0};
-  std::vector<CaseReport> reps;
-  bool failed = false;
-  for (const CaseInfo* info : todo) {
-    CaseReport rep;
-    rep.info = info;
-    std::string err;
-    if (!fg::wcet::make_case(info->name, o.points, rep.input, err, o.hash_cells)) {
-      rep.input.name = info->name;
-      rep.build_error = err;
-      if (!o.quiet) std::fprintf(stderr, "fg_wcet: %s: %s\n", info->name, err.c_str());
-      // A typical case that cannot be built (e.g. missing example files) is not fatal.
-      reps.push_back(std::move(rep));
-      continue;
-    }
-    const char* field = nullptr;
-    if (planner.configure(rep.input.cfg, &field) != fg::Status::ok) {
-      rep.build_error = std::string("invalid configuration: ") + (field ? field : "?");
-      failed = true;
-      reps.push_back(std::move(rep));
-      continue;
-    }
-    fg::robot::GraspCheckConfig check_cfg;
-    check_cfg.tool.gripper = rep.input.cfg.gripper;
-    check_cfg.check_tool = std::strcmp(FG_WCET_LIMITS, "host") == 0;
-    check.configure(check_cfg);
-    check.set_current_joints(kCaptureJoints);
-    planner.set_grasp_check(&check);
-    if (o.once) {
-      rep.runs.push_back(run_once(planner, rep, true, ir));
-    } else {
-      if (o.warmup) (void)run_once(planner, rep, false, false);
-      for (int r = 0; r < o.runs; ++r) rep.runs.push_back(run_once(planner, rep, false, false));
-      analyse_views(planner, rep);
-      hash_probes(planner, rep);
-      if (rep.input.name != "hash_collide")  // O(n^2) probing: minutes at full size
-        rep.stack_bytes = stack_high_water([&]() {
-          planner.reset();
-          for (const auto& s : rep.input.sensors) (void)add_sensor(planner, s);
-          fg::PlanResult r;
-          (void)planner.plan(r);
-        });
-    }
-    judge(rep);
-    if (!rep.problems.empty()) failed = true;
-    if (!o.quiet) {
-      std::printf("  %-16s %s%s", info->name, status_text(rep).c_str(),
-                  rep.add_status != fg::Status::ok
-                      ? (std::string(" (add: ") + fg::to_string(rep.add_status) + ")").c_str()
-                      : "");
-      for (const std::string& s : rep.saturated) std::printf("; %s", s.c_str());
-      for (const std::string& s : rep.problems) std::printf("; PROBLEM: %s", s.c_str());
-      std::printf("\n");
-      std::fflush(stdout);
-    }
-    reps.push_back(std::move(rep));
+  std::printf("fg_wcet: limits %s, sizeof(fg::Planner) = %zu bytes, %u points per sensor, %s\n", FG_WCET_LIMITS,
+              sizeof(fg::Planner), o.points,
+              ir ? "instructions (callgrind)" : (o.once ? "one run (us)" : "microseconds, median / max"));
+}
+
+// The case's input; false (recorded in rep.build_error) when it cannot be built.
+[[nodiscard]] bool build_case(const Options& o, CaseReport& rep) {
+  std::string err;
+  if (fg::wcet::make_case(rep.info->name, o.points, rep.input, err, o.hash_cells)) return true;
+  rep.input.name = rep.info->name;
+  rep.build_error = err;
+  if (!o.quiet) std::fprintf(stderr, "fg_wcet: %s: %s\n", rep.info->name, err.c_str());
+  return false;
+}
+
+// The arm starts from one fixed capture pose over the table (the synthetic cases put the
+// object about the default workspace centre, 0.5 m in front of the base).
+constexpr double kCaptureJoints[6] = {0.0, -1.9, 1.9, -1.57, -1.57, 0.0};
+
+// The planner with the case's configuration (false, recorded in rep.build_error, when it
+// is refused) and the robot's check as the grasp task installs it
+// (firmware_api/src/grasp_task.cpp): inverse kinematics from the arm's joints at the
+// capture, the joint path with its per-plan budget, and (where the firmware image has
+// libccd: the host configuration) the whole tool against the plane and the target.
+[[nodiscard]] bool configure_case(fg::Planner& planner, fg::robot::Ur5GraspCheck& check, CaseReport& rep) {
+  const char* field = nullptr;
+  if (planner.configure(rep.input.cfg, &field) != fg::Status::ok) {
+    rep.build_error = std::string("invalid configuration: ") + (field ? field : "?");
+    return false;
   }
+  fg::robot::GraspCheckConfig check_cfg;
+  check_cfg.tool.gripper = rep.input.cfg.gripper;
+  check_cfg.check_tool = std::strcmp(FG_WCET_LIMITS, "host") == 0;
+  check.configure(check_cfg);
+  check.set_current_joints(kCaptureJoints);
+  planner.set_grasp_check(&check);
+  return true;
+}
+
+// Timed mode: [a warm-up run,] the measured runs, then the diagnostics of the last run's
+// state (views, voxel hash) and the stack used by one more run.
+void measure_runs(fg::Planner& planner, const Options& o, CaseReport& rep) {
+  if (o.warmup) (void)run_once(planner, rep, false, false);
+  for (int r = 0; r < o.runs; ++r) rep.runs.push_back(run_once(planner, rep, false, false));
+  analyse_views(planner, rep);
+  hash_probes(planner, rep);
+  if (rep.input.name != "hash_collide")  // O(n^2) probing: minutes at full size
+    rep.stack_bytes = stack_high_water([&]() {
+      planner.reset();
+      for (const auto& s : rep.input.sensors) (void)add_sensor(planner, s);
+      fg::PlanResult r;
+      (void)planner.plan(r);
+    });
+}
+
+// "  <case> <status>[ (add: <status>)]; <saturated>...; PROBLEM: <problem>..."
+void print_case_line(const CaseReport& rep) {
+  std::string add;
+  if (rep.add_status != fg::Status::ok) {
+    add = " (add: ";
+    add += fg::to_string(rep.add_status);
+    add += ")";
+  }
+  std::printf("  %-16s %s%s", rep.info->name, status_text(rep).c_str(), add.c_str());
+  for (const std::string& s : rep.saturated) std::printf("; %s", s.c_str());
+  for (const std::string& s : rep.problems) std::printf("; PROBLEM: %s", s.c_str());
+  std::printf("\n");
+  std::fflush(stdout);
+}
+
+// One case built, configured, measured, judged and (unless --quiet) reported on one line.
+// False when the case fails: a refused configuration or an undefined outcome. A case that
+// cannot be built (e.g. a typical case without its example files) is not fatal.
+[[nodiscard]] bool run_case(fg::Planner& planner, fg::robot::Ur5GraspCheck& check, const Options& o, CaseReport& rep) {
+  if (!build_case(o, rep)) return true;
+  if (!configure_case(planner, check, rep)) return false;
+  if (o.once)
+    rep.runs.push_back(run_once(planner, rep, true, !o.ir_prefix.empty()));
+  else
+    measure_runs(planner, o, rep);
+  judge(rep);
+  if (!o.quiet) print_case_line(rep);
+  return rep.problems.empty();
+}
+
+// The table on stdout (unless --quiet), and the --json and --markdown files.
+void write_reports(const std::vector<CaseReport>& reps, const Options& o) {
   if (!o.quiet) std::printf("\n%s", table(reps, o, false).c_str());
   if (!o.json_path.empty()) {
     std::ofstream f(o.json_path);
@@ -568,6 +610,28 @@ int main(int argc, char** argv) {
     std::ofstream f(o.md_path);
     f << table(reps, o, true);
   }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options o;
+  if (const std::optional<int> exit_code = parse_options(argc, argv, o)) return *exit_code;
+  if (!apply_options(o)) return 2;
+  std::vector<const CaseInfo*> todo;
+  if (!select_cases(o, todo)) return 2;
+  if (!o.quiet) print_header(o);
+  static fg::Planner planner;             // large: static storage
+  static fg::robot::Ur5GraspCheck check;  // 68 KiB of scratch
+  std::vector<CaseReport> reps;
+  bool failed = false;
+  for (const CaseInfo* info : todo) {
+    CaseReport rep;
+    rep.info = info;
+    if (!run_case(planner, check, o, rep)) failed = true;
+    reps.push_back(std::move(rep));
+  }
+  write_reports(reps, o);
   if (o.smoke) std::printf("fg_wcet smoke: %s\n", failed ? "FAILED" : "every case returned a defined status");
   return failed ? 1 : 0;
 }
