@@ -624,7 +624,6 @@ struct HullGrid {
 //! counts are exact. Component sums stay below 2^31 (label_runs) when n does.
 void bin_points(HullGrid& grid, const Vec2* points, uint32_t n, bool all_finite) {
   const Raster& ras = grid.ras;
-  const uint32_t w = grid.w, h = grid.h;
   uint8_t* const g = grid.g;
   uint8_t* const counts = grid.counts;
   ConcaveHullScratch::FullCell* const full = grid.full;
@@ -648,6 +647,7 @@ void bin_points(HullGrid& grid, const Vec2* points, uint32_t n, bool all_finite)
   if (all_finite) {
     uint32_t i = 0;
 #if defined(__SSE2__)
+    const uint32_t w = grid.w, h = grid.h;
     // Two points per step: cell_of()'s operations in the lanes of two double vectors,
     // then each cell's index row * w + col in one multiply-add of 16-bit lanes (rows
     // and columns are below kHullGridDim <= 4096).

@@ -123,7 +123,7 @@ bool add_block(State& s, VoxelGrid& grid, const float* x, const float* y, const 
   return lanes4::add_block(s, grid, x, y, z, n);
 }
 
-uint32_t lanes(uint32_t requested) {
+uint32_t lanes([[maybe_unused]] uint32_t requested) {  // only x86-64 has a choice
 #if FG_INGEST_AVX2
   if (requested == 4u) return 4u;
   __builtin_cpu_init();  // idempotent; needed before constructors have run

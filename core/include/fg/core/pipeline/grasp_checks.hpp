@@ -144,9 +144,9 @@ class GraspChecks {
   CheckScene scene() const { return CheckScene{cfg_, object_, object_voxel_, grid_, state_, support_, sensors_}; }
 
  private:
-  // NOLINTNEXTLINE(bugprone-reserved-identifier): clang-tidy names the loop index of the
-  // copy the compiler generates for the array members; nothing here is reserved.
-  struct ContactNormalStats {
+  // clang-tidy reports the loop index of the copy the compiler generates for the array
+  // members as a reserved identifier; nothing here is reserved.
+  struct ContactNormalStats {    // NOLINT(bugprone-reserved-identifier)
     uint32_t total[2] = {0, 0};  //!< left, right
     uint32_t inside_cone[2] = {0, 0};
     Vec3 outward_sum[2] = {Vec3::Zero(), Vec3::Zero()};
