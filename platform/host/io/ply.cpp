@@ -94,12 +94,16 @@ double read_scalar(const uint8_t* p, Scalar s) {
 }
 
 //! A list count as an unsigned integer; false for a negative count.
-bool read_count(const uint8_t* p, Scalar s, uint64_t& n) {
+[[nodiscard]] bool read_count(const uint8_t* p, Scalar s, uint64_t& n) {
   int64_t v = 0;
   switch (s) {
-    case Scalar::i8:
-      v = load_le<int8_t>(p);
+    case Scalar::i8: {
+      // A two's complement byte: with its high bit set, the count is negative.
+      const uint8_t b = load_le<uint8_t>(p);
+      if (b & 0x80u) return false;
+      v = b;
       break;
+    }
     case Scalar::u8:
       v = load_le<uint8_t>(p);
       break;
