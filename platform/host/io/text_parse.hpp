@@ -1,4 +1,4 @@
-// Internal to the host file readers (pcd.cpp, ply.cpp): small text and number helpers
+// Internal to the host file readers (pcd.cpp, ply.cpp, scene.cpp): small text and number helpers
 // for header lines and ascii data. Not a public API; nothing outside io/ includes it.
 #pragma once
 
