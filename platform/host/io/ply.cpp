@@ -522,8 +522,7 @@ void read_fixed_vertices(const Element& e, const uint8_t* base, uint64_t item_si
   for (const Element& e : header.elems) {
     if (e.props.empty() || e.count == 0) continue;
     const bool is_vertex = &e == vertex;
-    const ReadResult r =
-        binary ? binary_element(e, is_vertex, c, name, cloud) : ascii_element(e, is_vertex, c, name, cloud);
+    ReadResult r = binary ? binary_element(e, is_vertex, c, name, cloud) : ascii_element(e, is_vertex, c, name, cloud);
     if (!r.ok) return r;
   }
   out = std::move(cloud);
