@@ -11,7 +11,7 @@ namespace fg::host::lzf {
 //! back-reference that goes past the end of the input, a back-reference before the start
 //! of the output, output that would overflow `out_size`, or output shorter than
 //! `out_size` are errors. Returns false and sets `error` (no file name) on failure.
-bool decompress(const uint8_t* in, size_t in_size, uint8_t* out, size_t out_size, std::string& error);
+[[nodiscard]] bool decompress(const uint8_t* in, size_t in_size, uint8_t* out, size_t out_size, std::string& error);
 
 //! Compresses `in` into a valid LZF stream (hash-based greedy matcher, like liblzf).
 //! Never fails; the worst case is literal runs only (n + ceil(n / 32) bytes).

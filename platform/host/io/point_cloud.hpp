@@ -46,13 +46,13 @@ struct ReadLimits {
 struct ReadResult {
   bool ok = true;
   std::string error;
-  static ReadResult failure(std::string msg) { return ReadResult{false, std::move(msg)}; }
+  [[nodiscard]] static ReadResult failure(std::string msg) { return ReadResult{false, std::move(msg)}; }
 };
 
 //! Reads a whole file in binary mode into `out`. Errors (naming `path`): cannot open,
 //! a directory, a read error, or more than `max_bytes` bytes (checked before reading
 //! regular files; other files are read in chunks and stop at the limit).
-ReadResult read_file_bytes(const std::string& path, BigBuffer<uint8_t>& out,
-                           uint64_t max_bytes = ReadLimits{}.max_file_bytes);
+[[nodiscard]] ReadResult read_file_bytes(const std::string& path, BigBuffer<uint8_t>& out,
+                                         uint64_t max_bytes = ReadLimits{}.max_file_bytes);
 
 }  // namespace fg::host

@@ -1,10 +1,14 @@
 // Host-only scene manifest reader/writer (spec/scene-and-cli.md).
 #include "scene.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <utility>
+
+#include "text_parse.hpp"
 
 namespace fg::host {
 
@@ -19,6 +23,8 @@ Pose to_pose(const PoseD& p) {
 
 namespace {
 using nlohmann::json;
+using text::cat;
+using text::fail;
 
 constexpr size_t kMaxManifestBytes = 1u << 20;  // a manifest is a few hundred bytes
 constexpr int kMaxNesting = 32;
@@ -56,19 +62,19 @@ int max_nesting(const std::string& s) {
 struct Ctx {
   std::string file;
   std::string err;
-  bool fail(const std::string& what) {
+  [[nodiscard]] bool fail(const std::string& what) {
     if (err.empty()) err = file + ": " + what;
     return false;
   }
 };
 
-bool finite_number(const json& v, double& out) {
+[[nodiscard]] bool finite_number(const json& v, double& out) {
   if (!v.is_number()) return false;
   out = v.get<double>();
   return std::isfinite(out);
 }
 
-bool read_vec(const json& v, size_t n, double* out, Ctx& c, const std::string& what) {
+[[nodiscard]] bool read_vec(const json& v, size_t n, double* out, Ctx& c, const std::string& what) {
   if (!v.is_array() || v.size() != n) return c.fail(what + " must be an array of " + std::to_string(n) + " numbers");
   for (size_t i = 0; i < n; ++i)
     if (!finite_number(v[i], out[i]))
@@ -76,7 +82,7 @@ bool read_vec(const json& v, size_t n, double* out, Ctx& c, const std::string& w
   return true;
 }
 
-bool read_pose(const json& v, PoseD& p, Ctx& c, const std::string& what) {
+[[nodiscard]] bool read_pose(const json& v, PoseD& p, Ctx& c, const std::string& what) {
   if (!v.is_object()) return c.fail(what + " must be an object with position and rotation");
   if (!v.contains("position")) return c.fail(what + " has no position");
   if (!v.contains("rotation")) return c.fail(what + " has no rotation");
@@ -104,7 +110,7 @@ bool read_pose(const json& v, PoseD& p, Ctx& c, const std::string& what) {
   return true;
 }
 
-bool read_gripper(const json& v, SceneGripper& g, Ctx& c) {
+[[nodiscard]] bool read_gripper(const json& v, SceneGripper& g, Ctx& c) {
   if (!v.is_object()) return c.fail("gripper must be an object");
   struct Field {
     const char* name;
@@ -124,67 +130,81 @@ bool read_gripper(const json& v, SceneGripper& g, Ctx& c) {
   }
   return true;
 }
+
+//! The manifest's text as JSON: bounded in size and nesting before it is parsed.
+[[nodiscard]] ReadResult parse_json(const std::string& text, const std::string& manifest_path, json& root) {
+  if (text.size() > kMaxManifestBytes) return fail(manifest_path, "manifest is larger than 1 MiB");
+  if (max_nesting(text) > kMaxNesting)
+    return fail(manifest_path, "JSON nesting deeper than " + std::to_string(kMaxNesting) + " levels");
+  try {
+    root = json::parse(text);
+  } catch (const json::exception& e) {
+    return fail(manifest_path, cat("invalid JSON: ", e.what()));
+  }
+  return {};
+}
+
+//! A sensor's "pose", or its "joints" with an optional "hand_eye"; `sw` names the
+//! sensor in messages.
+[[nodiscard]] ReadResult read_sensor_pose(const json& s, const std::string& sw, Ctx& c, SceneSensor& ss) {
+  if (s.contains("pose")) {
+    PoseD p;
+    if (!read_pose(s["pose"], p, c, sw + " pose")) return ReadResult::failure(c.err);
+    ss.pose = p;
+  } else if (s.contains("joints")) {
+    std::array<double, 6> q{};
+    if (!read_vec(s["joints"], 6, q.data(), c, sw + " joints")) return ReadResult::failure(c.err);
+    ss.joints = q;
+    if (s.contains("hand_eye")) {
+      PoseD he;
+      if (!read_pose(s["hand_eye"], he, c, sw + " hand_eye")) return ReadResult::failure(c.err);
+      ss.hand_eye = he;
+    }
+  } else {
+    return fail(c.file, cat(sw, " has neither \"pose\" nor \"joints\""));
+  }
+  return {};
+}
+
+//! Entry i of "sensors": a name (head or hand, not taken by an earlier entry), a cloud
+//! file (resolved against the manifest's folder `base`) and a pose.
+[[nodiscard]] ReadResult read_sensor(const json& s, size_t i, const std::string& base,
+                                     const std::vector<SceneSensor>& earlier, Ctx& c, SceneSensor& ss) {
+  const std::string& manifest_path = c.file;
+  const std::string where = cat("sensors[", std::to_string(i), "]");
+  if (!s.is_object()) return fail(manifest_path, cat(where, " must be an object"));
+  if (!s.contains("name") || !s["name"].is_string()) return fail(manifest_path, cat(where, " has no name string"));
+  ss.name = s["name"].get<std::string>();
+  if (ss.name != "head" && ss.name != "hand")
+    return fail(manifest_path, cat(where, " is named \"", ss.name, "\"; sensors must be named head or hand"));
+  for (const SceneSensor& prev : earlier)
+    if (prev.name == ss.name) return fail(manifest_path, cat("sensor \"", ss.name, "\" appears twice"));
+  const std::string sw = cat("sensor \"", ss.name, "\"");
+  if (!s.contains("cloud") || !s["cloud"].is_string() || s["cloud"].get<std::string>().empty())
+    return fail(manifest_path, cat(sw, " has no \"cloud\" file name"));
+  const std::string cloud = s["cloud"].get<std::string>();
+  if (cloud.find('\0') != std::string::npos) return fail(manifest_path, cat(sw, " cloud path has a NUL byte"));
+  ss.cloud_path = (!cloud.empty() && cloud[0] == '/') ? cloud : base + cloud;
+  return read_sensor_pose(s, sw, c, ss);
+}
 }  // namespace
 
 ReadResult parse_scene(const std::string& text, const std::string& manifest_path, Scene& out) {
   Ctx c{manifest_path, {}};
   out = Scene{};
   out.manifest_path = manifest_path;
-  if (text.size() > kMaxManifestBytes) return ReadResult::failure(manifest_path + ": manifest is larger than 1 MiB");
-  if (max_nesting(text) > kMaxNesting)
-    return ReadResult::failure(manifest_path + ": JSON nesting deeper than " + std::to_string(kMaxNesting) + " levels");
   json root;
-  try {
-    root = json::parse(text);
-  } catch (const json::exception& e) {
-    return ReadResult::failure(manifest_path + ": invalid JSON: " + e.what());
-  }
-  if (!root.is_object()) return ReadResult::failure(manifest_path + ": the manifest must be a JSON object");
-  if (!root.contains("sensors")) return ReadResult::failure(manifest_path + ": no \"sensors\" array");
+  if (ReadResult r = parse_json(text, manifest_path, root); !r.ok) return r;
+  if (!root.is_object()) return fail(manifest_path, "the manifest must be a JSON object");
+  if (!root.contains("sensors")) return fail(manifest_path, "no \"sensors\" array");
   const json& sensors = root["sensors"];
-  if (!sensors.is_array() || sensors.empty())
-    return ReadResult::failure(manifest_path + ": \"sensors\" must be a non-empty array");
+  if (!sensors.is_array() || sensors.empty()) return fail(manifest_path, "\"sensors\" must be a non-empty array");
   if (sensors.size() > kMaxSensors || sensors.size() > 2)
-    return ReadResult::failure(manifest_path + ": " + std::to_string(sensors.size()) +
-                               " sensors; at most two (head and hand) are supported");
+    return fail(manifest_path, std::to_string(sensors.size()) + " sensors; at most two (head and hand) are supported");
   const std::string base = dir_of(manifest_path);
   for (size_t i = 0; i < sensors.size(); ++i) {
-    const json& s = sensors[i];
-    const std::string where = "sensors[" + std::to_string(i) + "]";
-    if (!s.is_object()) return ReadResult::failure(manifest_path + ": " + where + " must be an object");
     SceneSensor ss;
-    if (!s.contains("name") || !s["name"].is_string())
-      return ReadResult::failure(manifest_path + ": " + where + " has no name string");
-    ss.name = s["name"].get<std::string>();
-    if (ss.name != "head" && ss.name != "hand")
-      return ReadResult::failure(manifest_path + ": " + where + " is named \"" + ss.name +
-                                 "\"; sensors must be named head or hand");
-    for (const SceneSensor& prev : out.sensors)
-      if (prev.name == ss.name)
-        return ReadResult::failure(manifest_path + ": sensor \"" + ss.name + "\" appears twice");
-    const std::string sw = "sensor \"" + ss.name + "\"";
-    if (!s.contains("cloud") || !s["cloud"].is_string() || s["cloud"].get<std::string>().empty())
-      return ReadResult::failure(manifest_path + ": " + sw + " has no \"cloud\" file name");
-    const std::string cloud = s["cloud"].get<std::string>();
-    if (cloud.find('\0') != std::string::npos)
-      return ReadResult::failure(manifest_path + ": " + sw + " cloud path has a NUL byte");
-    ss.cloud_path = (!cloud.empty() && cloud[0] == '/') ? cloud : base + cloud;
-    if (s.contains("pose")) {
-      PoseD p;
-      if (!read_pose(s["pose"], p, c, sw + " pose")) return ReadResult::failure(c.err);
-      ss.pose = p;
-    } else if (s.contains("joints")) {
-      std::array<double, 6> q{};
-      if (!read_vec(s["joints"], 6, q.data(), c, sw + " joints")) return ReadResult::failure(c.err);
-      ss.joints = q;
-      if (s.contains("hand_eye")) {
-        PoseD he;
-        if (!read_pose(s["hand_eye"], he, c, sw + " hand_eye")) return ReadResult::failure(c.err);
-        ss.hand_eye = he;
-      }
-    } else {
-      return ReadResult::failure(manifest_path + ": " + sw + " has neither \"pose\" nor \"joints\"");
-    }
+    if (ReadResult r = read_sensor(sensors[i], i, base, out.sensors, c, ss); !r.ok) return r;
     out.sensors.push_back(ss);
   }
   if (root.contains("gripper") && !read_gripper(root["gripper"], out.gripper, c)) return ReadResult::failure(c.err);

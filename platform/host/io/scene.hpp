@@ -38,13 +38,13 @@ struct Scene {
 //! Parses and validates a manifest: JSON syntax, nesting depth, sensor names (head,
 //! hand; each at most once), pose shapes and finiteness, rotation orthonormality,
 //! gripper ranges. Errors name the file and the problem.
-ReadResult read_scene(const std::string& path, Scene& out);
-ReadResult parse_scene(const std::string& text, const std::string& manifest_path, Scene& out);
+[[nodiscard]] ReadResult read_scene(const std::string& path, Scene& out);
+[[nodiscard]] ReadResult parse_scene(const std::string& text, const std::string& manifest_path, Scene& out);
 
 //! A manifest pose as the planner takes it (float).
 Pose to_pose(const PoseD& p);
 
 //! Writes a manifest (used by exporters and tests).
-ReadResult write_scene(const std::string& path, const Scene& scene);
+[[nodiscard]] ReadResult write_scene(const std::string& path, const Scene& scene);
 
 }  // namespace fg::host

@@ -1,4 +1,4 @@
-// Internal to the host file readers (pcd.cpp, ply.cpp): small text and number helpers
+// Internal to the host file readers (pcd.cpp, ply.cpp, scene.cpp): small text and number helpers
 // for header lines and ascii data. Not a public API; nothing outside io/ includes it.
 #pragma once
 
@@ -19,8 +19,19 @@
 
 namespace fg::host::text {
 
-inline ReadResult fail(const std::string& name, const std::string& msg) {
+[[nodiscard]] inline ReadResult fail(const std::string& name, const std::string& msg) {
   return ReadResult::failure(name + ": " + msg);
+}
+
+//! The parts (strings, string views, C strings, characters) joined into one string,
+//! without the temporary strings of a chain of `+`.
+template <typename... Parts>
+std::string cat(const Parts&... parts) {
+  static_assert(((std::is_convertible_v<const Parts&, std::string_view> || std::is_same_v<Parts, char>)&&...),
+                "cat joins strings and characters (numbers go through std::to_string)");
+  std::string s;
+  ((s += parts), ...);
+  return s;
 }
 
 //! Blanks and line breaks: ' ', \t, \r, \n, \v, \f.
@@ -60,7 +71,7 @@ inline std::string printable(std::string_view s) {
 enum class LeadingPlus { reject, accept };
 
 //! A whole token as a decimal unsigned integer (no sign other than an allowed '+').
-inline bool parse_u64(std::string_view s, uint64_t& v, LeadingPlus plus) {
+[[nodiscard]] inline bool parse_u64(std::string_view s, uint64_t& v, LeadingPlus plus) {
   if (plus == LeadingPlus::accept && !s.empty() && s.front() == '+') s.remove_prefix(1);
   if (s.empty()) return false;
   const auto res = std::from_chars(s.data(), s.data() + s.size(), v);
@@ -70,7 +81,7 @@ inline bool parse_u64(std::string_view s, uint64_t& v, LeadingPlus plus) {
 //! A whole token as a number: decimal or exponent form, optional sign, nan / inf.
 //! Values beyond the type's range become +-inf (or a denormal / 0), like strtod.
 template <typename T>
-bool parse_real(std::string_view s, T& v) {
+[[nodiscard]] bool parse_real(std::string_view s, T& v) {
   if (!s.empty() && s.front() == '+') s.remove_prefix(1);
   if (s.empty()) return false;
   const auto res = std::from_chars(s.data(), s.data() + s.size(), v);
@@ -96,12 +107,13 @@ inline float to_float(double d) {
   return static_cast<float>(d);  // NaN and in-range values
 }
 
-inline bool mul_ok(uint64_t a, uint64_t b, uint64_t& r) { return !__builtin_mul_overflow(a, b, &r); }
+//! r = a * b; false when the product overflows.
+[[nodiscard]] inline bool mul_ok(uint64_t a, uint64_t b, uint64_t& r) { return !__builtin_mul_overflow(a, b, &r); }
 
 //! Runs a reader's parse on bytes in memory: a null buffer, an allocation failure or any
 //! other exception becomes an error naming `name`, never an escape.
 template <typename Parse>
-ReadResult guarded_parse(const uint8_t* data, size_t size, const std::string& name, Parse&& parse) {
+[[nodiscard]] ReadResult guarded_parse(const uint8_t* data, size_t size, const std::string& name, Parse&& parse) {
   if (data == nullptr && size != 0) return fail(name, "no data");
   try {
     return parse();
