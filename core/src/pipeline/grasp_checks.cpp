@@ -912,6 +912,16 @@ struct LineSums {
   double sd, sdd, sv, sdv;
   uint32_t cnt;
   float dmin, dmax;
+  // One point at `depth` with 1 - cos(tilt) = v.
+  void add(float depth, double v) {
+    ++cnt;
+    sd += depth;
+    sdd += static_cast<double>(depth) * depth;
+    sv += v;
+    sdv += depth * v;
+    dmin = std::min(dmin, depth);
+    dmax = std::max(dmax, depth);
+  }
 };
 constexpr LineSums kNoSums{0, 0, 0, 0, 0, 1e9f, -1e9f};
 
@@ -943,21 +953,8 @@ struct SideTiltSums {
       for (double& b : best)
         if (ins < b) std::swap(ins, b);
     }
-    ++all.cnt;
-    all.sd += depth;
-    all.sdd += static_cast<double>(depth) * depth;
-    all.sv += v;
-    all.sdv += depth * v;
-    all.dmin = std::min(all.dmin, depth);
-    all.dmax = std::max(all.dmax, depth);
-    LineSums& bs = bins[std::min(kNearFaceBins - 1, std::max(0, static_cast<int>(depth / kNearFaceBin)))];
-    ++bs.cnt;
-    bs.sd += depth;
-    bs.sdd += static_cast<double>(depth) * depth;
-    bs.sv += v;
-    bs.sdv += depth * v;
-    bs.dmin = std::min(bs.dmin, depth);
-    bs.dmax = std::max(bs.dmax, depth);
+    all.add(depth, v);
+    bins[std::min(kNearFaceBins - 1, std::max(0, static_cast<int>(depth / kNearFaceBin)))].add(depth, v);
   }
 
   // An edge at the extreme: the pad touches it, and holds by the better of the faces
