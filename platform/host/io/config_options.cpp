@@ -8,6 +8,8 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "text_parse.hpp"
+
 namespace fg::host {
 
 std::vector<ConfigOption> config_options(PlannerConfig& c) {
@@ -72,17 +74,6 @@ std::vector<ConfigOption> config_options(PlannerConfig& c) {
 }
 
 namespace {
-// "option NAME: "VALUE" WHY": the message of a value an option does not take.
-std::string bad_value(const std::string& name, const std::string& value, const char* why) {
-  std::string e = "option ";
-  e += name;
-  e += ": \"";
-  e += value;
-  e += "\" ";
-  e += why;
-  return e;
-}
-
 bool parse_real(const std::string& s, float& out) {
   if (s.empty()) return false;
   errno = 0;
@@ -101,7 +92,7 @@ bool set_config_option(PlannerConfig& cfg, const std::string& name, const std::s
       case ConfigOption::real: {
         float v = 0;
         if (!parse_real(value, v)) {
-          error = bad_value(name, value, "is not a finite number");
+          error = text::cat("option ", name, ": \"", value, "\" is not a finite number");
           return false;
         }
         *static_cast<float*>(o.field) = v;
@@ -113,7 +104,7 @@ bool set_config_option(PlannerConfig& cfg, const std::string& name, const std::s
         const unsigned long long v = std::strtoull(value.c_str(), &end, 10);
         if (value.empty() || value[0] == '-' || errno != 0 || end != value.c_str() + value.size() ||
             v > 0xFFFFFFFFull) {
-          error = bad_value(name, value, "is not a whole number");
+          error = text::cat("option ", name, ": \"", value, "\" is not a whole number");
           return false;
         }
         *static_cast<uint32_t*>(o.field) = static_cast<uint32_t>(v);
@@ -125,7 +116,7 @@ bool set_config_option(PlannerConfig& cfg, const std::string& name, const std::s
         else if (value == "false" || value == "0" || value == "off")
           *static_cast<bool*>(o.field) = false;
         else {
-          error = bad_value(name, value, "is not true or false");
+          error = text::cat("option ", name, ": \"", value, "\" is not true or false");
           return false;
         }
         return true;
@@ -135,7 +126,7 @@ bool set_config_option(PlannerConfig& cfg, const std::string& name, const std::s
         else if (value == "largest")
           *static_cast<TargetRule*>(o.field) = TargetRule::largest;
         else {
-          error = bad_value(name, value, "is not nearest or largest");
+          error = text::cat("option ", name, ": \"", value, "\" is not nearest or largest");
           return false;
         }
         return true;
@@ -145,7 +136,7 @@ bool set_config_option(PlannerConfig& cfg, const std::string& name, const std::s
   // Names an earlier version used: say what the option is called now.
   static const char* const kRenamed[][2] = {{"delta", "scan_delta"}, {"dx_th", "dx_threshold"}};
   for (const auto& r : kRenamed)
-    if (name == r[0]) error += std::string(" (it is named ") + r[1] + ")";
+    if (name == r[0]) error += text::cat(" (it is named ", r[1], ")");
   return false;
 }
 
@@ -212,17 +203,12 @@ bool load_config_file(PlannerConfig& cfg, const std::string& path, std::string& 
     } else if (it->is_string())
       value = it->get<std::string>();
     else {
-      error = path;
-      error += ": option ";
-      error += it.key();
-      error += " must be a number, boolean or string";
+      error = text::cat(path, ": option ", it.key(), " must be a number, boolean or string");
       return false;
     }
     std::string e;
     if (!set_config_option(cfg, it.key(), value, e)) {
-      error = path;
-      error += ": ";
-      error += e;
+      error = text::cat(path, ": ", e);
       return false;
     }
   }
