@@ -164,7 +164,7 @@ Status Planner::end_ingest(uint32_t offered, uint32_t finite, uint32_t kept, uin
   counts_.finite += finite;
   counts_.after_filter += kept;
   ingest_us_ += static_cast<uint32_t>(platform::monotonic_us() - t0);
-  if (st != Status::ok) {
+  if (st == Status::capacity_exceeded) {
     overflow_ = true;
     message_ =
         "more occupied voxels than the build's FG_MAX_VOXELS with the crop box shrunk to crop_shrink_min (or a cloud "
@@ -252,15 +252,7 @@ Status Planner::add_points_planar(SensorRole role, const float* x, const float* 
   return add_coordinates(role, base, count, sizeof(float), world_T_sensor);
 }
 
-Status Planner::add_coordinates(SensorRole role, const uint8_t* const base[3], uint32_t count, uint32_t stride_bytes,
-                                const Pose& world_T_sensor) {
-  const Status s = ingest_begin(role, world_T_sensor);
-  if (s != Status::ok) return s;
-  const uint64_t t0 = platform::monotonic_us();
-  ingest::State in;
-  make_ingest(in, world_T_sensor, cfg_, grid_, crop_lo_cells_, crop_hi_cells_,
-              sensors_.sight_mm[static_cast<uint32_t>(role)], ingest_lanes_);
-  Status st = Status::ok;
+bool Planner::ingest_piece(ingest::State& in, const uint8_t* const base[3], uint32_t count, uint32_t stride_bytes) {
   const uint8_t *bx = base[0], *by = base[1], *bz = base[2];
   // x, y and z arrays are read in place; other strides are gathered into a block.
   const bool planar = stride_bytes == sizeof(float);
@@ -278,12 +270,56 @@ Status Planner::add_coordinates(SensorRole role, const uint8_t* const base[3], u
       gather(blk, b, stride_bytes, n, i + n < count ? n : n - 1);
     }
     make_room(in, n);
-    if (!ingest::add_block(in, grid_, x, y, z, n)) {
-      st = Status::capacity_exceeded;
-      break;
+    if (!ingest::add_block(in, grid_, x, y, z, n)) return false;
+  }
+  return true;
+}
+
+Status Planner::add_coordinates(SensorRole role, const uint8_t* const base[3], uint32_t count, uint32_t stride_bytes,
+                                const Pose& world_T_sensor) {
+  const Status s = ingest_begin(role, world_T_sensor);
+  if (s != Status::ok) return s;
+  const uint64_t t0 = platform::monotonic_us();
+  ingest::State in;
+  make_ingest(in, world_T_sensor, cfg_, grid_, crop_lo_cells_, crop_hi_cells_,
+              sensors_.sight_mm[static_cast<uint32_t>(role)], ingest_lanes_);
+  const Status st = ingest_piece(in, base, count, stride_bytes) ? Status::ok : Status::capacity_exceeded;
+  return end_ingest(count, in.offered - in.nonfinite, in.kept, t0, st);
+}
+
+Status Planner::add_point_source(SensorRole role, PointSource& source, const Pose& world_T_sensor) {
+  const Status s = ingest_begin(role, world_T_sensor);
+  if (s != Status::ok) return s;
+  const uint64_t t0 = platform::monotonic_us();
+  ingest::State in;
+  make_ingest(in, world_T_sensor, cfg_, grid_, crop_lo_cells_, crop_hi_cells_,
+              sensors_.sight_mm[static_cast<uint32_t>(role)], ingest_lanes_);
+  // Points of one sensor, so its offered count stays within 32 bits as one call's would.
+  uint32_t offered = 0;
+  // Bounded by the source's points: each piece adds at least one, and at most 2^32 - 1
+  // are taken (a source that never ends is refused there).
+  for (;;) {
+    PointPiece piece;
+    if (!source.next(piece)) {
+      message_ = "the point source failed";
+      return end_ingest(offered, in.offered - in.nonfinite, in.kept, t0, Status::invalid_argument);
+    }
+    if (piece.count == 0) break;
+    if (piece.x == nullptr || piece.y == nullptr || piece.z == nullptr || piece.stride < sizeof(float)) {
+      message_ = "a piece of the point source has a null coordinate array or a stride under 4 bytes";
+      return end_ingest(offered, in.offered - in.nonfinite, in.kept, t0, Status::invalid_argument);
+    }
+    if (piece.count > 0xFFFFFFFFu - offered) {
+      message_ = "a point source offered more than 2^32 - 1 points";
+      return end_ingest(offered, in.offered - in.nonfinite, in.kept, t0, Status::invalid_argument);
+    }
+    offered += piece.count;
+    const uint8_t* const base[3] = {piece.x, piece.y, piece.z};
+    if (!ingest_piece(in, base, piece.count, piece.stride)) {
+      return end_ingest(offered, in.offered - in.nonfinite, in.kept, t0, Status::capacity_exceeded);
     }
   }
-  return end_ingest(count, in.offered - in.nonfinite, in.kept, t0, st);
+  return end_ingest(offered, in.offered - in.nonfinite, in.kept, t0, Status::ok);
 }
 
 Status Planner::add_depth_image(SensorRole role, const uint16_t* depth_mm, uint16_t width, uint16_t height,

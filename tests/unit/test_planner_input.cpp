@@ -17,6 +17,7 @@
 #include <set>
 #include <string>
 #include <tuple>
+#include <utility>
 #include <vector>
 
 #include "fg/core/constants.hpp"
@@ -74,6 +75,42 @@ void planar(const std::vector<Vec3>& pts, std::vector<float>& xs, std::vector<fl
 }
 
 bool nonempty(const char* s) { return s != nullptr && s[0] != '\0'; }
+
+// Points handed over in pieces of the given sizes (repeated), laid out as a file with a
+// field before x might hold them: (tag, x, y, z) in 16 bytes per point. The array ends
+// at the last point's z, so a read past a piece's last point is a read past the array.
+class PiecesSource final : public fg::PointSource {
+ public:
+  PiecesSource(const std::vector<Vec3>& pts, std::vector<uint32_t> sizes) : sizes_(std::move(sizes)) {
+    bytes_.resize(pts.size() * 16);
+    for (size_t i = 0; i < pts.size(); ++i) {
+      const float v[4] = {-7.f, pts[i].x(), pts[i].y(), pts[i].z()};
+      std::memcpy(&bytes_[i * 16], v, 16);
+    }
+    n_ = static_cast<uint32_t>(pts.size());
+  }
+  bool next(fg::PointPiece& piece) override {
+    piece = fg::PointPiece{};
+    if (at_ >= n_) return true;
+    const uint32_t want = sizes_[calls_++ % sizes_.size()];
+    piece.count = std::min(want, n_ - at_);
+    // Each piece in an array of its own, of exactly its points.
+    piece_bytes_.assign(bytes_.begin() + static_cast<ptrdiff_t>(at_) * 16,
+                        bytes_.begin() + static_cast<ptrdiff_t>(at_ + piece.count) * 16);
+    piece_bytes_.erase(piece_bytes_.begin(), piece_bytes_.begin() + 4);
+    piece.x = piece_bytes_.data();
+    piece.y = piece_bytes_.data() + 4;
+    piece.z = piece_bytes_.data() + 8;
+    piece.stride = 16;
+    at_ += piece.count;
+    return true;
+  }
+
+ private:
+  std::vector<uint8_t> bytes_, piece_bytes_;
+  std::vector<uint32_t> sizes_;
+  uint32_t n_ = 0, at_ = 0, calls_ = 0;
+};
 
 // ---------------------------------------------------------------------------------
 // Scenes (world frame). The table top is at z = 0: with an identity sensor pose the
@@ -216,6 +253,56 @@ TEST(PlannerInput, PlanarArraysArgumentsAndCounts) {
   EXPECT_EQ(r.points.finite, 1u);
 }
 
+// A point source that fails, or hands over a piece without coordinates or with a
+// stride under a float, is refused with invalid_argument and a message; the points of
+// the pieces before stay counted, and the sensor's role is taken.
+TEST(PlannerInput, PointSourceFailuresAreRefused) {
+  class Scripted final : public fg::PointSource {
+   public:
+    explicit Scripted(int bad) : bad_(bad) {}
+    bool next(fg::PointPiece& piece) override {
+      piece = fg::PointPiece{};
+      if (calls_++ == 0) {  // one good piece of two points first
+        piece.x = reinterpret_cast<const uint8_t*>(xyz_);
+        piece.y = piece.x + 4;
+        piece.z = piece.x + 8;
+        piece.stride = 12;
+        piece.count = 2;
+        return true;
+      }
+      piece.count = 1;
+      piece.x = piece.y = piece.z = reinterpret_cast<const uint8_t*>(xyz_);
+      piece.stride = 12;
+      if (bad_ == 0) return false;
+      if (bad_ == 1) piece.y = nullptr;
+      if (bad_ == 2) piece.stride = 3;
+      return true;
+    }
+
+   private:
+    int bad_;
+    int calls_ = 0;
+    float xyz_[6] = {0.5f, 0.f, 0.4f, 0.51f, 0.f, 0.4f};
+  };
+  for (int bad = 0; bad < 3; ++bad) {
+    SCOPED_TRACE(bad);
+    auto pl = make_planner(world_frame_config());
+    Scripted src(bad);
+    EXPECT_EQ(pl->add_point_source(SensorRole::head, src, Pose{}), Status::invalid_argument);
+    EXPECT_NE(std::string(pl->last_message()).find(bad == 0 ? "source failed" : "piece"), std::string::npos)
+        << pl->last_message();
+    EXPECT_EQ(pl->add_point_source(SensorRole::head, src, Pose{}), Status::invalid_sensor);
+    PlanResult r;
+    EXPECT_EQ(pl->plan(r), r.status);
+    EXPECT_EQ(r.points.input, 2u);
+    EXPECT_EQ(r.points.after_filter, 2u);
+  }
+  // A source with no points at all is an empty sensor, as add_points with a count of 0.
+  PiecesSource none({}, {4u});
+  auto pl = make_planner(world_frame_config());
+  EXPECT_EQ(pl->add_point_source(SensorRole::hand, none, Pose{}), Status::ok);
+}
+
 TEST(PlannerInput, PlanarArraysPlanLikeTriples) {
   // The box scene seen from a sensor above and in front, with NaN holes, as x, y and z
   // arrays and as xyz triples: the same voxels and a bit-identical grasp.
@@ -323,14 +410,17 @@ TEST(PlannerInput, IngestMatchesABruteForceForEveryCountAndInputKind) {
         planar(sensor, xs, ys, zs);
         for (const Vec3& s : sensor) padded.insert(padded.end(), {s.x(), s.y(), s.z(), -7.f});
         if (!padded.empty()) padded.pop_back();  // the last point ends at its z (ASan sees a read past it)
-        for (int input_kind = 0; input_kind < 3; ++input_kind) {
+        // Pieces around the ingest's groups and blocks, each ending where its array does.
+        PiecesSource pieces(sensor, {1u, 5u, 64u, 3u, 130u});
+        for (int input_kind = 0; input_kind < 4; ++input_kind) {
           SCOPED_TRACE(testing::Message() << n << " points, input kind " << input_kind << ", range from " << range_min);
           auto pl = make_planner(cfg);
           pl->set_ingest_lanes(lanes);
-          const Status st = input_kind == 0 ? add(*pl, sensor, pose)
-                            : input_kind == 1
-                                ? pl->add_points(SensorRole::head, padded.data(), n, 16, pose)
-                                : pl->add_points_planar(SensorRole::head, xs.data(), ys.data(), zs.data(), n, pose);
+          const Status st = input_kind == 0   ? add(*pl, sensor, pose)
+                            : input_kind == 1 ? pl->add_points(SensorRole::head, padded.data(), n, 16, pose)
+                            : input_kind == 2
+                                ? pl->add_points_planar(SensorRole::head, xs.data(), ys.data(), zs.data(), n, pose)
+                                : pl->add_point_source(SensorRole::head, pieces, pose);
           ASSERT_EQ(st, Status::ok);
           const fg::VoxelGrid& g = pl->voxels();
           ASSERT_EQ(g.size(), cells.size());

@@ -13,6 +13,7 @@
 #include "io/big_buffer.hpp"
 #include "io/config_options.hpp"
 #include "io/pcd.hpp"
+#include "io/pcd_stream.hpp"
 #include "io/ply.hpp"
 #include "io/scene.hpp"
 #include "svg_pictures.hpp"
@@ -93,42 +94,62 @@ namespace {
   return true;
 }
 
+SensorRole role_of(const SceneSensor& s) { return s.name == "head" ? SensorRole::head : SensorRole::hand; }
+
 //! Adds one decoded cloud to the planner: "" or the error.
 [[nodiscard]] std::string add_cloud(Planner& planner, const SceneSensor& s, const PointCloud& c, const Pose& pose) {
-  const SensorRole role = s.name == "head" ? SensorRole::head : SensorRole::hand;
   const uint64_t points = c.size();  // (a size_t of 32 bits cannot exceed the bound)
   if (points > 0xFFFFFFFFull) return s.cloud_path + ": too many points";
   const uint32_t n = static_cast<uint32_t>(c.size());
-  const Status st =
-      c.planar() ? planner.add_points_planar(role, c.planar_array(0), c.planar_array(1), c.planar_array(2), n, pose)
-                 : planner.add_points(role, c.xyz.data(), n, 3 * sizeof(float), pose);
+  const Status st = c.planar() ? planner.add_points_planar(role_of(s), c.planar_array(0), c.planar_array(1),
+                                                           c.planar_array(2), n, pose)
+                               : planner.add_points(role_of(s), c.xyz.data(), n, 3 * sizeof(float), pose);
   if (st != Status::ok) return s.cloud_path + ": " + planner.last_message() + " (" + to_string(st) + ")";
   return std::string();
 }
 
+//! Streams one DATA binary cloud into the planner. False on a file error (err set);
+//! true otherwise, with the planner's own error, if any, in add_error.
+[[nodiscard]] bool stream_cloud(Planner& planner, const SceneSensor& s, PcdStream& stream, const Pose& pose,
+                                std::string& add_error, std::string& err) {
+  const Status st = planner.add_point_source(role_of(s), stream, pose);
+  if (!stream.error().empty()) {
+    err = stream.error();
+    return false;
+  }
+  if (st != Status::ok) add_error = s.cloud_path + ": " + planner.last_message() + " (" + to_string(st) + ")";
+  return true;
+}
+
 //! Reads every sensor's cloud and adds it to the planner; false with err set. t_plan:
-//! when the last cloud was decoded (the end of process_read).
+//! when the last cloud was read (the end of process_read).
 //!
-//! The clouds are decoded on threads of their own, all at once, and each is added to
-//! the planner as soon as it and the clouds before it are read: the first cloud's
-//! ingest overlaps the decoding of the next. The outcome is the one of reading every
-//! cloud first: a file or pose error of any sensor is reported before an error the
-//! planner gave for an earlier sensor's points (which then waits in add_error).
+//! A DATA binary cloud of float coordinates goes from the file into the planner in
+//! bounded chunks (PcdStream): its reading is part of the ingest. Every other cloud is
+//! decoded whole on a thread of its own, all at once, and added as soon as it and the
+//! clouds before it are in: the first cloud's ingest overlaps the decoding of the
+//! next. The outcome is the one of reading every cloud first: a file or pose error of
+//! any sensor is reported before an error the planner gave for an earlier sensor's
+//! points (which then waits in add_error).
 [[nodiscard]] bool read_and_add_clouds(const PlanOptions& opts, const Scene& scene, Planner& planner,
                                        uint64_t t_process, uint64_t& t_plan, std::string& err) {
   const size_t n_sensors = scene.sensors.size();
   std::vector<PointCloud> clouds(n_sensors);
+  std::vector<PcdStream> streams(n_sensors);
   std::vector<uint64_t> read_done_us(n_sensors, t_process);
-  std::vector<std::future<ReadResult>> reads;
-  reads.reserve(n_sensors);
-  for (size_t i = 0; i < n_sensors; ++i)
-    reads.push_back(std::async(std::launch::async, [&clouds, &read_done_us, &scene, i] {
+  std::vector<std::future<ReadResult>> reads(n_sensors);
+  std::vector<uint8_t> streamed(n_sensors, 0);
+  for (size_t i = 0; i < n_sensors; ++i) {
+    streamed[i] = streams[i].open(scene.sensors[i].cloud_path) ? 1 : 0;
+    if (streamed[i]) continue;
+    reads[i] = std::async(std::launch::async, [&clouds, &read_done_us, &scene, i] {
       ReadLimits limits;
       limits.planar = true;  // binary_compressed x, y, z go to the planner as decompressed
       ReadResult r = read_cloud(scene.sensors[i].cloud_path, clouds[i], limits);
       read_done_us[i] = platform::monotonic_us();
       return r;
-    }));
+    });
+  }
   // Every thread is joined before `clouds` goes out of scope, whichever way we leave.
   struct JoinAll {
     std::vector<std::future<ReadResult>>& f;
@@ -140,9 +161,11 @@ namespace {
   std::string add_error;
   for (size_t i = 0; i < n_sensors; ++i) {
     const SceneSensor& s = scene.sensors[i];
-    if (ReadResult r = reads[i].get(); !r.ok) {
-      err = r.error;
-      return false;
+    if (!streamed[i]) {
+      if (ReadResult r = reads[i].get(); !r.ok) {
+        err = r.error;
+        return false;
+      }
     }
     Pose pose;
     if (!sensor_pose(s, pose)) {
@@ -150,6 +173,11 @@ namespace {
       return false;
     }
     if (!add_error.empty()) continue;  // only the later sensors' file errors matter now
+    if (streamed[i]) {                 // read while ingested
+      if (!stream_cloud(planner, s, streams[i], pose, add_error, err)) return false;
+      read_done_us[i] = platform::monotonic_us();
+      continue;
+    }
     add_error = add_cloud(planner, s, clouds[i], pose);
     clouds[i] = PointCloud{};  // its memory is no longer needed
   }
@@ -157,7 +185,7 @@ namespace {
     err = add_error;
     return false;
   }
-  // process_read ends when the last cloud is decoded; process_plan is the rest, with
+  // process_read ends when the last cloud is read; process_plan is the rest, with
   // whatever ingest of earlier clouds was still running then.
   t_plan = t_process;
   for (uint64_t t : read_done_us) t_plan = std::max(t_plan, t);

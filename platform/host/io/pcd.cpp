@@ -670,6 +670,32 @@ ReadResult read_file_bytes(const std::string& path, BigBuffer<uint8_t>& out, uin
   return {};
 }
 
+ReadResult parse_pcd_header(const uint8_t* data, size_t size, const std::string& name, const ReadLimits& limits,
+                            bool& binary_floats, PcdBinaryFloats& out) {
+  binary_floats = false;
+  return text::guarded_parse(data, size, name, [&]() -> ReadResult {
+    LineCursor lines{data, size};
+    PcdHeader header;
+    if (ReadResult r = read_header(lines, name, header); !r.ok) return r;
+    PcdLayout layout;
+    if (ReadResult r = lay_out_fields(header, name, layout); !r.ok) return r;
+    PcdShape shape;
+    if (ReadResult r = check_dimensions(header, layout.point_size, limits, name, shape); !r.ok) return r;
+    const Field& fx = layout.at(layout.ix);
+    const Field& fy = layout.at(layout.iy);
+    const Field& fz = layout.at(layout.iz);
+    if (header.kind != DataKind::binary || fx.size != 4 || fy.size != 4 || fz.size != 4) return {};
+    binary_floats = true;
+    out.data_offset = lines.pos;
+    out.points = shape.points;
+    out.point_size = layout.point_size;
+    out.offset[0] = fx.offset;
+    out.offset[1] = fy.offset;
+    out.offset[2] = fz.offset;
+    return {};
+  });
+}
+
 ReadResult parse_pcd(const uint8_t* data, size_t size, const std::string& name, PointCloud& out,
                      const ReadLimits& limits) {
   return text::guarded_parse(data, size, name, [&] { return parse_pcd_impl(data, size, name, out, limits); });

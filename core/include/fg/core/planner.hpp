@@ -42,6 +42,31 @@ struct Grasp {
   Vec3 pregrasp = Vec3::Zero();  //!< position backed off along -approach
 };
 
+//! A piece of a sensor's points, as a PointSource hands it over: point i's coordinates
+//! are floats (host byte order, any alignment) at x + i * stride, y + i * stride and
+//! z + i * stride.
+struct PointPiece {
+  const uint8_t* x = nullptr;
+  const uint8_t* y = nullptr;
+  const uint8_t* z = nullptr;
+  uint32_t stride = 0;  //!< bytes from one point's coordinate to the next one's (>= 4)
+  uint32_t count = 0;   //!< points in the piece; 0: the source has no more
+};
+
+//! A sensor's points in pieces that the planner pulls one after another: a file read in
+//! bounded chunks, a driver's DMA buffers. A piece must stay valid until the next call.
+class PointSource {
+ public:
+  //! The next piece (count 0 at the end); false when the source failed (it knows why).
+  [[nodiscard]] virtual bool next(PointPiece& piece) = 0;
+
+ protected:
+  PointSource() = default;
+  PointSource(const PointSource&) = default;
+  PointSource& operator=(const PointSource&) = default;
+  ~PointSource() = default;  // not owned through this interface
+};
+
 struct PointCounts {
   uint32_t input = 0;         //!< points offered by the sensors
   uint32_t finite = 0;        //!< finite points
@@ -126,6 +151,12 @@ class Planner {
   [[nodiscard]] Status add_points_planar(SensorRole role, const float* x, const float* y, const float* z,
                                          uint32_t count, const Pose& world_T_sensor);
 
+  //! The same for points that arrive in pieces (a file read chunk by chunk into one
+  //! bounded buffer): one sensor's points, in their order, as if added in one call.
+  //! invalid_argument when the source fails (its own message says why) or hands over a
+  //! piece with a null coordinate or a stride under 4 bytes; the points before stay in.
+  [[nodiscard]] Status add_point_source(SensorRole role, PointSource& source, const Pose& world_T_sensor);
+
   //! Adds a depth image (uint16 millimetres, 0 = no reading, row-major width x height).
   [[nodiscard]] Status add_depth_image(SensorRole role, const uint16_t* depth_mm, uint16_t width, uint16_t height,
                                        const PinholeIntrinsics& k, const Pose& world_T_sensor);
@@ -175,9 +206,12 @@ class Planner {
   // (at crop_shrink_min the block is added as far as the grid holds it).
   void make_room(ingest::State& in, uint32_t n);
   void shrink_crop(ingest::State& in);
-  // The loop both point layouts share: coordinate k of point i at base[k] + i * stride.
+  // The loop every point layout shares: coordinate k of point i at base[k] + i * stride.
   [[nodiscard]] Status add_coordinates(SensorRole role, const uint8_t* const base[3], uint32_t count,
                                        uint32_t stride_bytes, const Pose& world_T_sensor);
+  // One piece of a sensor's points into the grid; false when the grid is full.
+  [[nodiscard]] bool ingest_piece(ingest::State& in, const uint8_t* const base[3], uint32_t count,
+                                  uint32_t stride_bytes);
   // The target's voxels (object_voxel_[0, size)) become the object points, and the
   // checks' near list is built around them in `storage`.
   void load_target(uint32_t size, uint32_t* storage);
