@@ -8,15 +8,15 @@ Each SCENE_DIR (one per PCD encoding, named after it) holds scene folders with a
 scene.json. For each folder, for each run, for each scene: forcegrasp and the PCL
 reference each run as a whole process (`plan SCENE --json`), interleaved, the one that
 goes first alternating from run to run, then /bin/true as the floor of spawning a process.
-Wall time is measured around os.posix_spawn + os.wait4 (wait4 also gives the peak RSS);
-stdout goes to a pipe and its JSON gives the in-process timing_us. One untimed run of
-each program per scene first warms the page cache. Exit codes 0 (grasp) and 3 (no_grasp)
+Wall time is measured around os.posix_spawn + os.wait4; stdout goes to a pipe and its
+JSON gives the in-process timing_us. One untimed run of each program per scene first
+warms the page cache; it runs under GNU time, whose %M is the program's own peak RSS. Exit codes 0 (grasp) and 3 (no_grasp)
 are normal runs; any other, or output that is not JSON, is a failure: reported, and the
 exit code is 1. Prints markdown tables per folder and overall. Stdlib only.
 
-The peak RSS of a spawned process starts at this Python process's own (Linux keeps the
-spawning address space's high-water mark across exec), so /bin/true's figure is the floor
-of that column too.
+The peak RSS is not taken from wait4 here: a process spawned from Python starts at this
+Python process's high-water mark (Linux keeps the spawning address space's across exec).
+GNU time forks the program from its own small address space and reports the program's.
 """
 import argparse
 import json
@@ -27,6 +27,7 @@ import sys
 import time
 
 FG, PCL, TRUE = "forcegrasp", "PCL", "/bin/true"
+GNU_TIME = "/usr/bin/time"
 NORMAL_EXIT = {0: "ok", 3: "no_grasp"}
 
 
@@ -69,6 +70,7 @@ class Bench:
         self.programs = programs  # name -> path
         self.failures = failures  # shared across folders: "what failed" -> count
         self.samples = {name: {} for name in list(programs) + [TRUE]}
+        self.rss_kib = {name: 0 for name in list(programs) + [TRUE]}  # the peak over the warm-up runs
 
     def fail(self, what):
         self.failures[what] = self.failures.get(what, 0) + 1
@@ -76,18 +78,20 @@ class Bench:
     def warm(self, scene):
         """One untimed run of each program: the page cache holds the clouds before timing.
         Run through subprocess so that a failing program's stderr can be shown."""
-        for name, path in self.programs.items():
-            p = subprocess.run([path, "plan", scene, "--json"], capture_output=True)
+        for name, argv in [(n, [path, "plan", scene, "--json"]) for n, path in self.programs.items()] + [(TRUE, [TRUE])]:
+            p = subprocess.run([GNU_TIME, "-f", "%M"] + argv, capture_output=True)
+            lines = p.stderr.decode(errors="replace").strip().splitlines()
             if p.returncode not in NORMAL_EXIT:
-                tail = p.stderr.decode(errors="replace").strip().splitlines()[-3:]
-                self.fail("%s exit %d on %s (warm-up; stderr: %s)" % (name, p.returncode, scene, " / ".join(tail)))
+                self.fail("%s exit %d on %s (warm-up; stderr: %s)" % (name, p.returncode, scene, " / ".join(lines[-3:])))
+            elif lines and lines[-1].isdigit():
+                self.rss_kib[name] = max(self.rss_kib[name], int(lines[-1]))
 
     def time_one(self, name, scene):
         if name == TRUE:
             argv = [TRUE]
         else:
             argv = [self.programs[name], "plan", scene, "--json"]
-        code, wall_ms, rss_kib, stdout = spawn(argv)
+        code, wall_ms, _, stdout = spawn(argv)
         total_ms = read_plan_ms = None
         if name != TRUE:
             total_ms, read_plan_ms = in_process_ms(stdout)
@@ -95,8 +99,8 @@ class Bench:
                 self.fail("%s exit %d on %s" % (name, code, scene))
             elif total_ms is None:
                 self.fail("%s printed no timing_us.total on %s" % (name, scene))
-        record = {"wall_ms": wall_ms, "rss_kib": rss_kib, "total_ms": total_ms, "read_plan_ms": read_plan_ms,
-                  "exit": code}
+        record = {"wall_ms": wall_ms, "rss_kib": self.rss_kib[name], "total_ms": total_ms,
+                  "read_plan_ms": read_plan_ms, "exit": code}
         self.samples[name].setdefault(scene, []).append(record)
 
     def run(self, scenes, runs):
@@ -235,10 +239,10 @@ def main():
     print("- commit: %s" % commit())
     print("- scenes: %s per encoding (%s), %d runs each, whole process = spawn to wait4"
           % ("/".join(map(str, counts)), ", ".join(folders), a.runs))
-    print("- in-process: medians of the JSON's timing_us; forcegrasp's total leaves out reading the clouds"
-          " (its process_read), PCL's includes it (its load): read+plan is the like-for-like figure"
-          " (forcegrasp process_read + process_plan, PCL total)")
-    print("- peak RSS: wait4's ru_maxrss, never below this Python's own RSS at spawn (the /bin/true row)")
+    print("- in-process: medians of the JSON's timing_us; forcegrasp's total leaves out the clouds it reads whole"
+          " (its process_read; DATA binary clouds are read during the ingest), PCL's includes loading them:"
+          " read+plan is the like-for-like figure (forcegrasp process_read + process_plan, PCL total)")
+    print("- peak RSS: the program's own, as GNU time's %M reports it (the warm-up runs)")
     sys.stdout.flush()
 
     failures = {}

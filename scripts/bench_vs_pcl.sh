@@ -53,17 +53,18 @@ logged() {
   }
 }
 
+# PCL for the reference build; GNU time for each program's own peak RSS.
 install_pcl() {
-  dpkg -s libpcl-dev >/dev/null 2>&1 && return 0
-  local cmd="apt-get update && apt-get install -y libpcl-dev"
+  dpkg -s libpcl-dev time >/dev/null 2>&1 && return 0
+  local cmd="apt-get update && apt-get install -y libpcl-dev time"
   if [ "$(id -u)" -ne 0 ]; then
     echo "bench_vs_pcl: PCL is missing; as root run: $cmd" >&2
     exit 2
   fi
-  stage "installing libpcl-dev"
+  stage "installing libpcl-dev and time"
   export DEBIAN_FRONTEND=noninteractive
   logged apt-get-update apt-get update
-  logged apt-get-install apt-get install -y libpcl-dev
+  logged apt-get-install apt-get install -y libpcl-dev time
 }
 
 # Configures once; later runs only call cmake --build, which is a no-op when up to date.

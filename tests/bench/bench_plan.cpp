@@ -2,11 +2,13 @@
 // two-sensor scene (two 640x480 clouds by default: examples/two-sensor-box).
 //   build/host-release/tests/bench/fg_bench [--scene PATH] [benchmark flags]
 #include <benchmark/benchmark.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <memory>
 #include <string>
 #include <vector>
@@ -21,6 +23,7 @@
 #include <liblzf/lzf.h>
 #endif
 #include "io/pcd.hpp"
+#include "io/pcd_stream.hpp"
 #include "io/ply.hpp"
 #include "io/scene.hpp"
 
@@ -339,6 +342,83 @@ void BM_ReadClouds(benchmark::State& st) {
   }
 }
 
+// The scene's clouds written once in each PCD encoding (a temporary folder, removed at
+// exit): the reading cases below time each kind on the same points.
+const std::vector<std::string>& clouds_as(fg::host::PcdEncoding e) {
+  static std::vector<std::string> paths[3];
+  static struct Folder {
+    std::filesystem::path dir =
+        std::filesystem::temp_directory_path() / ("fg_bench_clouds_" + std::to_string(::getpid()));
+    ~Folder() {
+      std::error_code ec;
+      std::filesystem::remove_all(dir, ec);
+    }
+  } folder;
+  std::vector<std::string>& out = paths[static_cast<int>(e)];
+  if (!out.empty()) return out;
+  std::filesystem::create_directories(folder.dir);
+  for (size_t i = 0; i < g_data->clouds.size(); ++i) {
+    fg::host::PointCloud c = g_data->clouds[i];
+    if (c.planar()) continue;  // read_cloud above fills xyz (no planar limit)
+    out.push_back((folder.dir / (std::to_string(static_cast<int>(e)) + "_" + std::to_string(i) + ".pcd")).string());
+    if (!fg::host::write_pcd(out.back(), c, e).ok) std::fprintf(stderr, "cannot write %s\n", out.back().c_str());
+  }
+  return out;
+}
+
+// Every cloud of the scene read whole by read_cloud (as the program reads any file it
+// does not stream), in one PCD encoding.
+void read_whole(benchmark::State& st, fg::host::PcdEncoding e) {
+  const std::vector<std::string>& paths = clouds_as(e);
+  fg::host::ReadLimits limits;
+  limits.planar = true;
+  for (auto _ : st) {
+    for (const std::string& path : paths) {
+      fg::host::PointCloud c;
+      const fg::host::ReadResult r = fg::host::read_cloud(path, c, limits);
+      if (!r.ok) st.SkipWithError(r.error.c_str());
+      benchmark::DoNotOptimize(c.size());
+    }
+  }
+}
+void BM_ReadAscii(benchmark::State& st) { read_whole(st, fg::host::PcdEncoding::ascii); }
+void BM_ReadBinaryWhole(benchmark::State& st) { read_whole(st, fg::host::PcdEncoding::binary); }
+void BM_ReadBinaryCompressed(benchmark::State& st) { read_whole(st, fg::host::PcdEncoding::binary_compressed); }
+
+// The DATA binary clouds read in chunks by PcdStream, every piece touched, no ingest:
+// what streaming adds to the ingest.
+void BM_StreamBinary(benchmark::State& st) {
+  const std::vector<std::string>& paths = clouds_as(fg::host::PcdEncoding::binary);
+  for (auto _ : st) {
+    for (const std::string& path : paths) {
+      fg::host::PcdStream s;
+      if (!s.open(path)) st.SkipWithError("cannot stream");
+      fg::PointPiece piece;
+      float sum = 0.f;
+      while (s.next(piece) && piece.count > 0) {
+        float z;
+        std::memcpy(&z, piece.z + static_cast<size_t>(piece.count - 1) * piece.stride, 4);
+        sum += z;
+      }
+      benchmark::DoNotOptimize(sum);
+    }
+  }
+}
+
+// The DATA binary clouds streamed into the planner, as `forcegrasp plan` ingests them:
+// BM_IngestPlanar plus the reading.
+void BM_StreamBinaryIngest(benchmark::State& st) {
+  const std::vector<std::string>& paths = clouds_as(fg::host::PcdEncoding::binary);
+  for (auto _ : st) {
+    g_planner->reset();
+    for (size_t i = 0; i < paths.size(); ++i) {
+      fg::host::PcdStream s;
+      if (!s.open(paths[i]) || g_planner->add_point_source(g_data->roles[i], s, g_data->poses[i]) != fg::Status::ok)
+        st.SkipWithError("cannot stream");
+    }
+  }
+}
+
 // The LZF streams of every binary_compressed cloud of the scene.
 struct LzfStream {
   std::vector<uint8_t> in;
@@ -432,6 +512,11 @@ BENCHMARK(BM_AnalyzeViewpoint)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_WholePlan)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_WholePlanPlanar)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_ReadClouds)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_ReadAscii)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_ReadBinaryWhole)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_ReadBinaryCompressed)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_StreamBinary)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_StreamBinaryIngest)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_LzfDecode)->Unit(benchmark::kMicrosecond);
 
 int main(int argc, char** argv) {
