@@ -13,7 +13,8 @@ scene/ manifests: poses, joints + hand_eye, gripper, minimal.
 plan/  inputs in the layout of fuzz/plan_fuzz.cpp: a table and a box seen as a point
        cloud and as a depth image, both sensors, configuration presets and overrides,
        and the invalid cases (NaN / Inf / denormal poses, reflections, bad roles, a
-       role twice, null data, small strides, bad intrinsics, empty images).
+       role twice, null data, small strides, bad intrinsics, empty images); points
+       also in pieces through add_point_source.
 The real clouds of ../shared/data/clouds are added at run time by scripts/fuzz.sh.
 """
 import math
@@ -417,6 +418,11 @@ def make_plan():
                    flags_extra=4 | 8, view=1))
     out("plan", "head_depth_small.bin", plan_input([depth_block(0, HEAD_EYE, TARGET, 32, 24, 60.0)], config=4))
     out("plan", "stride16.bin", plan_input([points_block(1, HAND_EYE, TARGET, stride=16)], config=3))
+    # points through add_point_source: pieces of 1 and of 8 points, and null pieces
+    out("plan", "pieces1.bin", plan_input([points_block(0, HEAD_EYE, TARGET, step=3, kind_extra=16)]))
+    out("plan", "pieces8_stride16.bin",
+        plan_input([points_block(1, HAND_EYE, TARGET, stride=16, kind_extra=16 | (7 << 5))], flags_extra=8))
+    out("plan", "pieces_null.bin", plan_input([points_block(0, HEAD_EYE, TARGET, step=8, kind_extra=8 | 16)]))
     for preset in (1, 2, 5, 6, 7):
         out("plan", "preset%d.bin" % preset, plan_input([points_block(0, HEAD_EYE, TARGET)], config=preset))
     # configuration overrides (indices of plan_fuzz.cpp's apply_override tables)

@@ -1,5 +1,5 @@
 // Fuzz target: the core planner (fg::Planner configure / reset / add_points /
-// add_depth_image / plan / analyze_view) on inputs decoded from the bytes. It asserts
+// add_point_source / add_depth_image / plan / analyze_view) on inputs decoded from the bytes. It asserts
 // nothing about the outcome: the findings are crashes, sanitizer reports, hangs, and any
 // heap use inside the core (the no-heap guard is armed around every core call and
 // abort()s on an allocation or a free).
@@ -12,7 +12,8 @@
 //   sensor block, repeated:
 //     u8 role    raw & 3 (0 head, 1 hand, 2 and 3 are invalid roles)
 //     u8 kind    bit 0: 0 add_points, 1 add_depth_image; bits 1-2: pose encoding;
-//                bit 3: pass a null data pointer
+//                bit 3: pass a null data pointer; bit 4: points through
+//                add_point_source in pieces of 1 + (bits 5-7) points
 //     pose       encoding 0: R (9 floats, row major) + t (3 floats), raw
 //                encoding 1: quaternion w x y z (4 floats, normalised here) + t (3 floats)
 //                encoding 2: look-at: eye (3 floats), target (3 floats)
@@ -188,6 +189,8 @@ struct Call {
   // points
   const float* xyz = nullptr;
   uint32_t count = 0, stride = 0;
+  bool pieces = false;
+  uint32_t piece_points = 1;
   // depth image
   uint16_t width = 0, height = 0;
   fg::PinholeIntrinsics k;
@@ -201,6 +204,8 @@ Call read_call(Reader& r) {
   const uint8_t kind = r.u8();
   c.depth = (kind & 1u) != 0;
   c.null_data = (kind & 8u) != 0;
+  c.pieces = (kind & 16u) != 0;
+  c.piece_points = 1u + (kind >> 5);
   c.pose = read_pose((kind >> 1) & 3u, r);
   if (!c.depth) {
     c.stride = r.u8();
@@ -229,7 +234,35 @@ Call read_call(Reader& r) {
   return c;
 }
 
+// A call's points handed over in pieces of a few points each (the last may be shorter),
+// each piece's coordinates in place in the payload; a null payload is a null piece.
+class Pieces final : public fg::PointSource {
+ public:
+  explicit Pieces(const Call& c) : c_(c) {}
+  bool next(fg::PointPiece& piece) override {
+    piece = fg::PointPiece{};
+    if (at_ >= c_.count) return true;
+    const uint8_t* p = reinterpret_cast<const uint8_t*>(c_.xyz);
+    const size_t off = static_cast<size_t>(at_) * c_.stride;
+    piece.x = p == nullptr ? nullptr : p + off;
+    piece.y = p == nullptr ? nullptr : p + off + 4;
+    piece.z = p == nullptr ? nullptr : p + off + 8;
+    piece.stride = c_.stride;
+    piece.count = c_.count - at_ < c_.piece_points ? c_.count - at_ : c_.piece_points;
+    at_ += piece.count;
+    return true;
+  }
+
+ private:
+  const Call& c_;
+  uint32_t at_ = 0;
+};
+
 fg::Status run_call(const Call& c) {
+  if (!c.depth && c.pieces) {
+    Pieces src(c);
+    return g_planner.add_point_source(c.role, src, c.pose);
+  }
   if (!c.depth) return g_planner.add_points(c.role, c.xyz, c.count, c.stride, c.pose);
   return g_planner.add_depth_image(c.role, c.null_data ? nullptr : g_depth, c.width, c.height, c.k, c.pose);
 }
