@@ -16,13 +16,12 @@
 #include "io/pcd_stream.hpp"
 #include "io/ply.hpp"
 #include "io/scene.hpp"
+#include "plan/plan_report.hpp"
 #include "svg_pictures.hpp"
 
 namespace fg::host {
 namespace {
 using nlohmann::json;
-
-json vec(const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
 
 PlanOutcome invalid(const std::string& error) {
   PlanOutcome o;
@@ -192,84 +191,6 @@ SensorRole role_of(const SceneSensor& s) { return s.name == "head" ? SensorRole:
   return true;
 }
 
-//! The robot's check (robot/ur5_grasp_check.hpp): the whole tool against the plane and
-//! the target always; inverse kinematics when the scene names the arm's joints.
-robot::Ur5GraspCheck& grasp_check_for(const PlannerConfig& cfg, const Scene& scene,
-                                      robot::GraspCheckConfig& check_cfg) {
-  static robot::Ur5GraspCheck check;  // 64 KiB of scratch: one per process
-  check_cfg.tool.gripper = cfg.gripper;
-  check_cfg.check_reach = false;
-  for (const SceneSensor& s : scene.sensors) check_cfg.check_reach = check_cfg.check_reach || s.joints.has_value();
-  check.configure(check_cfg);
-  for (const SceneSensor& s : scene.sensors)
-    if (s.joints) check.set_current_joints(s.joints->data());
-  return check;
-}
-
-//! The report of a grasp: its pose and figures, every check it passed with its margin,
-//! and the arm's joints when the robot's reach was checked.
-void report_grasp(json& j, const PlanResult& res, const PlannerConfig& cfg, const robot::GraspCheckConfig& check_cfg,
-                  const robot::Ur5GraspCheck& check) {
-  const Grasp& g = res.grasp;
-  j["grasp"] = json{{"position", vec(g.position)},
-                    {"approach", vec(g.approach)},
-                    {"closing", vec(g.closing)},
-                    {"width", g.width},
-                    {"beta", g.beta},
-                    {"dz", g.dz},
-                    {"viewpoint", g.viewpoint},
-                    {"family", to_string(g.family)},
-                    {"pregrasp", vec(g.pregrasp)}};
-  // Every check the grasp passed, with its margin in the check's unit (null where
-  // the check measures none or does not apply; the robot's only with its checks on).
-  json checks = json::object();
-  for (uint32_t k = 0; k < kCheckCount; ++k) {
-    const CheckId id = static_cast<CheckId>(k);
-    if (!cfg.executability_checks || (id == CheckId::robot_reach && !check_cfg.check_reach)) continue;
-    const float m = res.margins[id];
-    checks[to_string(id)] = json{{"margin", std::isfinite(m) ? json(m) : json(nullptr)}, {"unit", margin_unit(id)}};
-  }
-  j["grasp"]["checks"] = checks;
-  if (check_cfg.check_reach && check.has_motion()) {
-    const robot::GraspMotion& m = check.motion();
-    const auto q = [](const double* v) { return json(std::vector<double>(v, v + 6)); };
-    j["joints"] = json{{"pregrasp", q(m.pregrasp)}, {"grasp", q(m.grasp)}, {"lift", q(m.lift)}};
-  }
-}
-
-//! The points, the crop box, the stages' times and the search's counts.
-void report_figures(json& j, const PlanResult& res, uint64_t t_process, uint64_t t_plan, uint64_t t_done) {
-  j["points"] = json{{"input", res.points.input},
-                     {"after_filter", res.points.after_filter},
-                     {"voxels", res.points.voxels},
-                     {"plane", res.points.plane},
-                     {"object", res.points.object}};
-  // The crop box the grid was built in: the configured one, or the smaller one about
-  // the workspace centre a cloud too large for the voxel grid left (docs/method.md A).
-  j["crop"] = json{{"min", json::array({res.crop.min_x, res.crop.min_y})},
-                   {"max", json::array({res.crop.max_x, res.crop.max_y})},
-                   {"shrinks", res.crop.shrinks},
-                   {"points_dropped", res.crop.points_dropped}};
-  json timing = json::object();
-  timing["total"] = res.stage_us[static_cast<int>(Stage::total)];
-  for (int s = 0; s < static_cast<int>(Stage::total); ++s) timing[to_string(static_cast<Stage>(s))] = res.stage_us[s];
-  timing["process_plan"] = t_done - t_plan;
-  timing["process_read"] = t_plan - t_process;
-  j["timing_us"] = timing;
-  j["search"] = json{{"viewpoints", res.viewpoints},
-                     {"candidates", res.candidates},
-                     {"rejected",
-                      {{"table", res.rejected.table},
-                       {"collision", res.rejected.collision},
-                       {"unreachable", res.rejected.unreachable},
-                       {"friction", res.rejected.friction},
-                       {"occluded", res.rejected.occluded}}}};
-  json by_check = json::object();
-  for (uint32_t k = 0; k < kCheckCount; ++k)
-    by_check[to_string(static_cast<CheckId>(k))] = res.rejected_by_check.by_check[k];
-  j["search"]["rejected_by_check"] = by_check;
-}
-
 //! The whole command, which may throw.
 PlanOutcome plan_scene(const PlanOptions& opts) {
   const uint64_t t_process = platform::monotonic_us();
@@ -281,7 +202,10 @@ PlanOutcome plan_scene(const PlanOptions& opts) {
   uint64_t t_plan = t_process;
   if (!read_and_add_clouds(opts, scene, planner, t_process, t_plan, err)) return invalid(err);
   robot::GraspCheckConfig check_cfg;
-  robot::Ur5GraspCheck& check = grasp_check_for(cfg, scene, check_cfg);
+  const double* joints = nullptr;
+  for (const SceneSensor& s : scene.sensors)
+    if (s.joints) joints = s.joints->data();
+  robot::Ur5GraspCheck& check = robot_check_for(cfg, joints, check_cfg);
   planner.set_grasp_check(cfg.executability_checks ? &check : nullptr);
   PlanResult res;
   const Status st = planner.plan(res);
@@ -289,25 +213,19 @@ PlanOutcome plan_scene(const PlanOptions& opts) {
   const uint64_t t_done = platform::monotonic_us();
 
   PlanOutcome o;
-  json& j = o.report;
   if (st == Status::ok) {
     o.exit_code = kExitOk;
-    j["status"] = "ok";
-    report_grasp(j, res, cfg, check_cfg, check);
   } else if (st == Status::no_grasp) {
     o.exit_code = kExitNoGrasp;
-    j["status"] = "no_grasp";
-    j["reason"] = to_string(res.reason);
-    j["message"] = res.message;
   } else if (st == Status::internal_error || st == Status::numeric_failure) {
     o.exit_code = kExitInternal;
-    j["status"] = "internal_error";
-    j["error"] = res.message;
   } else {
     return invalid(opts.scene_path + ": " + res.message + " (" + to_string(st) + ")");
   }
-  report_figures(j, res, t_process, t_plan, t_done);
-  if (planner.plane_found()) j["support_plane"] = json{{"normal", vec(planner.plane().n)}, {"d", planner.plane().d}};
+  json& j = o.report;
+  j = plan_report(planner, res, st, cfg, check_cfg, check);
+  j["timing_us"]["process_plan"] = t_done - t_plan;
+  j["timing_us"]["process_read"] = t_plan - t_process;
   if (!opts.pictures_dir.empty()) {
     std::string perr;
     if (!write_pictures(planner, res, opts.pictures_dir, perr))

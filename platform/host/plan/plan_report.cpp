@@ -1,0 +1,106 @@
+#include "plan/plan_report.hpp"
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+namespace fg::host {
+namespace {
+using nlohmann::json;
+
+json vec(const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
+
+//! The report of a grasp: its pose and figures, every check it passed with its margin,
+//! and the arm's joints when the robot's reach was checked.
+void report_grasp(json& j, const PlanResult& res, const PlannerConfig& cfg, const robot::GraspCheckConfig& check_cfg,
+                  const robot::Ur5GraspCheck& check) {
+  const Grasp& g = res.grasp;
+  j["grasp"] = json{{"position", vec(g.position)},
+                    {"approach", vec(g.approach)},
+                    {"closing", vec(g.closing)},
+                    {"width", g.width},
+                    {"beta", g.beta},
+                    {"dz", g.dz},
+                    {"viewpoint", g.viewpoint},
+                    {"family", to_string(g.family)},
+                    {"pregrasp", vec(g.pregrasp)}};
+  // Every check the grasp passed, with its margin in the check's unit (null where
+  // the check measures none or does not apply; the robot's only with its checks on).
+  json checks = json::object();
+  for (uint32_t k = 0; k < kCheckCount; ++k) {
+    const CheckId id = static_cast<CheckId>(k);
+    if (!cfg.executability_checks || (id == CheckId::robot_reach && !check_cfg.check_reach)) continue;
+    const float m = res.margins[id];
+    checks[to_string(id)] = json{{"margin", std::isfinite(m) ? json(m) : json(nullptr)}, {"unit", margin_unit(id)}};
+  }
+  j["grasp"]["checks"] = checks;
+  if (check_cfg.check_reach && check.has_motion()) {
+    const robot::GraspMotion& m = check.motion();
+    const auto q = [](const double* v) { return json(std::vector<double>(v, v + 6)); };
+    j["joints"] = json{{"pregrasp", q(m.pregrasp)}, {"grasp", q(m.grasp)}, {"lift", q(m.lift)}};
+  }
+}
+
+//! The points, the crop box, the stages' times and the search's counts.
+void report_figures(json& j, const PlanResult& res) {
+  j["points"] = json{{"input", res.points.input},
+                     {"after_filter", res.points.after_filter},
+                     {"voxels", res.points.voxels},
+                     {"plane", res.points.plane},
+                     {"object", res.points.object}};
+  // The crop box the grid was built in: the configured one, or the smaller one about
+  // the workspace centre a cloud too large for the voxel grid left (docs/method.md A).
+  j["crop"] = json{{"min", json::array({res.crop.min_x, res.crop.min_y})},
+                   {"max", json::array({res.crop.max_x, res.crop.max_y})},
+                   {"shrinks", res.crop.shrinks},
+                   {"points_dropped", res.crop.points_dropped}};
+  json timing = json::object();
+  timing["total"] = res.stage_us[static_cast<int>(Stage::total)];
+  for (int s = 0; s < static_cast<int>(Stage::total); ++s) timing[to_string(static_cast<Stage>(s))] = res.stage_us[s];
+  j["timing_us"] = timing;
+  j["search"] = json{{"viewpoints", res.viewpoints},
+                     {"candidates", res.candidates},
+                     {"rejected",
+                      {{"table", res.rejected.table},
+                       {"collision", res.rejected.collision},
+                       {"unreachable", res.rejected.unreachable},
+                       {"friction", res.rejected.friction},
+                       {"occluded", res.rejected.occluded}}}};
+  json by_check = json::object();
+  for (uint32_t k = 0; k < kCheckCount; ++k)
+    by_check[to_string(static_cast<CheckId>(k))] = res.rejected_by_check.by_check[k];
+  j["search"]["rejected_by_check"] = by_check;
+}
+
+}  // namespace
+
+robot::Ur5GraspCheck& robot_check_for(const PlannerConfig& cfg, const double* current_joints,
+                                      robot::GraspCheckConfig& check_cfg) {
+  static robot::Ur5GraspCheck check;  // 64 KiB of scratch: one per process
+  check_cfg.tool.gripper = cfg.gripper;
+  check_cfg.check_reach = current_joints != nullptr;
+  check.configure(check_cfg);
+  if (current_joints != nullptr) check.set_current_joints(current_joints);
+  return check;
+}
+
+json plan_report(const Planner& planner, const PlanResult& res, Status st, const PlannerConfig& cfg,
+                 const robot::GraspCheckConfig& check_cfg, const robot::Ur5GraspCheck& check) {
+  json j;
+  if (st == Status::ok) {
+    j["status"] = "ok";
+    report_grasp(j, res, cfg, check_cfg, check);
+  } else if (st == Status::no_grasp) {
+    j["status"] = "no_grasp";
+    j["reason"] = to_string(res.reason);
+    j["message"] = res.message;
+  } else {
+    j["status"] = "internal_error";
+    j["error"] = res.message;
+  }
+  report_figures(j, res);
+  if (planner.plane_found()) j["support_plane"] = json{{"normal", vec(planner.plane().n)}, {"d", planner.plane().d}};
+  return j;
+}
+
+}  // namespace fg::host
