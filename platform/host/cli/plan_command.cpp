@@ -205,7 +205,8 @@ PlanOutcome plan_scene(const PlanOptions& opts) {
   const double* joints = nullptr;
   for (const SceneSensor& s : scene.sensors)
     if (s.joints) joints = s.joints->data();
-  robot::Ur5GraspCheck& check = robot_check_for(cfg, joints, check_cfg);
+  static robot::Ur5GraspCheck check;  // one per process, like the planner
+  set_up_robot_check(check, cfg, joints, check_cfg);
   planner.set_grasp_check(cfg.executability_checks ? &check : nullptr);
   PlanResult res;
   const Status st = planner.plan(res);

@@ -74,14 +74,12 @@ void report_figures(json& j, const PlanResult& res) {
 
 }  // namespace
 
-robot::Ur5GraspCheck& robot_check_for(const PlannerConfig& cfg, const double* current_joints,
-                                      robot::GraspCheckConfig& check_cfg) {
-  static robot::Ur5GraspCheck check;  // 64 KiB of scratch: one per process
+void set_up_robot_check(robot::Ur5GraspCheck& check, const PlannerConfig& cfg, const double* current_joints,
+                        robot::GraspCheckConfig& check_cfg) {
   check_cfg.tool.gripper = cfg.gripper;
   check_cfg.check_reach = current_joints != nullptr;
   check.configure(check_cfg);
   if (current_joints != nullptr) check.set_current_joints(current_joints);
-  return check;
 }
 
 json plan_report(const Planner& planner, const PlanResult& res, Status st, const PlannerConfig& cfg,

@@ -10,11 +10,12 @@
 
 namespace fg::host {
 
-//! The robot's check (robot/ur5_grasp_check.hpp), one per process: the whole tool against
-//! the plane and the target always; inverse kinematics too when the arm's current joints
-//! are known (`current_joints`: six angles in URDF order, or null). Fills check_cfg.
-robot::Ur5GraspCheck& robot_check_for(const PlannerConfig& cfg, const double* current_joints,
-                                      robot::GraspCheckConfig& check_cfg);
+//! Sets up the robot's check (robot/ur5_grasp_check.hpp) for a plan: the whole tool
+//! against the plane and the target always; inverse kinematics too when the arm's
+//! current joints are known (`current_joints`: six angles in URDF order, or null).
+//! Fills check_cfg. The check holds 64 KiB of scratch: keep one per planner.
+void set_up_robot_check(robot::Ur5GraspCheck& check, const PlannerConfig& cfg, const double* current_joints,
+                        robot::GraspCheckConfig& check_cfg);
 
 //! The report of a plan that ended ok, no_grasp or with an internal error: the status,
 //! the grasp with every check's margin and the arm's joints (ok), the reason and message
