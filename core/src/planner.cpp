@@ -60,6 +60,8 @@ Status Planner::plan(PlanResult& out) {
   if (grasp_check_ != nullptr) grasp_check_->begin_plan();
   checks_.forget_target();
   chosen_view_ = -1;
+  chosen_candidate_ = kMaxCandidates;
+  n_alternates_ = 0;
   object_.clear();
 
   if (!sensors_.any()) return finish(Status::no_input, NoGraspReason::none, "no sensor data was added before plan()");
@@ -134,6 +136,7 @@ Status Planner::plan(PlanResult& out) {
     StageTimer t(out.stage_us, Stage::select);
     checks_.margins(candidates_.items[found], out.margins);
   }
+  chosen_candidate_ = found;
   return finish(Status::ok, NoGraspReason::none, "ok");
 }
 
@@ -144,15 +147,94 @@ void Planner::load_target(uint32_t size, uint32_t* storage) {
   checks_.begin_target(storage, near_tables_, body_scratch_);
 }
 
-uint32_t Planner::search_family(const FamilySpec* specs, uint32_t n_specs, PlanResult& out) {
-  const uint32_t first_view = views_.n, first_cand = candidates_.n;
+void Planner::generate_family(const FamilySpec* specs, uint32_t n_specs, StageTimes& stage_us) {
+  const uint32_t first_view = views_.n;
   {
-    StageTimer t(out.stage_us, Stage::frame);
+    StageTimer t(stage_us, Stage::frame);
     for (uint32_t i = 0; i < n_specs; ++i) add_view_family(view_context(), specs[i], views_);
   }
-  find_candidates(candidate_context(), views_, first_view, views_.n, view_, silhouette_, candidates_, out.stage_us);
+  find_candidates(candidate_context(), views_, first_view, views_.n, view_, silhouette_, candidates_, stage_us);
+}
+
+uint32_t Planner::search_family(const FamilySpec* specs, uint32_t n_specs, PlanResult& out) {
+  const uint32_t first_cand = candidates_.n;
+  generate_family(specs, n_specs, out.stage_us);
   StageTimer t(out.stage_us, Stage::select);
   return selection_.first_pass(candidates_, first_cand, checks_, grasp_check_, out.rejected_by_check);
+}
+
+// The families of viewpoints in the order they are searched (algorithm.md C and G):
+// the sensor arc; then, with the extension, the rest of the circle about Y and circles
+// about the middle and the minor PCA axes; then circles about the support plane's axes.
+bool Planner::next_family(FamilyCursor& cur, FamilySpec specs[2], uint32_t& n_specs, StageTimes& stage_us) {
+  n_specs = 1;
+  const Vec3* axes = frame_.axes;
+  if (cur.next == 0) {
+    cur.next = 1;
+    specs[0] = FamilySpec{ViewFamily::sensor_arc, axes[0], frame_.X0, cur.arc_from, cur.arc_to};
+    return true;
+  }
+  if (!cfg_.extend_search) return false;
+  // The extension (algorithm.md G), one family at a time: the rest of the circle about
+  // Y, then circles about the middle and the minor PCA axes.
+  if (cur.next <= 3) {
+    const int fam = cur.next++;
+    if (fam == 1) {
+      specs[0] =
+          FamilySpec{ViewFamily::full_circle, axes[0], frame_.X0, 0.f, 2.f * kPiF, true, cur.arc_from, cur.arc_to};
+      return true;
+    }
+    const Vec3 hint = sensors_.origin[sensors_.added[1] ? 1 : 0] - frame_.centroid;
+    const Vec3 Xa = orthogonal_from(axes[fam - 1], hint);
+    const ViewFamily vf = fam == 2 ? ViewFamily::middle_axis : ViewFamily::minor_axis;
+    specs[0] = FamilySpec{vf, axes[fam - 1], Xa, 0.f, 2.f * kPiF};
+    // The steps start from the sensor's direction, so they pass straight down only by
+    // chance (5 deg off at worst), yet an object standing on the plane is grasped
+    // best from straight above, its closing level: tilted 10 deg, the lower fingertip
+    // of a grasp on a bottle's cap meets the unseen shoulder under it. The circle's
+    // steepest approach joins the family as a viewpoint of its own.
+    float th = 0.f;
+    if (support_.found && steepest_theta(axes[fam - 1], Xa, support_.plane.n, cfg_.extension_dtheta_rad, th))
+      specs[n_specs++] = FamilySpec{vf, axes[fam - 1], Xa, th, th};
+    return true;
+  }
+  // Then (G, a tilted principal axis): circles about the support plane's axes. A
+  // partial cloud (the top and one side of a box) tilts the PCA axes across it, and
+  // then no family above approaches square to the faces of an object standing on the
+  // plane: horizontal approaches all round, and approaches in the vertical planes
+  // through the object's major and minor directions along the plane (top-down grasps
+  // closing across the narrow side, or along the long one).
+  if (!cur.sup_measured) {
+    StageTimer t(stage_us, Stage::frame);
+    cur.sup_measured = true;
+    cur.have_sup = support_axes(object_, frame_.centroid, support_, cur.sup);
+  }
+  while (cur.have_sup && cur.next <= 6) {
+    const int fam = cur.next++;
+    // The footprint's sides, once, when the first circle that turns about them comes
+    // (the per-view memory is idle between the families).
+    if (fam >= 5 && !cur.foot_measured) {
+      StageTimer t(stage_us, Stage::frame);
+      cur.foot_measured = true;
+      cur.have_foot = footprint_axes(object_, frame_.centroid, cur.sup, view_.proj, silhouette_.contour, cur.foot);
+    }
+    // Axis and start: the normal from the minor direction; the major direction from
+    // the minor (theta 0: top-down, closing across the narrow side); the minor from
+    // the major (theta pi: top-down, closing along the long side). The last two take
+    // the footprint's sides when known (footprint_axes).
+    const Vec3* in_plane = cur.have_foot ? cur.foot : cur.sup;
+    const Vec3& axis = fam == 4 ? cur.sup[0] : in_plane[fam - 4];
+    const Vec3& x0 = fam == 4 ? cur.sup[2] : fam == 6 ? in_plane[1] : in_plane[2];
+    // A circle about (nearly) the same axis as one searched above is skipped: it would
+    // search the same approaches again (an upright object's principal axis snaps to
+    // the vertical, and its other axes are then horizontal too).
+    bool searched = false;
+    for (int a = 0; a < 3; ++a) searched = searched || std::fabs(axis.dot(axes[a])) > kSameAxisCos;
+    if (searched) continue;
+    specs[0] = FamilySpec{static_cast<ViewFamily>(fam), axis, x0, 0.f, 2.f * kPiF};
+    return true;
+  }
+  return false;
 }
 
 // B-G for the current target: the object frame, the view families one at a time
@@ -162,8 +244,8 @@ uint32_t Planner::search_grasp(PlanResult& out, NoGraspReason& reason, const cha
   candidates_.n = 0;
   selection_.begin_target();
   chosen_view_ = -1;
+  families_ = FamilyCursor{};
   // B. object frame, C. the sensor arc
-  float arc_from = 0.f, arc_to = 0.f;
   {
     StageTimer t(out.stage_us, Stage::frame);
     if (!build_object_frame(object_, sensors_, cfg_, frame_)) {
@@ -171,71 +253,13 @@ uint32_t Planner::search_grasp(PlanResult& out, NoGraspReason& reason, const cha
       why = "the object points have no defined principal axis (all identical)";
       return kMaxCandidates;
     }
-    sensor_arc(view_context(), frame_.axes[0], frame_.X0, arc_from, arc_to);
+    sensor_arc(view_context(), frame_.axes[0], frame_.X0, families_.arc_from, families_.arc_to);
   }
-  const Vec3* axes = frame_.axes;
-  const FamilySpec arc{ViewFamily::sensor_arc, axes[0], frame_.X0, arc_from, arc_to};
-  uint32_t found = search_family(&arc, 1, out);
-  // The extension (algorithm.md G), one family at a time, stopping at the first that
-  // yields an executable grasp: the rest of the circle about Y, then circles about the
-  // middle and the minor PCA axes.
-  for (int fam = 1; fam <= 3 && found == kMaxCandidates && cfg_.extend_search; ++fam) {
-    FamilySpec specs[2];
-    uint32_t n_specs = 1;
-    if (fam == 1) {
-      specs[0] = FamilySpec{ViewFamily::full_circle, axes[0], frame_.X0, 0.f, 2.f * kPiF, true, arc_from, arc_to};
-    } else {
-      const Vec3 hint = sensors_.origin[sensors_.added[1] ? 1 : 0] - frame_.centroid;
-      const Vec3 Xa = orthogonal_from(axes[fam - 1], hint);
-      const ViewFamily vf = fam == 2 ? ViewFamily::middle_axis : ViewFamily::minor_axis;
-      specs[0] = FamilySpec{vf, axes[fam - 1], Xa, 0.f, 2.f * kPiF};
-      // The steps start from the sensor's direction, so they pass straight down only by
-      // chance (5 deg off at worst), yet an object standing on the plane is grasped
-      // best from straight above, its closing level: tilted 10 deg, the lower fingertip
-      // of a grasp on a bottle's cap meets the unseen shoulder under it. The circle's
-      // steepest approach joins the family as a viewpoint of its own.
-      float th = 0.f;
-      if (support_.found && steepest_theta(axes[fam - 1], Xa, support_.plane.n, cfg_.extension_dtheta_rad, th))
-        specs[n_specs++] = FamilySpec{vf, axes[fam - 1], Xa, th, th};
-    }
+  uint32_t found = kMaxCandidates;
+  FamilySpec specs[2];
+  uint32_t n_specs = 0;
+  while (found == kMaxCandidates && next_family(families_, specs, n_specs, out.stage_us))
     found = search_family(specs, n_specs, out);
-  }
-  // Then (G, a tilted principal axis): circles about the support plane's axes. A
-  // partial cloud (the top and one side of a box) tilts the PCA axes across it, and
-  // then no family above approaches square to the faces of an object standing on the
-  // plane: horizontal approaches all round, and approaches in the vertical planes
-  // through the object's major and minor directions along the plane (top-down grasps
-  // closing across the narrow side, or along the long one).
-  Vec3 sup[3], foot[3];
-  bool have_sup = false, foot_measured = false, have_foot = false;
-  if (found == kMaxCandidates && cfg_.extend_search) {
-    StageTimer t(out.stage_us, Stage::frame);
-    have_sup = support_axes(object_, frame_.centroid, support_, sup);
-  }
-  for (int fam = 4; fam <= 6 && found == kMaxCandidates && have_sup; ++fam) {
-    // The footprint's sides, once, when the first circle that turns about them comes
-    // (the per-view memory is idle between the families).
-    if (fam >= 5 && !foot_measured) {
-      StageTimer t(out.stage_us, Stage::frame);
-      foot_measured = true;
-      have_foot = footprint_axes(object_, frame_.centroid, sup, view_.proj, silhouette_.contour, foot);
-    }
-    // Axis and start: the normal from the minor direction; the major direction from
-    // the minor (theta 0: top-down, closing across the narrow side); the minor from
-    // the major (theta pi: top-down, closing along the long side). The last two take
-    // the footprint's sides when known (footprint_axes).
-    const Vec3* in_plane = have_foot ? foot : sup;
-    const Vec3& axis = fam == 4 ? sup[0] : in_plane[fam - 4];
-    const Vec3& x0 = fam == 4 ? sup[2] : fam == 6 ? in_plane[1] : in_plane[2];
-    // A circle about (nearly) the same axis as one searched above is skipped: it would
-    // search the same approaches again (an upright object's principal axis snaps to
-    // the vertical, and its other axes are then horizontal too).
-    bool searched = false;
-    for (int a = 0; a < 3; ++a) searched = searched || std::fabs(axis.dot(axes[a])) > kSameAxisCos;
-    if (searched) continue;
-    const FamilySpec circle{static_cast<ViewFamily>(fam), axis, x0, 0.f, 2.f * kPiF};
-    found = search_family(&circle, 1, out);
-  }
   if (found == kMaxCandidates && cfg_.executability_checks) {
     StageTimer t(out.stage_us, Stage::select);
     found = selection_.second_pass(candidates_, checks_, grasp_check_, out.rejected_by_check);
@@ -292,10 +316,9 @@ Status Planner::analyze_view(uint32_t view_index, ViewDetail& out) {
   return s;
 }
 
-void Planner::fill_grasp(const Candidate& c, PlanResult& out) {
+Grasp Planner::grasp_of(const Candidate& c) const {
   const ViewRecord& v = views_.views[c.view];
-  chosen_view_ = static_cast<int32_t>(c.view);
-  Grasp& g = out.grasp;
+  Grasp g;
   g.position = c.position;
   g.approach = c.Z.normalized();
   g.closing = c.X.normalized();
@@ -305,6 +328,37 @@ void Planner::fill_grasp(const Candidate& c, PlanResult& out) {
   g.viewpoint = v.theta;
   g.family = v.family;
   g.pregrasp = c.position - g.approach * (cfg_.gripper.finger_depth_m + cfg_.pregrasp_clearance_m);
+  return g;
+}
+
+void Planner::fill_grasp(const Candidate& c, PlanResult& out) {
+  chosen_view_ = static_cast<int32_t>(c.view);
+  out.grasp = grasp_of(c);
+}
+
+uint32_t Planner::more_grasps(RankedGrasp* out, uint32_t max) {
+  if (out == nullptr || chosen_candidate_ >= candidates_.n) return 0;
+  const uint32_t before = n_alternates_;
+  const uint32_t room = kMaxRankedGrasps - 1u - before;  // the returned grasp holds one place
+  const uint32_t want = before + (max < room ? max : room);
+  uint32_t n = selection_.alternates(candidates_, chosen_candidate_, checks_, grasp_check_, alternates_, before, want);
+  // Too few among the candidates met so far: the families the search stopped before,
+  // one at a time, until enough grasps are found or the families end. Their stage
+  // times are not reported (the plan's report is written).
+  StageTimes stage_us = {};
+  FamilySpec specs[2];
+  uint32_t n_specs = 0;
+  while (n < want && next_family(families_, specs, n_specs, stage_us)) {
+    generate_family(specs, n_specs, stage_us);
+    n = selection_.alternates(candidates_, chosen_candidate_, checks_, grasp_check_, alternates_, n, want);
+  }
+  n_alternates_ = n;
+  for (uint32_t k = before; k < n; ++k) {
+    const Candidate& c = candidates_.items[alternates_[k]];
+    out[k - before].grasp = grasp_of(c);
+    checks_.margins(c, out[k - before].margins);
+  }
+  return n - before;
 }
 
 }  // namespace fg

@@ -44,6 +44,8 @@ void Planner::reset() {
   views_.n = 0;
   candidates_.n = 0;
   chosen_view_ = -1;
+  chosen_candidate_ = kMaxCandidates;
+  n_alternates_ = 0;
   message_ = "";
 }
 

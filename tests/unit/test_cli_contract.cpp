@@ -818,6 +818,38 @@ TEST_F(CliContract, ExampleSceneGivesGrasp) {
   EXPECT_NEAR(c["max"][1].get<double>(), 0.6, 1e-6);
 }
 
+// --top N: the `grasps` array holds the returned grasp first (rank 0, the same as
+// `grasp`), then up to N - 1 more, each with its rank, score and checks; the rest of the
+// report is the one without --top. N outside 1..FG_MAX_RANKED_GRASPS is refused.
+TEST_F(CliContract, TopGraspsAddARankedListAndKeepTheContract) {
+  const json base = expect_ok(plan(example_scene()));
+  const json top = expect_ok(plan(example_scene(), {"--top", "4"}));
+  ASSERT_TRUE(base.is_object() && top.is_object());
+  ASSERT_TRUE(top.contains("grasps") && top["grasps"].is_array());
+  EXPECT_FALSE(base.contains("grasps"));
+  const json& g = top["grasps"];
+  ASSERT_GE(g.size(), 2u);
+  ASSERT_LE(g.size(), 4u);
+  for (size_t i = 0; i < g.size(); ++i) {
+    EXPECT_EQ(g[i].value("rank", -1), static_cast<int>(i));
+    EXPECT_TRUE(g[i].contains("score") && g[i].contains("checks") && g[i].contains("closing"));
+  }
+  json first = g[0];
+  first.erase("rank");
+  first.erase("score");
+  EXPECT_EQ(first.dump(), top["grasp"].dump());
+  json a = base, b = top;
+  for (json* j : {&a, &b}) {
+    j->erase("timing_us");
+    j->erase("grasps");
+  }
+  EXPECT_EQ(a.dump(), b.dump()) << "--top changes nothing but the added list";
+  for (const char* bad : {"0", "-1", "100000", "x"}) {
+    const CliRun r = plan(example_scene(), {"--top", bad});
+    EXPECT_EQ(r.exit_code, 2) << bad << "\n" << describe(r);
+  }
+}
+
 TEST_F(CliContract, DeterministicOutput) {
   const CliRun a = plan(example_scene());
   const CliRun b = plan(example_scene());

@@ -71,8 +71,15 @@ CheckVerdict Selection::judge(Candidate& c, bool first, GraspChecks& checks, Gra
   return verdict;
 }
 
-uint32_t Selection::first_pass(CandidateList& list, uint32_t first, GraspChecks& checks, GraspCheck* robot,
-                               CheckRejections& rejected) {
+bool distinct_grasps(const Vec3& pos_a, const Vec3& closing_a, const Vec3& approach_a, const Vec3& pos_b,
+                     const Vec3& closing_b, const Vec3& approach_b) {
+  const float cos_min = std::cos(kDistinctAngleRad);
+  // A parallel gripper's closing is a line: X and -X close alike.
+  return std::fabs(closing_a.normalized().dot(closing_b.normalized())) < cos_min ||
+         approach_a.normalized().dot(approach_b.normalized()) < cos_min || (pos_a - pos_b).norm() >= kDistinctDistanceM;
+}
+
+uint32_t Selection::rank(const CandidateList& list, uint32_t first) {
   const uint32_t m = list.n - first;
   for (uint32_t i = 0; i < m; ++i) order_[i] = static_cast<uint16_t>(first + i);
   // Paper E.3: balanced candidates (beta <= beta_max) by dZ, then the rest by beta.
@@ -88,6 +95,12 @@ uint32_t Selection::first_pass(CandidateList& list, uint32_t first, GraspChecks&
   };
   std::make_heap(order_, order_ + m, before);
   std::sort_heap(order_, order_ + m, before);
+  return m;
+}
+
+uint32_t Selection::first_pass(CandidateList& list, uint32_t first, GraspChecks& checks, GraspCheck* robot,
+                               CheckRejections& rejected) {
+  const uint32_t m = rank(list, first);
   if (!checks.scene().cfg.executability_checks) return m > 0 ? order_[0] : kMaxCandidates;
   for (uint32_t i = 0; i < m && checks_left_ > 0; ++i) {
     Candidate& c = list.items[order_[i]];
@@ -98,6 +111,7 @@ uint32_t Selection::first_pass(CandidateList& list, uint32_t first, GraspChecks&
       continue;
     }
     --checks_left_;
+    judged_[order_[i]] = 1;
     const CheckVerdict v = judge(c, true, checks, robot);
     if (v.passed()) return order_[i];
     if (v.outcome == CheckVerdict::Outcome::wait)
@@ -115,11 +129,40 @@ uint32_t Selection::second_pass(CandidateList& list, GraspChecks& checks, GraspC
       Candidate& c = list.items[deferred_[i]];
       if (checks.straight_down(c.Z) != (down == 1)) continue;
       --checks_left_;
+      judged_[deferred_[i]] = 1;
       const CheckVerdict v = judge(c, false, checks, robot);
       if (v.passed()) return deferred_[i];
       ++rejected.by_check[static_cast<uint32_t>(v.check)];
     }
   return kMaxCandidates;
+}
+
+uint32_t Selection::alternates(CandidateList& list, uint32_t chosen, GraspChecks& checks, GraspCheck* robot,
+                               uint32_t* out, uint32_t taken, uint32_t max) {
+  if (taken >= max || chosen >= list.n || !checks.scene().cfg.executability_checks) return taken;
+  const uint32_t m = rank(list, 0);
+  uint32_t n = taken;
+  const auto distinct_from_taken = [&](const Candidate& c) {
+    const Candidate& best = list.items[chosen];
+    if (!distinct_grasps(c.position, c.X, c.Z, best.position, best.X, best.Z)) return false;
+    for (uint32_t k = 0; k < n; ++k) {
+      const Candidate& t = list.items[out[k]];
+      if (!distinct_grasps(c.position, c.X, c.Z, t.position, t.X, t.Z)) return false;
+    }
+    return true;
+  };
+  for (uint32_t i = 0; i < m && n < max && checks_left_ > 0; ++i) {
+    const uint16_t idx = order_[i];
+    Candidate& c = list.items[idx];
+    // Judged already (failed, or the chosen one), or one the first pass would defer: a
+    // pad's corner meets a surface beside it, which only the second pass may allow.
+    if (judged_[idx] || !c.corners_clear || !distinct_from_taken(c)) continue;
+    --checks_left_;
+    judged_[idx] = 1;
+    // The checks may turn the closing (judge): still distinct after that?
+    if (judge(c, true, checks, robot).passed() && distinct_from_taken(c)) out[n++] = idx;
+  }
+  return n;
 }
 
 }  // namespace fg

@@ -52,6 +52,11 @@ void add_plan_command(CLI::App& app, PlanArgs& a) {
   a.cmd->add_option("--pictures", a.po.pictures_dir, "write SVG pictures of the stages to this folder");
   a.cmd->add_option("--config", a.po.config_path, "JSON file of planner options");
   a.cmd->add_option("--set", a.po.sets, "override one option: name=value (repeatable)");
+  a.cmd
+      ->add_option("--top", a.po.top,
+                   "report the N best distinct grasps, best first, in a `grasps` array (at most " +
+                       std::to_string(fg::kMaxRankedGrasps) + ", FG_MAX_RANKED_GRASPS)")
+      ->check(CLI::Range(1u, fg::kMaxRankedGrasps));
 }
 
 void add_sim_command(CLI::App& app, SimArgs& a) {

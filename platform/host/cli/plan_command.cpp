@@ -211,7 +211,6 @@ PlanOutcome plan_scene(const PlanOptions& opts) {
   PlanResult res;
   const Status st = planner.plan(res);
   planner.set_grasp_check(nullptr);
-  const uint64_t t_done = platform::monotonic_us();
 
   PlanOutcome o;
   if (st == Status::ok) {
@@ -224,7 +223,15 @@ PlanOutcome plan_scene(const PlanOptions& opts) {
     return invalid(opts.scene_path + ": " + res.message + " (" + to_string(st) + ")");
   }
   json& j = o.report;
-  j = plan_report(planner, res, st, cfg, check_cfg, check);
+  j = plan_report(planner, res, st, cfg, check_cfg, check);  // the best grasp's joints: before the alternates
+  if (opts.top > 0 && st == Status::ok) {
+    RankedGrasp more[kMaxRankedGrasps];
+    planner.set_grasp_check(cfg.executability_checks ? &check : nullptr);
+    const uint32_t n_more = planner.more_grasps(more, opts.top - 1);
+    planner.set_grasp_check(nullptr);
+    j["grasps"] = ranked_grasps_report(res, more, n_more, cfg, check_cfg);
+  }
+  const uint64_t t_done = platform::monotonic_us();
   j["timing_us"]["process_plan"] = t_done - t_plan;
   j["timing_us"]["process_read"] = t_plan - t_process;
   if (!opts.pictures_dir.empty()) {

@@ -14,6 +14,7 @@ struct PlanOptions {
   std::string config_path;        //!< optional JSON of options
   std::vector<std::string> sets;  //!< name=value overrides
   std::string pictures_dir;       //!< write SVG pictures here when set
+  uint32_t top = 0;               //!< --top N: the N best distinct grasps in `grasps` (0: not asked)
 };
 
 //! Exit codes of the contract.

@@ -4,36 +4,43 @@
 #include <string>
 #include <vector>
 
+#include "fg/core/constants.hpp"
+
 namespace fg::host {
 namespace {
 using nlohmann::json;
 
 json vec(const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
 
-//! The report of a grasp: its pose and figures, every check it passed with its margin,
-//! and the arm's joints when the robot's reach was checked.
-void report_grasp(json& j, const PlanResult& res, const PlannerConfig& cfg, const robot::GraspCheckConfig& check_cfg,
-                  const robot::Ur5GraspCheck& check) {
-  const Grasp& g = res.grasp;
-  j["grasp"] = json{{"position", vec(g.position)},
-                    {"approach", vec(g.approach)},
-                    {"closing", vec(g.closing)},
-                    {"width", g.width},
-                    {"beta", g.beta},
-                    {"dz", g.dz},
-                    {"viewpoint", g.viewpoint},
-                    {"family", to_string(g.family)},
-                    {"pregrasp", vec(g.pregrasp)}};
-  // Every check the grasp passed, with its margin in the check's unit (null where
-  // the check measures none or does not apply; the robot's only with its checks on).
+//! The report of a grasp: its pose and figures, and every check it passed with its
+//! margin in the check's unit (null where the check measures none or does not apply;
+//! the robot's only with its checks on).
+json grasp_entry(const Grasp& g, const CheckMargins& margins, const PlannerConfig& cfg,
+                 const robot::GraspCheckConfig& check_cfg) {
+  json e{{"position", vec(g.position)},
+         {"approach", vec(g.approach)},
+         {"closing", vec(g.closing)},
+         {"width", g.width},
+         {"beta", g.beta},
+         {"dz", g.dz},
+         {"viewpoint", g.viewpoint},
+         {"family", to_string(g.family)},
+         {"pregrasp", vec(g.pregrasp)}};
   json checks = json::object();
   for (uint32_t k = 0; k < kCheckCount; ++k) {
     const CheckId id = static_cast<CheckId>(k);
     if (!cfg.executability_checks || (id == CheckId::robot_reach && !check_cfg.check_reach)) continue;
-    const float m = res.margins[id];
+    const float m = margins[id];
     checks[to_string(id)] = json{{"margin", std::isfinite(m) ? json(m) : json(nullptr)}, {"unit", margin_unit(id)}};
   }
-  j["grasp"]["checks"] = checks;
+  e["checks"] = checks;
+  return e;
+}
+
+//! The grasp, and the arm's joints when the robot's reach was checked.
+void report_grasp(json& j, const PlanResult& res, const PlannerConfig& cfg, const robot::GraspCheckConfig& check_cfg,
+                  const robot::Ur5GraspCheck& check) {
+  j["grasp"] = grasp_entry(res.grasp, res.margins, cfg, check_cfg);
   if (check_cfg.check_reach && check.has_motion()) {
     const robot::GraspMotion& m = check.motion();
     const auto q = [](const double* v) { return json(std::vector<double>(v, v + 6)); };
@@ -99,6 +106,24 @@ json plan_report(const Planner& planner, const PlanResult& res, Status st, const
   report_figures(j, res);
   if (planner.plane_found()) j["support_plane"] = json{{"normal", vec(planner.plane().n)}, {"d", planner.plane().d}};
   return j;
+}
+
+json ranked_grasps_report(const PlanResult& best, const RankedGrasp* more, uint32_t n_more, const PlannerConfig& cfg,
+                          const robot::GraspCheckConfig& check_cfg) {
+  json list = json::array();
+  const float cone_deg = static_cast<float>(std::atan(static_cast<double>(cfg.friction_mu)) * 180.0 / kPi);
+  for (uint32_t k = 0; k <= n_more; ++k) {
+    const Grasp& g = k == 0 ? best.grasp : more[k - 1].grasp;
+    const CheckMargins& m = k == 0 ? best.margins : more[k - 1].margins;
+    json e = grasp_entry(g, m, cfg, check_cfg);
+    e["rank"] = k;
+    // How far inside the friction cone the contact normals lie, as a share of the
+    // cone's half-angle: 1 on the closing line, 0 at the cone's edge.
+    const float fm = m[CheckId::friction_cone];
+    e["score"] = std::isfinite(fm) && cone_deg > 0.f ? json(fm / cone_deg) : json(nullptr);
+    list.push_back(std::move(e));
+  }
+  return list;
 }
 
 }  // namespace fg::host

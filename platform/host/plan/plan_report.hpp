@@ -24,4 +24,12 @@ void set_up_robot_check(robot::Ur5GraspCheck& check, const PlannerConfig& cfg, c
 nlohmann::json plan_report(const Planner& planner, const PlanResult& res, Status st, const PlannerConfig& cfg,
                            const robot::GraspCheckConfig& check_cfg, const robot::Ur5GraspCheck& check);
 
+//! The ranked grasps of a plan that ended ok (`--top N`): the returned grasp, then
+//! Planner::more_grasps()'s alternates, each as `grasp` is reported plus its `rank`
+//! (0: the returned one) and `score`: the friction cone's margin as a share of the
+//! cone's half-angle (1: the contact normals on the closing line; 0: on the cone; null:
+//! not measured). The order is the planner's (force balance), not the score's.
+nlohmann::json ranked_grasps_report(const PlanResult& best, const RankedGrasp* more, uint32_t n_more,
+                                    const PlannerConfig& cfg, const robot::GraspCheckConfig& check_cfg);
+
 }  // namespace fg::host

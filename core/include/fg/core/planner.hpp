@@ -91,6 +91,12 @@ struct RejectCounts {
   static RejectCounts of(const CheckRejections& r);
 };
 
+//! One of the ranked grasps (Planner::more_grasps): the grasp and every check's margin.
+struct RankedGrasp {
+  Grasp grasp;
+  CheckMargins margins;  //!< per check, in the check's unit; NaN: none measured
+};
+
 struct PlanResult {
   Status status = Status::internal_error;
   NoGraspReason reason = NoGraspReason::none;
@@ -176,6 +182,19 @@ class Planner {
   //! inspection below shows the last search (the fall-back cluster).
   [[nodiscard]] Status plan(PlanResult& out);
 
+  //! After plan() returned ok, and before the next reset(): up to `max` more grasps on the
+  //! same target, each passing every check (the robot's too) and distinct from the
+  //! returned grasp and from each other (closing lines or approaches at least 15 deg
+  //! apart, or centres 1 cm: selection.hpp). Best first, in the planner's own order
+  //! (force balance, paper E.3) over the target's candidates; what is left of the plan's
+  //! check budget bounds the search, and kMaxRankedGrasps (FG_MAX_RANKED_GRASPS) the
+  //! count. Returns how many were written to `out` (0 when plan() did not return ok, or
+  //! `out` is null). Set the same grasp check as for plan(); its recorded motion is then
+  //! the last alternate's: read the returned grasp's before. A further call goes on
+  //! where the last stopped: the grasps it returned do not come back, and all calls
+  //! since plan() return at most kMaxRankedGrasps - 1.
+  uint32_t more_grasps(RankedGrasp* out, uint32_t max);
+
   //! The message of the last add_* or plan failure (static text).
   const char* last_message() const { return message_; }
 
@@ -221,7 +240,20 @@ class Planner {
   // Stages C-G for one family of viewpoints (its circle, and a viewpoint of its own
   // where one is added): the grasp's candidate, or kMaxCandidates.
   uint32_t search_family(const FamilySpec* specs, uint32_t n_specs, PlanResult& out);
+  // Stages C-E for one family: its viewpoints and their candidates, unchecked.
+  void generate_family(const FamilySpec* specs, uint32_t n_specs, StageTimes& stage_us);
+  // Where the search of a target stands in its sequence of view families.
+  struct FamilyCursor {
+    int next = 0;                        // 0 the sensor arc, 1-3 the PCA circles, 4-6 the support's
+    float arc_from = 0.f, arc_to = 0.f;  // the sensor arc (C)
+    Vec3 sup[3], foot[3];                // the support plane's axes, the footprint's sides
+    bool sup_measured = false, have_sup = false, foot_measured = false, have_foot = false;
+  };
+  // The next family of the target's search order into specs (1 or 2 of them); false
+  // when every family was searched.
+  [[nodiscard]] bool next_family(FamilyCursor& cur, FamilySpec specs[2], uint32_t& n_specs, StageTimes& stage_us);
   void fill_grasp(const Candidate& c, PlanResult& out);
+  Grasp grasp_of(const Candidate& c) const;
   ViewContext view_context() const { return ViewContext{cfg_, support_, sensors_, frame_.centroid}; }
   CandidateContext candidate_context() const { return CandidateContext{cfg_, object_, frame_.centroid, support_}; }
 
@@ -250,6 +282,10 @@ class Planner {
   ObjectFrame frame_;
   ViewList views_;
   int32_t chosen_view_ = -1;
+  uint32_t chosen_candidate_ = kMaxCandidates;  // the returned grasp's, while plan()'s result stands
+  FamilyCursor families_;                       // the current target's search, resumed by more_grasps()
+  uint32_t alternates_[kMaxRankedGrasps];       // candidates more_grasps() returned since plan()
+  uint32_t n_alternates_ = 0;
 
   // D/E per-viewpoint work memory. Idle before the views, it is lent to the
   // clustering's lookup filter (as 64-bit words) and to the near list's sort.

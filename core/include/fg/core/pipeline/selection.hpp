@@ -17,15 +17,27 @@ struct CheckRejections {
   uint32_t operator[](CheckId id) const { return by_check[static_cast<uint32_t>(id)]; }
 };
 
+//! Two grasps are distinct when their closing lines or their approach directions lie at
+//! least kDistinctAngle apart, or their centres kDistinctDistance: the gripper then
+//! holds the object differently, not the same grasp a little moved.
+inline constexpr float kDistinctAngleRad = 15.f * 3.14159265f / 180.f;
+inline constexpr float kDistinctDistanceM = 0.01f;
+[[nodiscard]] bool distinct_grasps(const Vec3& pos_a, const Vec3& closing_a, const Vec3& approach_a, const Vec3& pos_b,
+                                   const Vec3& closing_b, const Vec3& approach_b);
+
 class Selection {
  public:
   //! The start of a plan: the whole check budget, nothing deferred.
   void begin_plan() {
     checks_left_ = kMaxCheckedCandidates;
-    n_deferred_ = 0;
+    begin_target();
   }
-  //! Another target within the plan (the fall-back): nothing deferred; the budget goes on.
-  void begin_target() { n_deferred_ = 0; }
+  //! Another target within the plan (the fall-back): nothing deferred or judged; the
+  //! budget goes on.
+  void begin_target() {
+    n_deferred_ = 0;
+    for (uint8_t& j : judged_) j = 0;
+  }
 
   //! The first pass over candidates [first, list.n) (one family's): ranked, balanced
   //! ones (beta <= beta_max) by dZ, then the rest by beta, and checked in that order.
@@ -42,7 +54,19 @@ class Selection {
   //! pad reaches past them, where the sensors may not have seen.
   uint32_t second_pass(CandidateList& list, GraspChecks& checks, GraspCheck* robot, CheckRejections& rejected);
 
+  //! After a grasp was chosen (index `chosen`): more grasps on the same target that pass
+  //! every check, each distinct from the chosen one and from each other, in the first
+  //! pass's order over all the target's candidates. Candidates the passes judged are
+  //! not judged again; the plan's check budget bounds the rest. out[0, taken) holds
+  //! the alternates taken before (by an earlier call); appends to them up to `max` in
+  //! all and returns how many `out` then holds.
+  uint32_t alternates(CandidateList& list, uint32_t chosen, GraspChecks& checks, GraspCheck* robot, uint32_t* out,
+                      uint32_t taken, uint32_t max);
+
  private:
+  //! The first pass's order (paper E.3) of candidates [first, list.n) into order_;
+  //! returns their count.
+  uint32_t rank(const CandidateList& list, uint32_t first);
   //! A candidate's checks with its repairs (a closing turned towards the contact
   //! normals, a round body's tangents), then the robot layer's check. It may replace c.
   [[nodiscard]] CheckVerdict judge(Candidate& c, bool first, GraspChecks& checks, GraspCheck* robot);
@@ -50,7 +74,8 @@ class Selection {
   uint16_t order_[kMaxCandidates];
   uint16_t deferred_[kMaxCandidates];  // deferred by the first pass, in the order met
   uint32_t n_deferred_ = 0;
-  uint32_t checks_left_ = 0;  // candidates the checks may still examine in this plan
+  uint32_t checks_left_ = 0;             // candidates the checks may still examine in this plan
+  uint8_t judged_[kMaxCandidates] = {};  // per candidate of this target: judged by a pass
 };
 
 }  // namespace fg
