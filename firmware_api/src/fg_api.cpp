@@ -269,18 +269,20 @@ void copy3(const fg::Vec3& v, float out[3]) {
   for (int i = 0; i < 3; ++i) out[i] = v(i);
 }
 
+void copy_pose(const fg::Grasp& g, fg_grasp& out) {
+  copy3(g.position, out.position);
+  copy3(g.approach, out.approach);
+  copy3(g.closing, out.closing);
+  copy3(g.pregrasp, out.pregrasp);
+  out.width_m = g.width;
+  out.beta_rad = g.beta;
+  out.dz_m = g.dz;
+}
+
 void fill_grasp(const fg::PlanResult& r, fg_grasp& out) {
   out = fg_grasp{};
   out.reason = static_cast<int32_t>(r.reason);
-  if (r.status == fg::Status::ok) {
-    copy3(r.grasp.position, out.position);
-    copy3(r.grasp.approach, out.approach);
-    copy3(r.grasp.closing, out.closing);
-    copy3(r.grasp.pregrasp, out.pregrasp);
-    out.width_m = r.grasp.width;
-    out.beta_rad = r.grasp.beta;
-    out.dz_m = r.grasp.dz;
-  }
+  if (r.status == fg::Status::ok) copy_pose(r.grasp, out);
   out.points_input = r.points.input;
   out.points_finite = r.points.finite;
   out.points_kept = r.points.after_filter;
@@ -454,6 +456,30 @@ fg_status fg_plan(fg_workspace* ws, fg_grasp* out) {
   fill_grasp(r, *out);
   ws->message = r.message;
   return to_c(s);
+}
+
+fg_status fg_plan_ranked(fg_workspace* ws, fg_grasp* out, uint32_t capacity, uint32_t* count) {
+  if (!valid(ws)) return FG_ERR_NOT_A_WORKSPACE;
+  if (count != nullptr) *count = 0;
+  if (out == nullptr || count == nullptr || capacity == 0)
+    return fail(ws, FG_ERR_INVALID_ARGUMENT, "ranked grasp array or count pointer is null, or capacity is 0");
+  fg::PlanResult r;
+  const fg::Status s = ws->planner.plan(r);
+  fill_grasp(r, out[0]);
+  ws->message = r.message;
+  if (s != fg::Status::ok) return to_c(s);
+  // One alternate a call: the planner goes on where the last call stopped, so no
+  // array of them is needed here; each entry carries the plan's counts and times.
+  uint32_t n = 1;
+  const uint32_t cap = capacity < FG_MAX_RANKED_GRASPS ? capacity : FG_MAX_RANKED_GRASPS;
+  fg::RankedGrasp next;
+  while (n < cap && ws->planner.more_grasps(&next, 1) == 1) {
+    out[n] = out[0];
+    copy_pose(next.grasp, out[n]);
+    ++n;
+  }
+  *count = n;
+  return FG_OK;
 }
 
 fg_status fg_task_config_default(fg_task_config* cfg) {

@@ -296,6 +296,10 @@ static void test_wrong_order_and_bad_arguments(void) {
   memset(junk, 0, sizeof junk);
   CHECK_STATUS(fg_plan(NULL, &g), FG_ERR_NOT_A_WORKSPACE);
   CHECK_STATUS(fg_plan((fg_workspace *)junk, &g), FG_ERR_NOT_A_WORKSPACE);
+  {
+    uint32_t n_ranked = 7;
+    CHECK_STATUS(fg_plan_ranked(NULL, &g, 1, &n_ranked), FG_ERR_NOT_A_WORKSPACE);
+  }
   CHECK_STATUS(fg_reset(NULL), FG_ERR_NOT_A_WORKSPACE);
   CHECK_STATUS(fg_add_points(NULL, FG_SENSOR_HEAD, pts, 2, 12, &pose), FG_ERR_NOT_A_WORKSPACE);
   CHECK_STATUS(fg_add_depth_image((fg_workspace *)junk, FG_SENSOR_HEAD, depth, 2, 2, &k, &pose),

@@ -122,6 +122,38 @@ TEST_P(FirmwareApiScenes, SameAnswerAsThePlanner) {
   ASSERT_EQ(fg_reset(ws), FG_OK);
   EXPECT_EQ(fg_add_points_planar(ws, FG_SENSOR_HEAD, nullptr, none, none, 1, &pose), FG_ERR_INVALID_ARGUMENT);
   EXPECT_NE(std::string(fg_last_message(ws)).find("null"), std::string::npos) << fg_last_message(ws);
+
+  // Ranked (fg_plan_ranked) against the planner's more_grasps: the first entry is
+  // fg_plan's grasp, the others the alternates in order.
+  ASSERT_EQ(fg_reset(ws), FG_OK);
+  for (size_t i = 0; i < d.clouds.size(); ++i) {
+    const fg_pose p = to_c(d.poses[i]);
+    ASSERT_EQ(fg_add_points(ws, static_cast<int32_t>(d.roles[i]), d.clouds[i].xyz.data(), d.clouds[i].size(), 12, &p),
+              FG_OK);
+  }
+  fg_grasp ranked[FG_MAX_RANKED_GRASPS];
+  uint32_t count = 99;
+  EXPECT_EQ(fg_plan_ranked(ws, ranked, 4, &count), s);
+  if (want.status != fg::Status::ok) {
+    EXPECT_EQ(count, 0u);
+    return;
+  }
+  fg::RankedGrasp more[4];
+  const uint32_t n_more = oracle->more_grasps(more, 3);
+  ASSERT_EQ(count, 1 + n_more);
+  EXPECT_EQ(std::memcmp(ranked[0].position, got.position, sizeof got.position), 0);
+  EXPECT_EQ(std::memcmp(ranked[0].closing, got.closing, sizeof got.closing), 0);
+  for (uint32_t k = 0; k < n_more; ++k) {
+    for (int i = 0; i < 3; ++i) {
+      EXPECT_EQ(ranked[k + 1].position[i], more[k].grasp.position(i));
+      EXPECT_EQ(ranked[k + 1].closing[i], more[k].grasp.closing(i));
+    }
+    EXPECT_EQ(ranked[k + 1].width_m, more[k].grasp.width);
+    EXPECT_EQ(ranked[k + 1].voxels, got.voxels);  // the plan's counts in every entry
+  }
+  EXPECT_EQ(fg_plan_ranked(ws, nullptr, 4, &count), FG_ERR_INVALID_ARGUMENT);
+  EXPECT_EQ(fg_plan_ranked(ws, ranked, 0, &count), FG_ERR_INVALID_ARGUMENT);
+  EXPECT_EQ(fg_plan_ranked(ws, ranked, 4, nullptr), FG_ERR_INVALID_ARGUMENT);
 }
 
 INSTANTIATE_TEST_SUITE_P(Shipped, FirmwareApiScenes,

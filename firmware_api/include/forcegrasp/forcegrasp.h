@@ -243,6 +243,15 @@ FG_NODISCARD fg_status fg_add_points_planar(fg_workspace *ws, int32_t role, cons
  *  out->reason says why. Errors leave out's counts and times filled where known. */
 FG_NODISCARD fg_status fg_plan(fg_workspace *ws, fg_grasp *out);
 
+/** Plans like fg_plan and ranks: on FG_OK, out[0] is fg_plan's grasp and out[1..] more
+ *  grasps on the same target that pass every check, each distinct from the others
+ *  (closing lines or approaches at least 15 degrees apart, or centres 1 cm), best
+ *  first in the planner's order; *count (1..capacity, at most FG_MAX_RANKED_GRASPS) says
+ *  how many. Each entry carries the plan's counts and stage times. FG_NO_GRASP:
+ *  out[0].reason says why and *count is 0. A null array or count, or capacity 0:
+ *  FG_ERR_INVALID_ARGUMENT. No heap: the caller's array is the only output. */
+FG_NODISCARD fg_status fg_plan_ranked(fg_workspace *ws, fg_grasp *out, uint32_t capacity, uint32_t *count);
+
 /** The last call's message naming the problem (static text, never NULL). */
 const char *fg_last_message(const fg_workspace *ws);
 
