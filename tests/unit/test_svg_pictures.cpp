@@ -241,6 +241,27 @@ TEST_F(SvgPictures, WritesFourWellFormedPicturesAndAnIndex) {
   EXPECT_NE(bal.find("stroke-dasharray"), std::string::npos);
 }
 
+// The ranked alternates (--top) are drawn in both object pictures, each numbered in
+// rank order with its closing line, and listed in the legend; without them nothing of
+// theirs is drawn.
+TEST_F(SvgPictures, RankedAlternatesAreDrawnNumberedInRankOrder) {
+  plan_box();
+  ASSERT_EQ(result_.status, Status::ok);
+  std::vector<fg::Grasp> alternates(2, result_.grasp);
+  alternates[1].position += fg::Vec3(0.f, 0.f, 0.02f);
+  std::string error;
+  ASSERT_TRUE(fg::host::write_pictures(*planner_, result_, dir_.string(), error, alternates)) << error;
+  for (const char* name : {"object_top.svg", "object_side.svg"}) {
+    const std::string svg = read_text(dir_ / name);
+    EXPECT_TRUE(well_formed(svg, "svg")) << name;
+    EXPECT_NE(svg.find("ranked alternates 1..2"), std::string::npos) << name;
+    EXPECT_NE(svg.find(">1</text>"), std::string::npos) << name;
+    EXPECT_NE(svg.find(">2</text>"), std::string::npos) << name;
+  }
+  ASSERT_TRUE(fg::host::write_pictures(*planner_, result_, dir_.string(), error)) << error;
+  EXPECT_EQ(read_text(dir_ / "object_top.svg").find("ranked alternates"), std::string::npos);
+}
+
 TEST_F(SvgPictures, RewritesAnExistingFolder) {
   plan_box();
   std::string error;

@@ -224,19 +224,21 @@ PlanOutcome plan_scene(const PlanOptions& opts) {
   }
   json& j = o.report;
   j = plan_report(planner, res, st, cfg, check_cfg, check);  // the best grasp's joints: before the alternates
+  std::vector<Grasp> alternates;
   if (opts.top > 0 && st == Status::ok) {
     RankedGrasp more[kMaxRankedGrasps];
     planner.set_grasp_check(cfg.executability_checks ? &check : nullptr);
     const uint32_t n_more = planner.more_grasps(more, opts.top - 1);
     planner.set_grasp_check(nullptr);
     j["grasps"] = ranked_grasps_report(res, more, n_more, cfg, check_cfg);
+    for (uint32_t k = 0; k < n_more; ++k) alternates.push_back(more[k].grasp);
   }
   const uint64_t t_done = platform::monotonic_us();
   j["timing_us"]["process_plan"] = t_done - t_plan;
   j["timing_us"]["process_read"] = t_plan - t_process;
   if (!opts.pictures_dir.empty()) {
     std::string perr;
-    if (!write_pictures(planner, res, opts.pictures_dir, perr))
+    if (!write_pictures(planner, res, opts.pictures_dir, perr, alternates))
       j["pictures_error"] = perr;
     else
       j["pictures"] = opts.pictures_dir;

@@ -452,6 +452,7 @@ const char* kPad = "#d62728";
 const char* kApproach = "#2ca02c";
 const char* kClosing = "#9467bd";
 const char* kPlane = "#8c564b";
+const char* kAlternate = "#17becf";
 
 // ---------------------------------------------------------------------------------
 // 1 and 2: the object and the grasp from above and from the side
@@ -497,9 +498,11 @@ GripperBoxes gripper_boxes(const GripperGeometry& g, const Grasp& gr, const Gras
 
 //! What the top and the side picture share: the planner's outputs, the grasp and the view.
 struct WorldScene {
-  WorldScene(const Planner& planner_in, const PlanResult& result_in, bool top_in)
+  WorldScene(const Planner& planner_in, const PlanResult& result_in, bool top_in,
+             const std::vector<Grasp>& alternates_in)
       : planner(planner_in),
         result(result_in),
+        alternates(alternates_in),
         cfg(planner_in.config()),
         obj(planner_in.object_points()),
         top(top_in),
@@ -511,6 +514,7 @@ struct WorldScene {
 
   const Planner& planner;
   const PlanResult& result;
+  const std::vector<Grasp>& alternates;  // the ranked grasps after the returned one
   const PlannerConfig& cfg;
   const PointSpan& obj;
   const bool top;
@@ -702,6 +706,20 @@ void draw_gripper(Svg& svg, const Plot& p, const WorldScene& s) {
   svg.line({c.x, c.y - 7}, {c.x, c.y + 7}, attrs("#000000", 1.2, "none"));
 }
 
+//! The ranked alternates: each its closing line between the contacts and its rank.
+void draw_alternates(Svg& svg, const Plot& p, const WorldScene& s) {
+  for (size_t k = 0; k < s.alternates.size(); ++k) {
+    const Grasp& g = s.alternates[k];
+    const V3 o = g.position.cast<double>(), x = g.closing.cast<double>();
+    const double hw = std::max(0.5 * static_cast<double>(g.width), 0.005);
+    svg.line(p.map(s.view(o - x * hw)), p.map(s.view(o + x * hw)),
+             attrs(kAlternate, 2.5, "none", "stroke-dasharray=\"5,3\""));
+    const P2 c = p.map(s.view(o));
+    svg.circle(c, 8, attrs(kAlternate, 1.5, "#ffffff"));
+    svg.text({c.x, c.y + 4}, std::to_string(k + 1), "font-size=\"11\" text-anchor=\"middle\"");
+  }
+}
+
 //! The legend's entries of the gripper (a grasp was found).
 void add_gripper_legend(Legend& lg) {
   lg.add(
@@ -770,6 +788,13 @@ double draw_world_legend(Svg& svg, const WorldScene& s, uint32_t n_other) {
         },
         "support plane");
   if (s.ok) add_gripper_legend(lg);
+  if (!s.alternates.empty())
+    lg.add(
+        [](Svg& sv, P2 q) {
+          sv.line({q.x - 14, q.y}, {q.x + 14, q.y}, attrs(kAlternate, 2.5, "none", "stroke-dasharray=\"5,3\""));
+          sv.circle(q, 7, attrs(kAlternate, 1.5, "#ffffff"));
+        },
+        "ranked alternates 1.." + std::to_string(s.alternates.size()) + " (closing line)");
   return lg.draw(svg);
 }
 
@@ -789,8 +814,9 @@ double draw_height_bar(Svg& svg, const WorldScene& s, HeightRange h, double y) {
   return y + 66;
 }
 
-std::string world_picture(const Planner& planner, const PlanResult& result, bool top) {
-  WorldScene s(planner, result, top);
+std::string world_picture(const Planner& planner, const PlanResult& result, bool top,
+                          const std::vector<Grasp>& alternates) {
+  WorldScene s(planner, result, top, alternates);
   choose_view(s);
   Svg svg(1040, 780);
   const Plot p = make_plot(95, 110, 640, 590, world_extent(s), 0.06, 20.0, true);
@@ -802,6 +828,7 @@ std::string world_picture(const Planner& planner, const PlanResult& result, bool
   const uint32_t n_other = draw_other_points(svg, p, s);
   const HeightRange heights = draw_object_points(svg, p, s);
   if (s.ok) draw_gripper(svg, p, s);
+  if (s.ok) draw_alternates(svg, p, s);
   // Object centroid.
   if (s.obj.size() > 0) {
     const P2 oc = p.map(s.view(planner.object_centroid().cast<double>()));
@@ -1281,7 +1308,8 @@ std::string index_html(const PlanResult& result) {
 
 }  // namespace
 
-bool write_pictures(Planner& planner, const PlanResult& result, const std::string& dir, std::string& error) {
+bool write_pictures(Planner& planner, const PlanResult& result, const std::string& dir, std::string& error,
+                    const std::vector<Grasp>& alternates) {
   try {
     namespace fs = std::filesystem;
     if (dir.empty()) {
@@ -1296,8 +1324,8 @@ bool write_pictures(Planner& planner, const PlanResult& result, const std::strin
       return false;
     }
     const std::pair<const char*, std::string> files[] = {
-        {"object_top.svg", world_picture(planner, result, true)},
-        {"object_side.svg", world_picture(planner, result, false)},
+        {"object_top.svg", world_picture(planner, result, true, alternates)},
+        {"object_side.svg", world_picture(planner, result, false, alternates)},
         {"silhouette.svg", silhouette_picture(planner, result)},
         {"balance.svg", balance_picture(planner, result)},
         {"index.html", index_html(result)},
