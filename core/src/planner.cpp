@@ -244,7 +244,7 @@ uint32_t Planner::search_grasp(PlanResult& out, NoGraspReason& reason, const cha
   candidates_.n = 0;
   selection_.begin_target();
   chosen_view_ = -1;
-  families_ = FamilyCursor{};
+  families_.restart();
   // B. object frame, C. the sensor arc
   {
     StageTimer t(out.stage_us, Stage::frame);

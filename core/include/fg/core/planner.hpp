@@ -248,6 +248,14 @@ class Planner {
     float arc_from = 0.f, arc_to = 0.f;  // the sensor arc (C)
     Vec3 sup[3], foot[3];                // the support plane's axes, the footprint's sides
     bool sup_measured = false, have_sup = false, foot_measured = false, have_foot = false;
+    // The start of a target's search (the axes are measured again when needed). Not an
+    // assignment of a fresh cursor: clang-tidy takes the loop variable of the implicit
+    // copy of the arrays for a reserved identifier.
+    void restart() {
+      next = 0;
+      arc_from = arc_to = 0.f;
+      sup_measured = have_sup = foot_measured = have_foot = false;
+    }
   };
   // The next family of the target's search order into specs (1 or 2 of them); false
   // when every family was searched.
