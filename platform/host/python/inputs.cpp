@@ -29,7 +29,7 @@ py::array as_array(const std::string& what, const py::handle& obj) {
   return a;
 }
 
-//! A real number (not a bool or a string); false when v is none.
+//! v as a real number (a bool or a string is none); false when it is not one.
 [[nodiscard]] bool real_number(const py::handle& v, double& out) {
   if (py::isinstance<py::bool_>(v) || py::isinstance<py::str>(v)) return false;
   out = PyFloat_AsDouble(v.ptr());

@@ -105,8 +105,8 @@ class PyPlanner {
   //! The plan as `forcegrasp plan` runs it, on inputs read before; no Python here.
   //! The report when the status is ok or no_grasp, else the error: the status's name
   //! and the planner's message.
-  Status run(const std::vector<SensorInput>& sensors, const double* joints, nlohmann::json& report,
-             std::string& error) {
+  [[nodiscard]] Status run(const std::vector<SensorInput>& sensors, const double* joints, nlohmann::json& report,
+                           std::string& error) {
     const std::lock_guard<std::mutex> lock(mutex_);
     Planner& p = *planner_;
     // Configured anew: every plan starts from the state a fresh program's has.
