@@ -10,6 +10,8 @@ packages=(
   nlohmann-json3-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   liblzf-dev  # tests only: the LZF decoder's oracle
+  python3-dev pybind11-dev python3-pybind11 python3-numpy  # the Python module (platform/host/python)
+  python3-pytest python3-open3d  # its tests; Open3D reads the example's clouds as a user's script would
   "$@"
 )
 missing=()

@@ -1,0 +1,187 @@
+// The Python module `forcegrasp` (docs/python.md): the planner and the robot's check
+// that `forcegrasp plan` runs, with the program's option names and its JSON report.
+// Host-only: it allocates and throws, and releases the GIL while the planner works.
+#include <pybind11/pybind11.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+#include <mutex>
+#include <new>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "fg/core/planner.hpp"
+#include "fg/robot/ur5_grasp_check.hpp"
+#include "inputs.hpp"
+#include "io/big_buffer.hpp"
+#include "io/config_options.hpp"
+#include "io/text_parse.hpp"
+#include "plan/plan_report.hpp"
+#include "report.hpp"
+
+namespace fg::python {
+namespace {
+
+// The planner's 4 MiB in the readers' huge-page memory, as the program places it:
+// default-initialised (value-initialising would zero it all first) and two page faults
+// instead of about a thousand.
+struct PlannerDelete {
+  void operator()(Planner* p) const noexcept {
+    p->~Planner();
+    host::big_deallocate(p);
+  }
+};
+using PlannerPtr = std::unique_ptr<Planner, PlannerDelete>;
+
+PlannerPtr new_planner() {
+  void* memory = host::big_allocate(sizeof(Planner));
+  return PlannerPtr(new (memory) Planner);
+}
+
+//! Every option's value in `cfg`, as `forcegrasp config` prints the defaults.
+nlohmann::json options_json(PlannerConfig cfg) {
+  nlohmann::json j = nlohmann::json::object();
+  for (const host::ConfigOption& o : host::config_options(cfg)) {
+    switch (o.kind) {
+      case host::ConfigOption::real: {
+        char buf[32];  // the float's shortest faithful decimal, not its double expansion
+        std::snprintf(buf, sizeof buf, "%.7g", static_cast<double>(*static_cast<float*>(o.field)));
+        j[o.name] = std::strtod(buf, nullptr);
+        break;
+      }
+      case host::ConfigOption::count:
+        j[o.name] = *static_cast<uint32_t*>(o.field);
+        break;
+      case host::ConfigOption::flag:
+        j[o.name] = *static_cast<bool*>(o.field);
+        break;
+      case host::ConfigOption::rule:
+        j[o.name] = *static_cast<TargetRule*>(o.field) == TargetRule::largest ? "largest" : "nearest";
+        break;
+    }
+  }
+  return j;
+}
+
+//! A planner of its own with the robot's check of its own: two of them plan on two
+//! threads at once; one of them used from two threads plans once at a time (mutex_).
+class PyPlanner {
+ public:
+  PyPlanner(const py::object& config, const py::object& gripper)
+      : planner_(new_planner()), check_(std::make_unique<robot::Ur5GraspCheck>()) {
+    // The program's order: the scene's gripper, then the options.
+    apply_gripper(cfg_, gripper);
+    apply_config(cfg_, config);
+    const char* field = nullptr;
+    if (planner_->configure(cfg_, &field) != Status::ok)
+      throw py::value_error(std::string("invalid_config: configuration value out of range: ") + (field ? field : "?"));
+  }
+
+  py::dict plan(const py::object& head, const py::object& hand, const py::object& joints) {
+    std::vector<SensorInput> sensors;  // head first, as in the scene files
+    if (!head.is_none()) sensors.push_back(read_sensor(SensorRole::head, head));
+    if (!hand.is_none()) sensors.push_back(read_sensor(SensorRole::hand, hand));
+    if (sensors.empty()) throw py::value_error("no_input: plan() needs head= or hand= (a sensor's points or depth)");
+    std::optional<std::array<double, 6>> q;
+    if (!joints.is_none()) q = read_joints(joints);
+    nlohmann::json report;
+    std::string error;
+    Status st = Status::ok;
+    {
+      py::gil_scoped_release no_gil;  // every Python object was read above
+      st = run(sensors, q ? q->data() : nullptr, report, error);
+    }
+    if (st == Status::internal_error || st == Status::numeric_failure) throw std::runtime_error(error);
+    if (!error.empty()) throw py::value_error(error);
+    return report_to_python(report);
+  }
+
+  py::dict config() const { return to_python(options_json(cfg_)).cast<py::dict>(); }
+
+ private:
+  //! The plan as `forcegrasp plan` runs it, on inputs read before; no Python here.
+  //! The report when the status is ok or no_grasp, else the error: the status's name
+  //! and the planner's message.
+  [[nodiscard]] Status run(const std::vector<SensorInput>& sensors, const double* joints, nlohmann::json& report,
+                           std::string& error) {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    Planner& p = *planner_;
+    // Configured anew: every plan starts from the state a fresh program's has.
+    Status st = p.configure(cfg_);
+    if (st != Status::ok) error = std::string(to_string(st)) + ": the configuration was refused";
+    for (size_t i = 0; i < sensors.size() && st == Status::ok; ++i) {
+      const SensorInput& s = sensors[i];
+      st = s.depth ? p.add_depth_image(s.role, s.depth, s.width, s.height, s.intrinsics, s.pose)
+                   : p.add_points(s.role, s.xyz, s.count, s.stride, s.pose);
+      if (st != Status::ok) error = host::text::cat(to_string(st), ": ", role_name(s.role), ": ", p.last_message());
+    }
+    if (st != Status::ok) return st;
+    robot::GraspCheckConfig check_cfg;
+    host::set_up_robot_check(*check_, cfg_, joints, check_cfg);
+    p.set_grasp_check(cfg_.executability_checks ? check_.get() : nullptr);
+    PlanResult res;
+    st = p.plan(res);
+    p.set_grasp_check(nullptr);
+    if (st == Status::ok || st == Status::no_grasp)
+      report = host::plan_report(p, res, st, cfg_, check_cfg, *check_);
+    else
+      error = host::text::cat(to_string(st), ": ", *p.last_message() ? p.last_message() : res.message);
+    return st;
+  }
+
+  PlannerConfig cfg_;
+  PlannerPtr planner_;
+  std::unique_ptr<robot::Ur5GraspCheck> check_;  // 64 KiB of scratch: one per planner
+  std::mutex mutex_;
+};
+
+const char* const kModuleDoc = R"(forcegrasp: force-balance grasp planning on partial point clouds.
+
+    p = forcegrasp.Planner(config={"voxel_leaf": 0.005}, gripper={"max_opening": 0.085})
+    r = p.plan(head=(xyz, world_T_head), hand=(xyz2, world_T_hand))
+    r["status"], r["grasp"]["position"]
+
+The planner and the robot's check of `forcegrasp plan`; the report is the program's
+--json report as Python values. Reference: docs/python.md.)";
+
+const char* const kPlannerDoc = R"(A grasp planner with its own workspace (4 MiB) and robot check.
+
+config: dict of option name -> value, as `forcegrasp plan --set name=value` takes
+them (forcegrasp.default_config() lists every option). gripper: dict of max_opening,
+finger_width, finger_depth (m; defaults 0.085, 0.022, 0.04), applied before config.
+Bad names or values raise ValueError.)";
+
+const char* const kPlanDoc = R"(Plans a grasp on the sensors' data; returns the report as a dict.
+
+head, hand: a sensor, as (points, pose) or {"points": points, "pose": pose} or
+{"depth": depth, "intrinsics": (fx, fy, cx, cy), "pose": pose}. points: float32 or
+float64, shape (N, 3) or (H, W, 3), in the sensor's optical frame (NaN: no return);
+depth: uint16 (H, W) millimetres (0: no return); pose: 4x4 world_T_sensor.
+joints: the arm's six current joint angles (UR5, radians, URDF order): the grasp's
+reach is checked too and the report gains "joints".
+
+The report's "status" is "ok" (with "grasp") or "no_grasp" (with "reason" and
+"message"). Bad input raises TypeError or ValueError before planning; an internal
+error raises RuntimeError. The GIL is released while the planner works.)";
+
+}  // namespace
+}  // namespace fg::python
+
+PYBIND11_MODULE(forcegrasp, m) {
+  namespace py = pybind11;
+  using fg::python::PyPlanner;
+  m.doc() = fg::python::kModuleDoc;
+  m.attr("__version__") = FG_VERSION;
+  py::class_<PyPlanner>(m, "Planner", fg::python::kPlannerDoc)
+      .def(py::init<const py::object&, const py::object&>(), py::arg("config") = py::none(),
+           py::arg("gripper") = py::none())
+      .def("plan", &PyPlanner::plan, fg::python::kPlanDoc, py::kw_only(), py::arg("head") = py::none(),
+           py::arg("hand") = py::none(), py::arg("joints") = py::none())
+      .def_property_readonly("config", &PyPlanner::config, "Every option's value in this planner (a dict).");
+  m.def(
+      "default_config", [] { return fg::python::to_python(fg::host::default_config_json()); },
+      "Every planner option with its default value, as `forcegrasp config` prints them (a dict).");
+}

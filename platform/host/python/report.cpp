@@ -1,0 +1,63 @@
+#include "report.hpp"
+
+#include <pybind11/numpy.h>
+
+#include <cstdint>
+#include <string>
+
+namespace fg::python {
+namespace {
+
+py::array_t<double> vec3(const nlohmann::json& j) {
+  py::array_t<double> v(3);
+  for (size_t i = 0; i < 3; ++i) v.mutable_at(i) = j.at(i).get<double>();
+  return v;
+}
+
+//! The 3-vectors of one report object (keys that are absent are left alone).
+void vectors_to_numpy(const nlohmann::json& report, py::dict& out, const char* object,
+                      std::initializer_list<const char*> keys) {
+  if (!report.contains(object)) return;
+  py::dict sub = out[object].cast<py::dict>();
+  for (const char* k : keys)
+    if (report[object].contains(k)) sub[k] = vec3(report[object][k]);
+}
+
+}  // namespace
+
+py::object to_python(const nlohmann::json& j) {
+  using T = nlohmann::json::value_t;
+  switch (j.type()) {
+    case T::boolean:
+      return py::bool_(j.get<bool>());
+    case T::number_integer:
+      return py::int_(j.get<int64_t>());
+    case T::number_unsigned:
+      return py::int_(j.get<uint64_t>());
+    case T::number_float:
+      return py::float_(j.get<double>());
+    case T::string:
+      return py::str(j.get_ref<const std::string&>());
+    case T::array: {
+      py::list l;
+      for (const auto& e : j) l.append(to_python(e));
+      return std::move(l);
+    }
+    case T::object: {
+      py::dict d;
+      for (auto it = j.begin(); it != j.end(); ++it) d[py::str(it.key())] = to_python(it.value());
+      return std::move(d);
+    }
+    default:  // null (and the binary and discarded kinds a report never holds)
+      return py::none();
+  }
+}
+
+py::dict report_to_python(const nlohmann::json& report) {
+  py::dict out = to_python(report).cast<py::dict>();
+  vectors_to_numpy(report, out, "grasp", {"position", "approach", "closing", "pregrasp"});
+  vectors_to_numpy(report, out, "support_plane", {"normal"});
+  return out;
+}
+
+}  // namespace fg::python
