@@ -72,6 +72,21 @@ def test_points_as_the_program(scene, reference, program, tmp_path):
     assert plain(reference) == plain(program_report(program, write_scene(tmp_path, scene.points, scene.poses)))
 
 
+def test_top_grasps_as_the_program(scene, program, tmp_path):
+    """top=N gives the program's --top N list: the returned grasp first, numpy vectors."""
+    r = forcegrasp.Planner().plan(**both(scene, scene.points), top=3)
+    path = write_scene(tmp_path, scene.points, scene.poses)
+    out = subprocess.run([program, "plan", path, "--json", "--top", "3"], capture_output=True, text=True, check=False)
+    cli = json.loads(out.stdout)
+    assert r["status"] == "ok" and 1 <= len(r["grasps"]) <= 3
+    assert plain(r) == plain(cli)
+    assert r["grasps"][0]["rank"] == 0 and isinstance(r["grasps"][0]["closing"], np.ndarray)
+    assert "grasps" not in forcegrasp.Planner().plan(**both(scene, scene.points))
+    for bad, error in ((0, ValueError), (99, ValueError), (1.5, TypeError), (True, TypeError)):
+        with pytest.raises(error, match="top"):
+            forcegrasp.Planner().plan(**both(scene, scene.points), top=bad)
+
+
 def test_organized_as_the_program(scene, planner, program, tmp_path):
     r = planner.plan(**both(scene, scene.organized))
     assert plain(r) == plain(program_report(program, write_scene(tmp_path, scene.organized, scene.poses)))

@@ -80,19 +80,29 @@ class PyPlanner {
       throw py::value_error(std::string("invalid_config: configuration value out of range: ") + (field ? field : "?"));
   }
 
-  py::dict plan(const py::object& head, const py::object& hand, const py::object& joints) {
+  py::dict plan(const py::object& head, const py::object& hand, const py::object& joints, const py::object& top) {
     std::vector<SensorInput> sensors;  // head first, as in the scene files
     if (!head.is_none()) sensors.push_back(read_sensor(SensorRole::head, head));
     if (!hand.is_none()) sensors.push_back(read_sensor(SensorRole::hand, hand));
     if (sensors.empty()) throw py::value_error("no_input: plan() needs head= or hand= (a sensor's points or depth)");
     std::optional<std::array<double, 6>> q;
     if (!joints.is_none()) q = read_joints(joints);
+    uint32_t n_top = 0;  // none asked: no `grasps` list, as the program without --top
+    if (!top.is_none()) {
+      if (!py::isinstance<py::int_>(top) || py::isinstance<py::bool_>(top))
+        throw py::type_error("top must be an int (the number of ranked grasps)");
+      const long long t = top.cast<long long>();
+      if (t < 1 || t > static_cast<long long>(kMaxRankedGrasps))
+        throw py::value_error(host::text::cat("invalid_argument: top must be 1..", std::to_string(kMaxRankedGrasps),
+                                              " (FG_MAX_RANKED_GRASPS), got ", std::to_string(t)));
+      n_top = static_cast<uint32_t>(t);
+    }
     nlohmann::json report;
     std::string error;
     Status st = Status::ok;
     {
       py::gil_scoped_release no_gil;  // every Python object was read above
-      st = run(sensors, q ? q->data() : nullptr, report, error);
+      st = run(sensors, q ? q->data() : nullptr, n_top, report, error);
     }
     if (st == Status::internal_error || st == Status::numeric_failure) throw std::runtime_error(error);
     if (!error.empty()) throw py::value_error(error);
@@ -105,8 +115,8 @@ class PyPlanner {
   //! The plan as `forcegrasp plan` runs it, on inputs read before; no Python here.
   //! The report when the status is ok or no_grasp, else the error: the status's name
   //! and the planner's message.
-  [[nodiscard]] Status run(const std::vector<SensorInput>& sensors, const double* joints, nlohmann::json& report,
-                           std::string& error) {
+  [[nodiscard]] Status run(const std::vector<SensorInput>& sensors, const double* joints, uint32_t top,
+                           nlohmann::json& report, std::string& error) {
     const std::lock_guard<std::mutex> lock(mutex_);
     Planner& p = *planner_;
     // Configured anew: every plan starts from the state a fresh program's has.
@@ -124,10 +134,15 @@ class PyPlanner {
     p.set_grasp_check(cfg_.executability_checks ? check_.get() : nullptr);
     PlanResult res;
     st = p.plan(res);
-    p.set_grasp_check(nullptr);
     if (st == Status::ok || st == Status::no_grasp)
-      report = host::plan_report(p, res, st, cfg_, check_cfg, *check_);
-    else
+      report = host::plan_report(p, res, st, cfg_, check_cfg, *check_);  // the grasp's joints: before the alternates
+    if (st == Status::ok && top > 0) {
+      RankedGrasp more[kMaxRankedGrasps];
+      const uint32_t n_more = p.more_grasps(more, top - 1);
+      report["grasps"] = host::ranked_grasps_report(res, more, n_more, cfg_, check_cfg);
+    }
+    p.set_grasp_check(nullptr);
+    if (st != Status::ok && st != Status::no_grasp)
       error = host::text::cat(to_string(st), ": ", *p.last_message() ? p.last_message() : res.message);
     return st;
   }
@@ -162,6 +177,8 @@ float64, shape (N, 3) or (H, W, 3), in the sensor's optical frame (NaN: no retur
 depth: uint16 (H, W) millimetres (0: no return); pose: 4x4 world_T_sensor.
 joints: the arm's six current joint angles (UR5, radians, URDF order): the grasp's
 reach is checked too and the report gains "joints".
+top: the N best distinct grasps (1..FG_MAX_RANKED_GRASPS), best first, in the report's
+"grasps" list, as `forcegrasp plan --top N` gives them.
 
 The report's "status" is "ok" (with "grasp") or "no_grasp" (with "reason" and
 "message"). Bad input raises TypeError or ValueError before planning; an internal
@@ -179,7 +196,7 @@ PYBIND11_MODULE(forcegrasp, m) {
       .def(py::init<const py::object&, const py::object&>(), py::arg("config") = py::none(),
            py::arg("gripper") = py::none())
       .def("plan", &PyPlanner::plan, fg::python::kPlanDoc, py::kw_only(), py::arg("head") = py::none(),
-           py::arg("hand") = py::none(), py::arg("joints") = py::none())
+           py::arg("hand") = py::none(), py::arg("joints") = py::none(), py::arg("top") = py::none())
       .def_property_readonly("config", &PyPlanner::config, "Every option's value in this planner (a dict).");
   m.def(
       "default_config", [] { return fg::python::to_python(fg::host::default_config_json()); },

@@ -57,6 +57,13 @@ py::dict report_to_python(const nlohmann::json& report) {
   py::dict out = to_python(report).cast<py::dict>();
   vectors_to_numpy(report, out, "grasp", {"position", "approach", "closing", "pregrasp"});
   vectors_to_numpy(report, out, "support_plane", {"normal"});
+  if (report.contains("grasps")) {  // --top's ranked list: each entry as `grasp`
+    py::list ranked = out["grasps"].cast<py::list>();
+    for (size_t i = 0; i < report["grasps"].size(); ++i) {
+      py::dict entry = ranked[i].cast<py::dict>();
+      for (const char* k : {"position", "approach", "closing", "pregrasp"}) entry[k] = vec3(report["grasps"][i][k]);
+    }
+  }
   return out;
 }
 
