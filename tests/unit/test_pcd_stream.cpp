@@ -144,7 +144,9 @@ TEST(PcdStream, HandsOverTheWholeFileReadersPointsForAnyFieldLayout) {
       size_t pieces = 0;
       ASSERT_TRUE(drain(s, xyz, pieces)) << s.error();
       ASSERT_EQ(xyz.size(), whole.xyz.size());
-      EXPECT_EQ(std::memcmp(xyz.data(), whole.xyz.data(), xyz.size() * 4), 0);
+      if (!xyz.empty()) {  // memcmp of an empty vector's null data is undefined
+        EXPECT_EQ(std::memcmp(xyz.data(), whole.xyz.data(), xyz.size() * 4), 0);
+      }
       if (n == 50'001) {
         EXPECT_GT(pieces, 2u);  // bounded chunks, not the whole file
       }
