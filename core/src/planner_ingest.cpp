@@ -70,26 +70,6 @@ Status Planner::check_pose(const Pose& p) {
   return Status::ok;
 }
 
-Status Planner::ingest_begin(SensorRole role, const Pose& world_T_sensor) {
-  const uint32_t r = static_cast<uint32_t>(role);
-  if (r >= kMaxSensors) {
-    message_ = "unknown sensor role";
-    return Status::invalid_sensor;
-  }
-  if (sensors_.added[r]) {
-    message_ = "this sensor role was already added since reset()";
-    return Status::invalid_sensor;
-  }
-  if (grid_.finalized()) {
-    message_ = "sensor data added after plan(): call reset() before the next capture";
-    return Status::invalid_sequence;
-  }
-  const Status s = check_pose(world_T_sensor);
-  if (s != Status::ok) return s;
-  sensors_.begin(r, world_T_sensor);
-  return Status::ok;
-}
-
 namespace {
 // Points gathered into x, y and z blocks (strided arrays and depth images).
 struct Block {
@@ -157,6 +137,27 @@ void make_ingest(ingest::State& in, const Pose& p, const PlannerConfig& cfg, con
   in.lanes = ingest::lanes(requested_lanes);
 }
 }  // namespace
+
+Status Planner::ingest_begin(SensorRole role, const Pose& world_T_sensor, ingest::State& in) {
+  const uint32_t r = static_cast<uint32_t>(role);
+  if (r >= kMaxSensors) {
+    message_ = "unknown sensor role";
+    return Status::invalid_sensor;
+  }
+  if (sensors_.added[r]) {
+    message_ = "this sensor role was already added since reset()";
+    return Status::invalid_sensor;
+  }
+  if (grid_.finalized()) {
+    message_ = "sensor data added after plan(): call reset() before the next capture";
+    return Status::invalid_sequence;
+  }
+  const Status s = check_pose(world_T_sensor);
+  if (s != Status::ok) return s;
+  sensors_.begin(r, world_T_sensor);
+  make_ingest(in, world_T_sensor, cfg_, grid_, crop_lo_cells_, crop_hi_cells_, sensors_.sight_mm[r], ingest_lanes_);
+  return Status::ok;
+}
 
 uint32_t Planner::ingest_lanes() const { return ingest::lanes(ingest_lanes_); }
 
@@ -279,23 +280,19 @@ bool Planner::ingest_piece(ingest::State& in, const uint8_t* const base[3], uint
 
 Status Planner::add_coordinates(SensorRole role, const uint8_t* const base[3], uint32_t count, uint32_t stride_bytes,
                                 const Pose& world_T_sensor) {
-  const Status s = ingest_begin(role, world_T_sensor);
+  ingest::State in;
+  const Status s = ingest_begin(role, world_T_sensor, in);
   if (s != Status::ok) return s;
   const uint64_t t0 = platform::monotonic_us();
-  ingest::State in;
-  make_ingest(in, world_T_sensor, cfg_, grid_, crop_lo_cells_, crop_hi_cells_,
-              sensors_.sight_mm[static_cast<uint32_t>(role)], ingest_lanes_);
   const Status st = ingest_piece(in, base, count, stride_bytes) ? Status::ok : Status::capacity_exceeded;
   return end_ingest(count, in.offered - in.nonfinite, in.kept, t0, st);
 }
 
 Status Planner::add_point_source(SensorRole role, PointSource& source, const Pose& world_T_sensor) {
-  const Status s = ingest_begin(role, world_T_sensor);
+  ingest::State in;
+  const Status s = ingest_begin(role, world_T_sensor, in);
   if (s != Status::ok) return s;
   const uint64_t t0 = platform::monotonic_us();
-  ingest::State in;
-  make_ingest(in, world_T_sensor, cfg_, grid_, crop_lo_cells_, crop_hi_cells_,
-              sensors_.sight_mm[static_cast<uint32_t>(role)], ingest_lanes_);
   // Points of one sensor, so its offered count stays within 32 bits as one call's would.
   uint32_t offered = 0;
   // Bounded by the source's points: each piece adds at least one, and at most 2^32 - 1
@@ -338,12 +335,10 @@ Status Planner::add_depth_image(SensorRole role, const uint16_t* depth_mm, uint1
     message_ = "depth intrinsics are out of range (focal length must be 1..1e5 px)";
     return Status::invalid_argument;
   }
-  const Status s = ingest_begin(role, world_T_sensor);
+  ingest::State in;
+  const Status s = ingest_begin(role, world_T_sensor, in);
   if (s != Status::ok) return s;
   const uint64_t t0 = platform::monotonic_us();
-  ingest::State in;
-  make_ingest(in, world_T_sensor, cfg_, grid_, crop_lo_cells_, crop_hi_cells_,
-              sensors_.sight_mm[static_cast<uint32_t>(role)], ingest_lanes_);
   Status st = Status::ok;
   const float ifx = 1.f / k.fx, ify = 1.f / k.fy;
   Block blk;

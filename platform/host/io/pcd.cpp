@@ -572,6 +572,15 @@ void hand_over_block(BigBuffer<uint8_t>& buf, const std::array<size_t, 3>& block
 
 //! Header, field layout, dimensions, then the data section of its kind. `out` is only
 //! touched when the whole file parsed.
+//! Everything the header declares, checked: the header lines, the fields' layout in a
+//! point and the cloud's size; `lines` then stands at the first byte of the data.
+[[nodiscard]] ReadResult parse_header_block(LineCursor& lines, const std::string& name, const ReadLimits& limits,
+                                            PcdHeader& header, PcdLayout& layout, PcdShape& shape) {
+  if (ReadResult r = read_header(lines, name, header); !r.ok) return r;
+  if (ReadResult r = lay_out_fields(header, name, layout); !r.ok) return r;
+  return check_dimensions(header, layout.point_size, limits, name, shape);
+}
+
 [[nodiscard]] ReadResult parse_pcd_impl(const uint8_t* data, size_t size, const std::string& name, PointCloud& out,
                                         const ReadLimits& limits) {
   if (size == 0) return fail(name, "empty file (no PCD header)");
@@ -581,11 +590,9 @@ void hand_over_block(BigBuffer<uint8_t>& buf, const std::array<size_t, 3>& block
   }
   LineCursor lines{data, size};
   PcdHeader header;
-  if (ReadResult r = read_header(lines, name, header); !r.ok) return r;
   PcdLayout layout;
-  if (ReadResult r = lay_out_fields(header, name, layout); !r.ok) return r;
   PcdShape shape;
-  if (ReadResult r = check_dimensions(header, layout.point_size, limits, name, shape); !r.ok) return r;
+  if (ReadResult r = parse_header_block(lines, name, limits, header, layout, shape); !r.ok) return r;
 
   PointCloud cloud;
   cloud.width = static_cast<uint32_t>(shape.width);
@@ -676,11 +683,9 @@ ReadResult parse_pcd_header(const uint8_t* data, size_t size, const std::string&
   return text::guarded_parse(data, size, name, [&]() -> ReadResult {
     LineCursor lines{data, size};
     PcdHeader header;
-    if (ReadResult r = read_header(lines, name, header); !r.ok) return r;
     PcdLayout layout;
-    if (ReadResult r = lay_out_fields(header, name, layout); !r.ok) return r;
     PcdShape shape;
-    if (ReadResult r = check_dimensions(header, layout.point_size, limits, name, shape); !r.ok) return r;
+    if (ReadResult r = parse_header_block(lines, name, limits, header, layout, shape); !r.ok) return r;
     const Field& fx = layout.at(layout.ix);
     const Field& fy = layout.at(layout.iy);
     const Field& fz = layout.at(layout.iz);

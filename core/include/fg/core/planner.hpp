@@ -219,7 +219,9 @@ class Planner {
 
  private:
   [[nodiscard]] Status check_pose(const Pose& p);
-  [[nodiscard]] Status ingest_begin(SensorRole role, const Pose& world_T_sensor);
+  // A sensor's start: the role once per capture, before plan(), with a rigid pose;
+  // then its ingest state (the transform to cells, the crop box, its direction bins).
+  [[nodiscard]] Status ingest_begin(SensorRole role, const Pose& world_T_sensor, ingest::State& in);
   [[nodiscard]] Status end_ingest(uint32_t offered, uint32_t finite, uint32_t kept, uint64_t t0, Status st);
   // Before a block of n points: room for n more voxels, the crop box shrunk if need be
   // (at crop_shrink_min the block is added as far as the grid holds it).
