@@ -112,21 +112,12 @@ struct Ctx {
 
 [[nodiscard]] bool read_gripper(const json& v, SceneGripper& g, Ctx& c) {
   if (!v.is_object()) return c.fail("gripper must be an object");
-  struct Field {
-    const char* name;
-    double* out;
-    double lo, hi;
-  } fields[] = {{"max_opening", &g.max_opening, 0.005, 0.5},
-                {"finger_width", &g.finger_width, 0.002, 0.2},
-                {"finger_depth", &g.finger_depth, 0.005, 0.3}};
-  for (const Field& f : fields) {
-    if (!v.contains(f.name)) continue;
+  for (const char* name : {"max_opening", "finger_width", "finger_depth"}) {
+    if (!v.contains(name)) continue;
     double x = 0;
-    if (!finite_number(v[f.name], x)) return c.fail(std::string("gripper.") + f.name + " must be a finite number");
-    if (x < f.lo || x > f.hi)
-      return c.fail(std::string("gripper.") + f.name + " = " + std::to_string(x) + " is outside " +
-                    std::to_string(f.lo) + ".." + std::to_string(f.hi) + " m");
-    *f.out = x;
+    if (!finite_number(v[name], x)) return c.fail(std::string("gripper.") + name + " must be a finite number");
+    std::string err;
+    if (!set_gripper_value(g, name, x, err)) return c.fail(err);
   }
   return true;
 }
@@ -209,6 +200,32 @@ ReadResult parse_scene(const std::string& text, const std::string& manifest_path
   }
   if (root.contains("gripper") && !read_gripper(root["gripper"], out.gripper, c)) return ReadResult::failure(c.err);
   return {};
+}
+
+bool set_gripper_value(SceneGripper& g, const std::string& key, double value, std::string& err) {
+  const struct Field {
+    const char* name;
+    double* out;
+    double lo, hi;
+  } fields[] = {{"max_opening", &g.max_opening, 0.005, 0.5},
+                {"finger_width", &g.finger_width, 0.002, 0.2},
+                {"finger_depth", &g.finger_depth, 0.005, 0.3}};
+  for (const Field& f : fields) {
+    if (key != f.name) continue;
+    if (!std::isfinite(value)) {
+      err = "gripper." + key + " must be a finite number";
+      return false;
+    }
+    if (value < f.lo || value > f.hi) {
+      err = "gripper." + key + " = " + std::to_string(value) + " is outside " + std::to_string(f.lo) + ".." +
+            std::to_string(f.hi) + " m";
+      return false;
+    }
+    *f.out = value;
+    return true;
+  }
+  err = "gripper: unknown key \"" + key + "\" (max_opening, finger_width, finger_depth)";
+  return false;
 }
 
 ReadResult read_scene(const std::string& path, Scene& out) {

@@ -29,6 +29,11 @@ struct SceneGripper {
   double finger_depth = 0.040;
 };
 
+//! One value of a scene's gripper block by its key (max_opening, finger_width,
+//! finger_depth; metres, each within its range); false with err naming the key and the
+//! problem (an unknown key, a value that is not finite or out of range).
+[[nodiscard]] bool set_gripper_value(SceneGripper& g, const std::string& key, double value, std::string& err);
+
 struct Scene {
   std::string manifest_path;
   std::vector<SceneSensor> sensors;

@@ -1,6 +1,7 @@
 #include "inputs.hpp"
 
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "fg/core/types.hpp"
@@ -219,33 +220,20 @@ std::array<double, 6> read_joints(const py::handle& joints) {
 }
 
 void apply_gripper(PlannerConfig& cfg, const py::handle& gripper) {
-  const host::SceneGripper defaults;  // the scene file's, as `forcegrasp plan` applies them
-  struct Field {
-    const char* name;
-    double value, lo, hi;
-    float* out;
-  } fields[] = {{"max_opening", defaults.max_opening, 0.005, 0.5, &cfg.gripper.max_opening_m},
-                {"finger_width", defaults.finger_width, 0.002, 0.2, &cfg.gripper.finger_width_m},
-                {"finger_depth", defaults.finger_depth, 0.005, 0.3, &cfg.gripper.finger_depth_m}};
+  host::SceneGripper g;  // the scene file's defaults and ranges, as `forcegrasp plan` applies them
   if (!gripper.is_none()) {
     if (!py::isinstance<py::dict>(gripper)) throw py::type_error("gripper must be a dict, not " + type_text(gripper));
     for (const auto& item : py::reinterpret_borrow<py::dict>(gripper)) {
       const std::string key = py::str(item.first).cast<std::string>();
-      Field* f = nullptr;
-      for (Field& c : fields)
-        if (key == c.name) f = &c;
-      if (f == nullptr)
-        throw py::value_error("gripper: unknown key \"" + key + "\" (max_opening, finger_width, finger_depth)");
       double x = 0;
-      if (!real_number(item.second, x) || !std::isfinite(x))
-        throw py::value_error("gripper." + key + " must be a finite number");
-      if (x < f->lo || x > f->hi)
-        throw py::value_error("gripper." + key + " = " + std::to_string(x) + " is outside " + std::to_string(f->lo) +
-                              ".." + std::to_string(f->hi) + " m");
-      f->value = x;
+      std::string err;
+      if (!real_number(item.second, x)) x = std::numeric_limits<double>::quiet_NaN();  // named below
+      if (!host::set_gripper_value(g, key, x, err)) throw py::value_error(err);
     }
   }
-  for (const Field& f : fields) *f.out = static_cast<float>(f.value);
+  cfg.gripper.max_opening_m = static_cast<float>(g.max_opening);
+  cfg.gripper.finger_width_m = static_cast<float>(g.finger_width);
+  cfg.gripper.finger_depth_m = static_cast<float>(g.finger_depth);
 }
 
 namespace {
