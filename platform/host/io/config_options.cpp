@@ -140,8 +140,9 @@ bool set_config_option(PlannerConfig& cfg, const std::string& name, const std::s
   return false;
 }
 
-nlohmann::json default_config_json() {
-  PlannerConfig cfg;
+nlohmann::json default_config_json() { return config_json(PlannerConfig{}); }
+
+nlohmann::json config_json(PlannerConfig cfg) {
   nlohmann::json j = nlohmann::json::object();
   for (const ConfigOption& o : config_options(cfg)) {
     switch (o.kind) {

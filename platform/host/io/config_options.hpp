@@ -25,6 +25,9 @@ std::vector<ConfigOption> config_options(PlannerConfig& cfg);
 
 //! Every option with its default value, as a JSON object (a valid --config file).
 nlohmann::json default_config_json();
+//! Every option's value in `cfg` by its name, as default_config_json() gives the
+//! defaults (floats as their shortest faithful decimals).
+[[nodiscard]] nlohmann::json config_json(PlannerConfig cfg);
 
 //! Applies a JSON object of options (numbers, booleans, or strings for target_rule).
 [[nodiscard]] bool load_config_file(PlannerConfig& cfg, const std::string& path, std::string& error);

@@ -41,31 +41,6 @@ PlannerPtr new_planner() {
   return PlannerPtr(new (memory) Planner);
 }
 
-//! Every option's value in `cfg`, as `forcegrasp config` prints the defaults.
-nlohmann::json options_json(PlannerConfig cfg) {
-  nlohmann::json j = nlohmann::json::object();
-  for (const host::ConfigOption& o : host::config_options(cfg)) {
-    switch (o.kind) {
-      case host::ConfigOption::real: {
-        char buf[32];  // the float's shortest faithful decimal, not its double expansion
-        std::snprintf(buf, sizeof buf, "%.7g", static_cast<double>(*static_cast<float*>(o.field)));
-        j[o.name] = std::strtod(buf, nullptr);
-        break;
-      }
-      case host::ConfigOption::count:
-        j[o.name] = *static_cast<uint32_t*>(o.field);
-        break;
-      case host::ConfigOption::flag:
-        j[o.name] = *static_cast<bool*>(o.field);
-        break;
-      case host::ConfigOption::rule:
-        j[o.name] = *static_cast<TargetRule*>(o.field) == TargetRule::largest ? "largest" : "nearest";
-        break;
-    }
-  }
-  return j;
-}
-
 //! A planner of its own with the robot's check of its own: two of them plan on two
 //! threads at once; one of them used from two threads plans once at a time (mutex_).
 class PyPlanner {
@@ -109,7 +84,7 @@ class PyPlanner {
     return report_to_python(report);
   }
 
-  py::dict config() const { return to_python(options_json(cfg_)).cast<py::dict>(); }
+  py::dict config() const { return to_python(host::config_json(cfg_)).cast<py::dict>(); }
 
  private:
   //! The plan as `forcegrasp plan` runs it, on inputs read before; no Python here.
