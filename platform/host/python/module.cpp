@@ -3,7 +3,6 @@
 // Host-only: it allocates and throws, and releases the GIL while the planner works.
 #include <pybind11/pybind11.h>
 
-#include <cstdio>
 #include <cstdlib>
 #include <memory>
 #include <mutex>
