@@ -49,25 +49,31 @@ void Planner::reset() {
   message_ = "";
 }
 
-Status Planner::check_pose(const Pose& p) {
+Status validate_pose(const Pose& p, const char** message) {
+  const char* why = "";
+  Status s = Status::ok;
   if (!p.R.allFinite() || !p.t.allFinite()) {
-    message_ = "sensor pose has a NaN or Inf value";
-    return Status::non_finite;
+    why = "sensor pose has a NaN or Inf value";
+    s = Status::non_finite;
+  } else if ((p.R.transpose() * p.R - Mat3::Identity()).cwiseAbs().maxCoeff() > 1e-3f) {
+    why = "sensor pose rotation is not orthonormal";
+    s = Status::invalid_pose;
+  } else if (p.R.determinant() < 0.f) {
+    why = "sensor pose rotation is a reflection (determinant -1)";
+    s = Status::invalid_pose;
+  } else if (p.t.cwiseAbs().maxCoeff() > 100.f) {
+    why = "sensor pose position is more than 100 m from the robot";
+    s = Status::invalid_pose;
   }
-  const Mat3 e = p.R.transpose() * p.R - Mat3::Identity();
-  if (e.cwiseAbs().maxCoeff() > 1e-3f) {
-    message_ = "sensor pose rotation is not orthonormal";
-    return Status::invalid_pose;
-  }
-  if (p.R.determinant() < 0.f) {
-    message_ = "sensor pose rotation is a reflection (determinant -1)";
-    return Status::invalid_pose;
-  }
-  if (p.t.cwiseAbs().maxCoeff() > 100.f) {
-    message_ = "sensor pose position is more than 100 m from the robot";
-    return Status::invalid_pose;
-  }
-  return Status::ok;
+  if (message != nullptr) *message = why;
+  return s;
+}
+
+Status Planner::check_pose(const Pose& p) {
+  const char* why = "";
+  const Status s = validate_pose(p, &why);
+  if (s != Status::ok) message_ = why;
+  return s;
 }
 
 namespace {

@@ -41,8 +41,8 @@ py::array as_array(const std::string& what, const py::handle& obj) {
   return true;
 }
 
-//! A 4x4 world_T_sensor, refused as Planner::check_pose would refuse it (the same
-//! tolerances, on the same float pose), and when its last row is not 0 0 0 1.
+//! A 4x4 world_T_sensor, refused as the planner would refuse it (fg::validate_pose on
+//! the same float pose), and when its last row is not 0 0 0 1.
 Pose read_pose(const std::string& what, const py::handle& obj) {
   const py::array a = as_array(what + " pose", obj);
   const char kind = a.dtype().kind();
@@ -61,13 +61,14 @@ Pose read_pose(const std::string& what, const py::handle& obj) {
     p.t(i) = static_cast<float>(v[4 * i + 3]);
     for (int j = 0; j < 3; ++j) p.R(i, j) = static_cast<float>(v[4 * i + j]);
   }
-  const Mat3 e = p.R.transpose() * p.R - Mat3::Identity();
-  if (e.cwiseAbs().maxCoeff() > 1e-3f)
-    throw py::value_error("invalid_pose: " + what + " pose rotation is not orthonormal");
-  if (p.R.determinant() < 0.f)
-    throw py::value_error("invalid_pose: " + what + " pose rotation is a reflection (determinant -1)");
-  if (p.t.cwiseAbs().maxCoeff() > 100.f)
-    throw py::value_error("invalid_pose: " + what + " pose position is more than 100 m from the robot");
+  const char* why = "";
+  if (const Status s = validate_pose(p, &why); s != Status::ok) {
+    // The core's "sensor pose ..." with the sensor named.
+    const std::string text = why;
+    const std::string subject = "sensor ";
+    throw py::value_error(host::text::cat(to_string(s), ": ", what, " ",
+                                          text.rfind(subject, 0) == 0 ? text.substr(subject.size()) : text));
+  }
   return p;
 }
 

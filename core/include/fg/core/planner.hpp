@@ -124,6 +124,12 @@ struct ViewDetail {
   bool has_best = false;
 };
 
+//! The check every add_* call makes of a sensor's pose: finite (non_finite), a rotation
+//! (orthonormal within 1e-3, not a reflection) and within 100 m of the robot
+//! (invalid_pose); ok otherwise. *message (when not null): static text naming the
+//! problem, starting with "sensor pose", or "".
+[[nodiscard]] Status validate_pose(const Pose& p, const char** message = nullptr);
+
 class Planner {
  public:
   Planner() = default;
