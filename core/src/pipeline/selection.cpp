@@ -100,6 +100,7 @@ uint32_t Selection::rank(const CandidateList& list, uint32_t first) {
 
 uint32_t Selection::first_pass(CandidateList& list, uint32_t first, GraspChecks& checks, GraspCheck* robot,
                                CheckRejections& rejected) {
+  ranked_all_ = 0;  // order_ is this family's now
   const uint32_t m = rank(list, first);
   if (!checks.scene().cfg.executability_checks) return m > 0 ? order_[0] : kMaxCandidates;
   for (uint32_t i = 0; i < m && checks_left_ > 0; ++i) {
@@ -140,7 +141,10 @@ uint32_t Selection::second_pass(CandidateList& list, GraspChecks& checks, GraspC
 uint32_t Selection::alternates(CandidateList& list, uint32_t chosen, GraspChecks& checks, GraspCheck* robot,
                                uint32_t* out, uint32_t taken, uint32_t max) {
   if (taken >= max || chosen >= list.n || !checks.scene().cfg.executability_checks) return taken;
-  const uint32_t m = rank(list, 0);
+  // order_ holds every candidate's rank from the last call while no candidate was added
+  // since (a caller asking for one alternate at a time ranks once per family).
+  if (ranked_all_ != list.n) ranked_all_ = rank(list, 0);
+  const uint32_t m = ranked_all_;
   uint32_t n = taken;
   const auto distinct_from_taken = [&](const Candidate& c) {
     const Candidate& best = list.items[chosen];

@@ -36,6 +36,7 @@ class Selection {
   //! budget goes on.
   void begin_target() {
     n_deferred_ = 0;
+    ranked_all_ = 0;
     for (uint8_t& j : judged_) j = 0;
   }
 
@@ -76,6 +77,7 @@ class Selection {
   uint32_t n_deferred_ = 0;
   uint32_t checks_left_ = 0;             // candidates the checks may still examine in this plan
   uint8_t judged_[kMaxCandidates] = {};  // per candidate of this target: judged by a pass
+  uint32_t ranked_all_ = 0;              // candidates order_ ranks as a whole (alternates), 0: none
 };
 
 }  // namespace fg
