@@ -583,11 +583,7 @@ void hand_over_block(BigBuffer<uint8_t>& buf, const std::array<size_t, 3>& block
 
 [[nodiscard]] ReadResult parse_pcd_impl(const uint8_t* data, size_t size, const std::string& name, PointCloud& out,
                                         const ReadLimits& limits) {
-  if (size == 0) return fail(name, "empty file (no PCD header)");
-  if (size > limits.max_file_bytes) {
-    return fail(name, "file of " + std::to_string(size) + " bytes is larger than the limit of " +
-                          std::to_string(limits.max_file_bytes) + " bytes");
-  }
+  if (ReadResult r = text::file_size_ok(size, limits.max_file_bytes, name, "PCD"); !r.ok) return r;
   LineCursor lines{data, size};
   PcdHeader header;
   PcdLayout layout;

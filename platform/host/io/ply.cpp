@@ -502,11 +502,7 @@ void read_fixed_vertices(const Element& e, const uint8_t* base, uint64_t item_si
 //! only touched when the whole file parsed.
 [[nodiscard]] ReadResult parse_ply_impl(const uint8_t* data, size_t size, const std::string& name, PointCloud& out,
                                         const ReadLimits& limits) {
-  if (size == 0) return fail(name, "empty file (no PLY header)");
-  if (size > limits.max_file_bytes) {
-    return fail(name, "file of " + std::to_string(size) + " bytes is larger than the limit of " +
-                          std::to_string(limits.max_file_bytes) + " bytes");
-  }
+  if (ReadResult r = text::file_size_ok(size, limits.max_file_bytes, name, "PLY"); !r.ok) return r;
   ByteCursor c{data, size};
   PlyHeader header;
   if (ReadResult r = read_header(c, name, header); !r.ok) return r;

@@ -110,6 +110,18 @@ inline float to_float(double d) {
 //! r = a * b; false when the product overflows.
 [[nodiscard]] inline bool mul_ok(uint64_t a, uint64_t b, uint64_t& r) { return !__builtin_mul_overflow(a, b, &r); }
 
+//! A file's bytes, before its parse: not empty (a `format` header is needed) and within
+//! the reader's limit.
+[[nodiscard]] inline ReadResult file_size_ok(size_t size, uint64_t max_bytes, const std::string& name,
+                                             const char* format) {
+  if (size == 0) return fail(name, cat("empty file (no ", format, " header)"));
+  if (size > max_bytes) {
+    return fail(name, "file of " + std::to_string(size) + " bytes is larger than the limit of " +
+                          std::to_string(max_bytes) + " bytes");
+  }
+  return {};
+}
+
 //! Runs a reader's parse on bytes in memory: a null buffer, an allocation failure or any
 //! other exception becomes an error naming `name`, never an escape.
 template <typename Parse>
