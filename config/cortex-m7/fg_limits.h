@@ -15,6 +15,7 @@
 #define FG_MAX_CANDIDATES 128u        /* ranked grasp candidates kept for the checks */
 #define FG_MAX_CHECKED_CANDIDATES 32u /* candidates the executability checks examine per plan */
 #define FG_MAX_RANKED_GRASPS 8u       /* grasps one ranked plan returns (the best and its alternates) */
+#define FG_MAX_OBJECTS 8u             /* objects on the support plane a plan lists (the nearest the workspace centre) */
 #define FG_RANSAC_MAX_ITERS 256u      /* upper bound of the configured iteration count */
 #define FG_MAX_SENSORS 2u             /* head and hand */
 #define FG_SIGHT_BINS 64u             /* nearest-return direction bins per axis, per sensor */

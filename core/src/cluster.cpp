@@ -103,22 +103,44 @@ uint32_t make_offsets(uint32_t cells, Offset* out, OffsetHashes& hashes) {
   return n;
 }
 
-// What a walk gathers: the sums of its voxels' centroids in x and y, and the x-y box
-// of its cells (key indices).
+// What a walk gathers: the sums of its voxels' centroids, the box of its cells (key
+// indices), and, with a probe (a target point or box), the least squared distance of a
+// centroid to the point or the count of centroids inside the box.
 struct Walk {
-  float sum_x = 0.f, sum_y = 0.f;
-  uint32_t x0 = 0xFFFFFFFFu, x1 = 0, y0 = 0xFFFFFFFFu, y1 = 0;
-  // Takes voxel i into the sums and the box; returns its key.
+  const TargetSpec* probe = nullptr;  // kept by start()
+  float sum_x = 0.f, sum_y = 0.f, sum_z = 0.f;
+  uint32_t x0 = 0xFFFFFFFFu, x1 = 0, y0 = 0xFFFFFFFFu, y1 = 0, z0 = 0xFFFFFFFFu, z1 = 0;
+  float near_d2 = 0.f;
+  uint32_t inside = 0;
+  void start() {
+    const TargetSpec* p = probe;
+    *this = Walk{};
+    probe = p;
+    near_d2 = 3.0e38f;
+  }
+  // Takes voxel i into the sums, the box and the probe; returns its key.
   uint32_t add(const VoxelGrid& grid, uint32_t i) {
     const Vec3 c = grid.centroid(i);
     sum_x += c.x();
     sum_y += c.y();
+    sum_z += c.z();
+    if (probe != nullptr) {
+      if (probe->kind == TargetKind::nearest_point) {
+        const float d2 = (c - probe->point).squaredNorm();
+        near_d2 = d2 < near_d2 ? d2 : near_d2;
+      } else {
+        const bool in = (c.array() >= probe->box_min.array()).all() && (c.array() <= probe->box_max.array()).all();
+        inside += in ? 1u : 0u;
+      }
+    }
     const uint32_t k = grid.key(i);
-    const uint32_t kx = VoxelGrid::key_x(k), ky = VoxelGrid::key_y(k);
+    const uint32_t kx = VoxelGrid::key_x(k), ky = VoxelGrid::key_y(k), kz = VoxelGrid::key_z(k);
     x0 = kx < x0 ? kx : x0;
     x1 = kx > x1 ? kx : x1;
     y0 = ky < y0 ? ky : y0;
     y1 = ky > y1 ? ky : y1;
+    z0 = kz < z0 ? kz : z0;
+    z1 = kz > z1 ? kz : z1;
     return k;
   }
 };
@@ -130,7 +152,7 @@ uint32_t flood(const VoxelGrid& grid, uint8_t* state, uint32_t* queue, uint32_t 
   uint32_t head = 0, tail = 0;
   queue[tail++] = seed;
   state[seed] = mark;
-  w = Walk{};
+  w.start();
   const VoxelGrid::LookupFilter filter = grid.lookup_filter();
   // The filter's verdicts on all the neighbours at once where the CPU has AVX2 (about
   // 9 instructions a test, the call included, instead of 23: the worst case, isolated
@@ -176,7 +198,7 @@ uint32_t flood_bits(const VoxelGrid& grid, uint8_t* state, uint32_t* queue, uint
     const uint32_t c = bits.cell(grid.key(seed));
     words[c >> 6] &= ~(uint64_t{1} << (c & 63u));
   }
-  w = Walk{};
+  w.start();
   while (head < tail) {  // bounded: each voxel enters the queue at most once
     const uint32_t k = w.add(grid, queue[head++]);
     const int32_t base = static_cast<int32_t>(bits.cell(k));
@@ -234,6 +256,43 @@ void keep_largest(ClusterResult& res, const ClusterSummary& c) {
   for (uint32_t i = last; i > pos; --i) res.largest[i] = res.largest[i - 1];
   res.largest[pos] = c;
   if (res.n_largest < cap) ++res.n_largest;
+}
+
+// Keeps `o` in the list of the objects nearest the workspace centre (x-y distance of
+// the centroids, ascending, ties in the order found); one falling off the end counts
+// in objects_dropped.
+void keep_nearest(ClusterResult& res, const ObjectSummary& o, float cx, float cy) {
+  const auto d2 = [cx, cy](const ObjectSummary& a) {
+    const float dx = a.centroid.x() - cx, dy = a.centroid.y() - cy;
+    return dx * dx + dy * dy;
+  };
+  const float d = d2(o);
+  uint32_t pos = res.n_objects;
+  while (pos > 0 && d < d2(res.objects[pos - 1])) --pos;
+  if (pos >= kMaxObjects) {
+    ++res.objects_dropped;
+    return;
+  }
+  if (res.n_objects == kMaxObjects) ++res.objects_dropped;
+  const uint32_t last = res.n_objects < kMaxObjects ? res.n_objects : kMaxObjects - 1;
+  for (uint32_t i = last; i > pos; --i) res.objects[i] = res.objects[i - 1];
+  res.objects[pos] = o;
+  if (res.n_objects < kMaxObjects) ++res.n_objects;
+}
+
+// A walked cluster as the object list holds it: the mean of its centroids and the
+// world box of its cells.
+ObjectSummary summarize(const VoxelGrid& grid, uint32_t seed, uint32_t size, const Walk& w) {
+  const float leaf = grid.leaf();
+  const Vec3& origin = grid.origin();
+  ObjectSummary o;
+  o.seed = seed;
+  o.voxels = size;
+  o.centroid = Vec3(w.sum_x, w.sum_y, w.sum_z) / static_cast<float>(size);
+  o.box_min = origin + leaf * Vec3(static_cast<float>(w.x0), static_cast<float>(w.y0), static_cast<float>(w.z0));
+  o.box_max =
+      origin + leaf * Vec3(static_cast<float>(w.x1 + 1u), static_cast<float>(w.y1 + 1u), static_cast<float>(w.z1 + 1u));
+  return o;
 }
 
 // The cluster's x-y footprint (its cells' x-y box: the cell centres grown by half a
@@ -305,8 +364,10 @@ ClusterResult cluster_and_pick(const VoxelGrid& grid, uint8_t* state, uint32_t* 
   uint32_t best_seed = VoxelGrid::kNone, best_size = 0;
   float best_score = 0.f;
   uint32_t free_total = 0;
+  const TargetSpec* const probe = prm.target.kind == TargetKind::by_rule ? nullptr : &prm.target;
   for (uint32_t i = next_in_state(state, n, 0, kVoxelFree); i < n; i = next_in_state(state, n, i + 1u, kVoxelFree)) {
     Walk w;
+    w.probe = probe;
     const uint32_t size = free_cells != nullptr
                               ? flood_bits(grid, state, queue, i, off, lin, n_off, *free_cells, kVoxelVisited, w)
                               : flood(grid, state, queue, i, off, hashes, n_off, kVoxelFree, kVoxelVisited, w);
@@ -314,8 +375,14 @@ ClusterResult cluster_and_pick(const VoxelGrid& grid, uint8_t* state, uint32_t* 
     if (size < prm.min_points) continue;
     ++res.clusters;
     keep_largest(res, ClusterSummary{i, size, w.x0, w.x1, w.y0, w.y1});
+    keep_nearest(res, summarize(grid, i, size, w), prm.centre_x, prm.centre_y);
     float score;
-    if (prm.rule == TargetRule::largest) {
+    if (prm.target.kind == TargetKind::nearest_point) {
+      score = w.near_d2;
+    } else if (prm.target.kind == TargetKind::inside_box) {
+      if (w.inside == 0u) continue;  // not a candidate: nothing of it in the box
+      score = -static_cast<float>(w.inside);
+    } else if (prm.rule == TargetRule::largest) {
       score = -static_cast<float>(size);
     } else {
       const float cx = w.sum_x / static_cast<float>(size) - prm.centre_x;
@@ -397,6 +464,42 @@ uint32_t retarget_to_cover(const VoxelGrid& grid, uint8_t* state, uint32_t* queu
     for (uint32_t i = 0; i < n; ++i)
       if (state[i] == kVoxelFree) state[i] = kVoxelVisited;
   return best_size;
+}
+
+uint32_t mark_cluster(const VoxelGrid& grid, uint8_t* state, uint32_t* queue, const ClusterParams& prm, uint32_t seed,
+                      uint32_t* target, uint32_t target_capacity) {
+  const uint32_t n = grid.size();
+  if (seed >= n || (state[seed] != kVoxelVisited && state[seed] != kVoxelTarget)) return 0;
+  for (uint32_t i = 0; i < n; ++i)
+    if (state[i] == kVoxelTarget) state[i] = kVoxelVisited;
+  Offset off[kMaxOffsets];
+  OffsetHashes hashes;
+  const uint32_t n_off = make_offsets(prm.cells > 2 ? 2u : prm.cells, off, hashes);
+  Walk w;
+  const uint32_t size = flood(grid, state, queue, seed, off, hashes, n_off, kVoxelVisited, kVoxelTarget, w);
+  const uint32_t kept = size < target_capacity ? size : target_capacity;
+  for (uint32_t k = 0; k < kept; ++k) target[k] = queue[k];
+  return size;
+}
+
+Status validate(const TargetSpec& t, const char** message) {
+  const char* why = "";
+  Status s = Status::ok;
+  if (t.kind != TargetKind::by_rule && t.kind != TargetKind::nearest_point && t.kind != TargetKind::inside_box) {
+    s = Status::invalid_argument;
+    why = "target: unknown kind";
+  } else if (t.kind == TargetKind::nearest_point && !t.point.allFinite()) {
+    s = Status::non_finite;
+    why = "target point: a coordinate is not finite";
+  } else if (t.kind == TargetKind::inside_box && !(t.box_min.allFinite() && t.box_max.allFinite())) {
+    s = Status::non_finite;
+    why = "target box: a coordinate is not finite";
+  } else if (t.kind == TargetKind::inside_box && !(t.box_min.array() <= t.box_max.array()).all()) {
+    s = Status::invalid_argument;
+    why = "target box: a minimum is above its maximum";
+  }
+  if (message != nullptr) *message = why;
+  return s;
 }
 
 }  // namespace fg

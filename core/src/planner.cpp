@@ -31,29 +31,9 @@ RejectCounts RejectCounts::of(const CheckRejections& r) {
   return c;
 }
 
-Status Planner::plan(PlanResult& out) {
+void Planner::begin_report(PlanResult& out) {
   out = PlanResult{};
   for (float& m : out.margins.value) m = std::numeric_limits<float>::quiet_NaN();
-  const uint64_t t_start = platform::monotonic_us();
-  out.stage_us[static_cast<uint32_t>(Stage::ingest)] = ingest_us_;
-  // The viewpoints and candidates of a first search whose target gave way to the
-  // fall-back (the counts cover both searches).
-  uint32_t views_before = 0, candidates_before = 0;
-  auto finish = [&](Status s, NoGraspReason r, const char* msg) {
-    out.status = s;
-    out.reason = r;
-    out.message = msg;
-    message_ = msg;
-    out.points = counts_;
-    out.points.after_filter -= crop_used_.points_dropped;
-    out.crop = crop_used_;
-    out.viewpoints = views_before + views_.n;
-    out.candidates = candidates_before + candidates_.n;
-    out.rejected = RejectCounts::of(out.rejected_by_check);
-    out.stage_us[static_cast<uint32_t>(Stage::total)] =
-        static_cast<uint32_t>(platform::monotonic_us() - t_start) + ingest_us_;
-    return s;
-  };
   views_.n = 0;
   candidates_.n = 0;
   selection_.begin_plan();
@@ -63,15 +43,86 @@ Status Planner::plan(PlanResult& out) {
   chosen_candidate_ = kMaxCandidates;
   n_alternates_ = 0;
   object_.clear();
+}
 
-  if (!sensors_.any()) return finish(Status::no_input, NoGraspReason::none, "no sensor data was added before plan()");
+Status Planner::finish(PlanResult& out, const PlanTally& tally, Status s, NoGraspReason r, const char* msg) {
+  out.status = s;
+  out.reason = r;
+  out.message = msg;
+  message_ = msg;
+  out.points = counts_;
+  out.points.after_filter -= crop_used_.points_dropped;
+  out.crop = crop_used_;
+  out.viewpoints = tally.views_before + views_.n;
+  out.candidates = tally.candidates_before + candidates_.n;
+  out.rejected = RejectCounts::of(out.rejected_by_check);
+  out.stage_us[static_cast<uint32_t>(Stage::total)] =
+      static_cast<uint32_t>(platform::monotonic_us() - tally.t_start) + tally.earlier_us;
+  return s;
+}
+
+Status Planner::report_search(PlanResult& out, const PlanTally& tally, uint32_t found, NoGraspReason reason,
+                              const char* why) {
+  if (found == kMaxCandidates) return finish(out, tally, Status::no_grasp, reason, why);
+  fill_grasp(candidates_.items[found], out);
+  {
+    StageTimer t(out.stage_us, Stage::select);
+    checks_.margins(candidates_.items[found], out.margins);
+  }
+  chosen_candidate_ = found;
+  return finish(out, tally, Status::ok, NoGraspReason::none, "ok");
+}
+
+const char* Planner::target_outside_workspace() const {
+  const Vec3 lo(cfg_.workspace_centre_x_m - cfg_.crop_half_x_m, cfg_.workspace_centre_y_m - cfg_.crop_half_y_m,
+                cfg_.crop_min_z_m);
+  const Vec3 hi(cfg_.workspace_centre_x_m + cfg_.crop_half_x_m, cfg_.workspace_centre_y_m + cfg_.crop_half_y_m,
+                cfg_.crop_max_z_m);
+  if (target_.kind == TargetKind::nearest_point &&
+      !((target_.point.array() >= lo.array()).all() && (target_.point.array() <= hi.array()).all()))
+    return "the target point lies outside the workspace crop box";
+  if (target_.kind == TargetKind::inside_box &&
+      !((target_.box_max.array() >= lo.array()).all() && (target_.box_min.array() <= hi.array()).all()))
+    return "the target box does not overlap the workspace crop box";
+  return nullptr;
+}
+
+Status Planner::set_target(const TargetSpec& target) {
+  const char* why = "";
+  const Status s = validate(target, &why);
+  if (s != Status::ok) {
+    message_ = why;
+    return s;
+  }
+  target_ = target;
+  return Status::ok;
+}
+
+int32_t Planner::target_object() const {
+  for (uint32_t k = 0; k < object_count(); ++k)
+    if (state_[clusters_.objects[k].seed] == kVoxelTarget) return static_cast<int32_t>(k);
+  return -1;
+}
+
+Status Planner::plan(PlanResult& out) {
+  PlanTally tally;
+  tally.t_start = platform::monotonic_us();
+  tally.earlier_us = ingest_us_;
+  begin_report(out);
+  out.stage_us[static_cast<uint32_t>(Stage::ingest)] = ingest_us_;
+  objects_ready_ = false;
+
+  if (!sensors_.any())
+    return finish(out, tally, Status::no_input, NoGraspReason::none, "no sensor data was added before plan()");
   if (overflow_)
-    return finish(Status::capacity_exceeded, NoGraspReason::none,
+    return finish(out, tally, Status::capacity_exceeded, NoGraspReason::none,
                   "more occupied voxels than the build's FG_MAX_VOXELS");
+  if (const char* outside = target_outside_workspace())
+    return finish(out, tally, Status::invalid_argument, NoGraspReason::none, outside);
   const uint32_t nv = grid_.size();
   counts_.voxels = nv;
   if (nv == 0)
-    return finish(Status::no_grasp, NoGraspReason::no_points,
+    return finish(out, tally, Status::no_grasp, NoGraspReason::no_points,
                   "no point is left after the range filter and the workspace crop box");
 
   // A.5 support plane
@@ -82,22 +133,25 @@ Status Planner::plan(PlanResult& out) {
   }
 
   // A.6 target cluster
-  const ClusterParams cp = target_cluster_params(cfg_);
+  ClusterParams cp = target_cluster_params(cfg_);
+  cp.target = target_;
   // The breadth-first queue borrows the voxel count storage, idle after finalize().
   uint32_t* const queue = grid_.lend_count_storage();
-  ClusterResult cr;  // kept for the fall-back: its list of the largest clusters
   {
     StageTimer t(out.stage_us, Stage::cluster);
     const LentWords lent{view_words_, sizeof(view_words_) / sizeof(view_words_[0]), kViewWorkWordBits};
-    cr = find_target(grid_, state_, cp, queue, lent, object_voxel_);
-    if (cr.target_size == 0)
-      return finish(Status::no_grasp, NoGraspReason::no_object,
-                    support_.found ? "no cluster large enough stands on the support plane"
-                                   : "no support plane and no cluster large enough");
-    if (cr.target_size > kMaxObjectPoints)
-      return finish(Status::capacity_exceeded, NoGraspReason::none,
+    clusters_ = find_target(grid_, state_, cp, queue, lent, object_voxel_);
+    objects_ready_ = true;
+    if (clusters_.target_size == 0) {
+      const char* why = target_.kind == TargetKind::inside_box ? "no object has a voxel inside the target box"
+                        : support_.found                       ? "no cluster large enough stands on the support plane"
+                                                               : "no support plane and no cluster large enough";
+      return finish(out, tally, Status::no_grasp, NoGraspReason::no_object, why);
+    }
+    if (clusters_.target_size > kMaxObjectPoints)
+      return finish(out, tally, Status::capacity_exceeded, NoGraspReason::none,
                     "the target object has more voxels than the build's FG_MAX_OBJECT_POINTS");
-    load_target(cr.target_size, queue);
+    load_target(clusters_.target_size, queue);
   }
 
   // B-G on the target.
@@ -108,20 +162,22 @@ Status Planner::plan(PlanResult& out) {
   // The target-fragment fall-back (A.6): a target that yields no grasp and lies over
   // a larger cluster's footprint (the stand under a standing bat, a veil of mixed
   // pixels beside a bottle) gives way to that cluster, once. The checks' budget is the
-  // plan's: the fall-back gets what the first search left.
-  if (found == kMaxCandidates && cfg_.extend_search && cp.rule == TargetRule::nearest_to_centre && cr.clusters > 1) {
+  // plan's: the fall-back gets what the first search left. A target the caller chose
+  // (a point, a box) is kept.
+  if (found == kMaxCandidates && cfg_.extend_search && cp.rule == TargetRule::nearest_to_centre &&
+      cp.target.kind == TargetKind::by_rule && clusters_.clusters > 1) {
     const uint32_t first_size = object_.size();
     uint32_t size = 0;
     {
       StageTimer t(out.stage_us, Stage::cluster);
       // The walks use the near list's storage as their queue: without a fall-back
       // nothing checks collisions after this, and with one load_target rebuilds it.
-      size = find_covering_cluster(grid_, state_, queue, cp, object_, object_voxel_, cr);
+      size = find_covering_cluster(grid_, state_, queue, cp, object_, object_voxel_, clusters_);
       if (size > 0) load_target(size, queue);
     }
     if (size > 0) {
-      views_before = views_.n;
-      candidates_before = candidates_.n;
+      tally.views_before = views_.n;
+      tally.candidates_before = candidates_.n;
       NoGraspReason r2 = NoGraspReason::none;
       const char* why2 = "";
       found = search_grasp(out, r2, why2);
@@ -130,14 +186,37 @@ Status Planner::plan(PlanResult& out) {
       if (found == kMaxCandidates) counts_.object = first_size;
     }
   }
-  if (found == kMaxCandidates) return finish(Status::no_grasp, reason, why);
-  fill_grasp(candidates_.items[found], out);
+  return report_search(out, tally, found, reason, why);
+}
+
+Status Planner::plan_object(uint32_t k, PlanResult& out) {
+  PlanTally tally;
+  tally.t_start = platform::monotonic_us();
+  begin_report(out);
+  if (!objects_ready_)
+    return finish(out, tally, Status::invalid_sequence, NoGraspReason::none,
+                  "plan_object() needs a plan() that found the objects, since the last reset()");
+  if (k >= clusters_.n_objects)
+    return finish(out, tally, Status::invalid_argument, NoGraspReason::none,
+                  "plan_object(): the object index is beyond the plan's list of objects");
+  uint32_t* const queue = grid_.lend_count_storage();
   {
-    StageTimer t(out.stage_us, Stage::select);
-    checks_.margins(candidates_.items[found], out.margins);
+    StageTimer t(out.stage_us, Stage::cluster);
+    const uint32_t size = mark_cluster(grid_, state_, queue, target_cluster_params(cfg_), clusters_.objects[k].seed,
+                                       object_voxel_, kMaxObjectPoints);
+    counts_.object = size;
+    if (size == 0)  // plan() left every listed seed in the visited or target state
+      return finish(out, tally, Status::internal_error, NoGraspReason::none,
+                    "plan_object(): the object list no longer matches the voxels");
+    if (size > kMaxObjectPoints)
+      return finish(out, tally, Status::capacity_exceeded, NoGraspReason::none,
+                    "the object has more voxels than the build's FG_MAX_OBJECT_POINTS");
+    load_target(size, queue);
   }
-  chosen_candidate_ = found;
-  return finish(Status::ok, NoGraspReason::none, "ok");
+  NoGraspReason reason = NoGraspReason::none;
+  const char* why = "";
+  const uint32_t found = search_grasp(out, reason, why);
+  return report_search(out, tally, found, reason, why);
 }
 
 void Planner::load_target(uint32_t size, uint32_t* storage) {

@@ -40,6 +40,7 @@ void Planner::reset() {
   }
   crop_used_ = CropUsed{crop_min.x(), crop_min.y(), crop_max.x(), crop_max.y(), 0u, 0u};
   object_.clear();
+  objects_ready_ = false;
   support_ = SupportPlane{};
   views_.n = 0;
   candidates_.n = 0;

@@ -698,3 +698,219 @@ TEST(ClusterFilterMask, VectorLanesGiveMayHoldsVerdicts) {
   EXPECT_GT(hits, tests / 20u);
   EXPECT_LT(hits, tests - tests / 20u);
 }
+
+// The object list (ClusterResult::objects), the target chosen by a point or a box, and
+// mark_cluster, against the brute-force components of random sparse cell sets: every
+// component of at least min_points, its centroid (mean cell centre), its cell box, and
+// the order by x-y distance of the centroid to the workspace centre (found order on
+// ties, i.e. by smallest voxel index).
+namespace {
+struct OracleObject {
+  std::vector<uint32_t> voxels;  // sorted
+  Vec3 centroid, box_min, box_max;
+  double d2 = 0;  // x-y, to the centre
+};
+Vec3 cell_centre(const Cell& c) {
+  return Vec3((static_cast<float>(c.x) + 0.5f) * kLeaf, (static_cast<float>(c.y) + 0.5f) * kLeaf,
+              (static_cast<float>(c.z) + 0.5f) * kLeaf);
+}
+std::vector<OracleObject> oracle_objects(const std::vector<Cell>& cells, const ClusterParams& p) {
+  std::vector<OracleObject> out;
+  for (const auto& comp : components(cells, std::vector<bool>(cells.size(), true), p.cells)) {
+    if (comp.size() < p.min_points) continue;
+    OracleObject o;
+    o.voxels = comp;
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    Cell lo = cells[comp[0]], hi = cells[comp[0]];
+    for (uint32_t i : comp) {
+      sum += cell_centre(cells[i]).cast<double>();
+      lo = Cell{std::min(lo.x, cells[i].x), std::min(lo.y, cells[i].y), std::min(lo.z, cells[i].z)};
+      hi = Cell{std::max(hi.x, cells[i].x), std::max(hi.y, cells[i].y), std::max(hi.z, cells[i].z)};
+    }
+    o.centroid = (sum / static_cast<double>(comp.size())).cast<float>();
+    o.box_min = Vec3(static_cast<float>(lo.x), static_cast<float>(lo.y), static_cast<float>(lo.z)) * kLeaf;
+    o.box_max = Vec3(static_cast<float>(hi.x + 1), static_cast<float>(hi.y + 1), static_cast<float>(hi.z + 1)) * kLeaf;
+    const double dx = o.centroid.x() - p.centre_x, dy = o.centroid.y() - p.centre_y;
+    o.d2 = dx * dx + dy * dy;
+    out.push_back(o);
+  }
+  std::stable_sort(out.begin(), out.end(), [](const OracleObject& a, const OracleObject& b) { return a.d2 < b.d2; });
+  return out;
+}
+}  // namespace
+
+TEST(ClusterObjects, ListMatchesBruteForceComponents) {
+  std::mt19937 rng(41);
+  int full_lists = 0;
+  for (int trial = 0; trial < 8; ++trial) {
+    const std::vector<Cell> cells = random_cells(rng, 22, trial < 4 ? 0.05 : 0.12);
+    ClusterParams p;
+    p.min_points = 3;
+    p.centre_x = (55.f + 3.f * static_cast<float>(trial)) * kLeaf;
+    p.centre_y = (70.f - 2.f * static_cast<float>(trial)) * kLeaf;
+    const std::vector<OracleObject> want = oracle_objects(cells, p);
+    Fixture f(cells);
+    const ClusterResult r = f.run(p, trial % 2 == 1);
+    ASSERT_EQ(r.clusters, want.size());
+    const uint32_t listed = std::min<uint32_t>(fg::kMaxObjects, static_cast<uint32_t>(want.size()));
+    ASSERT_EQ(r.n_objects, listed) << "trial " << trial;
+    EXPECT_EQ(r.objects_dropped, want.size() - listed);
+    full_lists += want.size() > fg::kMaxObjects ? 1 : 0;
+    for (uint32_t k = 0; k < listed; ++k) {
+      SCOPED_TRACE("trial " + std::to_string(trial) + " object " + std::to_string(k));
+      // Exact ties of the distance are order-dependent in float: compare the sets then.
+      const fg::ObjectSummary& o = r.objects[k];
+      EXPECT_EQ(o.voxels, want[k].voxels.size());
+      EXPECT_EQ(o.seed, want[k].voxels.front());
+      EXPECT_LT((o.centroid - want[k].centroid).norm(), 1e-5f);
+      EXPECT_LT((o.box_min - want[k].box_min).norm(), 1e-5f);
+      EXPECT_LT((o.box_max - want[k].box_max).norm(), 1e-5f);
+    }
+  }
+  EXPECT_GT(full_lists, 0) << "no trial had more objects than the list holds";
+}
+
+TEST(ClusterObjects, NearestPointPicksTheClusterWithTheClosestVoxel) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(0.f, 1.f);
+  int checked = 0;
+  for (int trial = 0; trial < 12; ++trial) {
+    const std::vector<Cell> cells = random_cells(rng, 18, 0.06);
+    ClusterParams p;
+    p.min_points = 3;
+    p.target.kind = fg::TargetKind::nearest_point;
+    p.target.point = Vec3(50.f + 18.f * u(rng), 60.f + 18.f * u(rng), 5.f + 18.f * u(rng)) * kLeaf;
+    // Oracle: the eligible component with the least distance from a cell centre to the point.
+    std::vector<std::pair<double, std::vector<uint32_t>>> d;
+    for (const auto& comp : components(cells, std::vector<bool>(cells.size(), true), 1)) {
+      if (comp.size() < p.min_points) continue;
+      double best = 1e30;
+      for (uint32_t i : comp)
+        best = std::min(best, (cell_centre(cells[i]) - p.target.point).cast<double>().squaredNorm());
+      d.push_back({best, comp});
+    }
+    std::sort(d.begin(), d.end());
+    ASSERT_GE(d.size(), 2u);
+    if (d[1].first - d[0].first < 1e-7) continue;  // two clusters equally near: order-dependent
+    Fixture f(cells);
+    const ClusterResult r = f.run(p, trial % 2 == 0);
+    std::vector<uint32_t> got(f.target.begin(), f.target.begin() + r.target_size);
+    std::sort(got.begin(), got.end());
+    EXPECT_EQ(got, d[0].second) << "trial " << trial;
+    ++checked;
+  }
+  EXPECT_GE(checked, 8);
+}
+
+// Why the distance to the nearest voxel and not to the centroid: a point at the tip of a
+// long bar's end is 30 cells from the bar's centroid and 8 from a small cube's, yet on
+// the bar.
+TEST(ClusterObjects, NearestPointOnALongBarIsTheBar) {
+  std::vector<Cell> cells = box_cells(100, 100, 10, 60, 2, 2);  // the bar, x 100..159
+  const std::vector<Cell> cube = box_cells(160, 110, 10, 3, 3, 3);
+  cells.insert(cells.end(), cube.begin(), cube.end());
+  ClusterParams p;
+  p.min_points = 5;
+  p.target.kind = fg::TargetKind::nearest_point;
+  p.target.point = Vec3(159.5f, 101.f, 11.f) * kLeaf;  // on the bar's far end
+  Fixture f(cells);
+  const ClusterResult r = f.run(p);
+  EXPECT_EQ(r.target_size, 240u);
+  EXPECT_EQ(f.targets(r), range_set(0, 240));
+}
+
+TEST(ClusterObjects, BoxPicksTheClusterWithMostVoxelsInside) {
+  // Two 4x4x4 blobs side by side 2 cells apart; the box holds one column of A and two of B.
+  std::vector<Cell> cells = box_cells(100, 100, 10, 4, 4, 4);    // A: voxels 0..63, x 100..103
+  const std::vector<Cell> b = box_cells(106, 100, 10, 4, 4, 4);  // B: 64..127, x 106..109
+  cells.insert(cells.end(), b.begin(), b.end());
+  ClusterParams p;
+  p.min_points = 5;
+  p.target.kind = fg::TargetKind::inside_box;
+  p.target.box_min = Vec3(103.f, 99.f, 9.f) * kLeaf;
+  p.target.box_max = Vec3(107.9f, 105.f, 15.f) * kLeaf;
+  {
+    Fixture f(cells);
+    const ClusterResult r = f.run(p);
+    EXPECT_EQ(f.targets(r), range_set(64, 128));  // B: 32 voxels inside, A 16
+    EXPECT_EQ(r.n_objects, 2u);
+  }
+  p.target.box_min.x() = 100.f * kLeaf;  // now A has all 64 inside, B still 32
+  {
+    Fixture f(cells);
+    const ClusterResult r = f.run(p);
+    EXPECT_EQ(f.targets(r), range_set(0, 64));
+  }
+  // A box between them (the gap) holds nothing: no target, the objects still listed.
+  p.target.box_min = Vec3(104.f, 99.f, 9.f) * kLeaf;
+  p.target.box_max = Vec3(105.9f, 105.f, 15.f) * kLeaf;
+  {
+    Fixture f(cells);
+    const ClusterResult r = f.run(p);
+    EXPECT_EQ(r.target_size, 0u);
+    EXPECT_EQ(r.clusters, 2u);
+    EXPECT_EQ(r.n_objects, 2u);
+    EXPECT_TRUE(f.in_state(fg::kVoxelTarget).empty());
+  }
+}
+
+TEST(ClusterObjects, MarkClusterTakesEachListedObject) {
+  std::mt19937 rng(5);
+  const std::vector<Cell> cells = random_cells(rng, 20, 0.07);
+  ClusterParams p;
+  p.min_points = 2;
+  p.centre_x = 60.f * kLeaf;
+  p.centre_y = 70.f * kLeaf;
+  const std::vector<OracleObject> want = oracle_objects(cells, p);
+  Fixture f(cells);
+  const ClusterResult r = f.run(p);
+  ASSERT_GE(r.n_objects, 4u);
+  const std::set<uint32_t> others_and_target = [&] {
+    std::set<uint32_t> s = f.in_state(fg::kVoxelVisited);
+    const std::set<uint32_t> t = f.in_state(fg::kVoxelTarget);
+    s.insert(t.begin(), t.end());
+    return s;
+  }();
+  for (uint32_t k = r.n_objects; k-- > 0;) {  // backwards: not the list's order
+    const uint32_t size = fg::mark_cluster(*f.grid, f.state.data(), f.queue.data(), p, r.objects[k].seed,
+                                           f.target.data(), static_cast<uint32_t>(f.target.size()));
+    ASSERT_EQ(size, r.objects[k].voxels);
+    std::vector<uint32_t> got(f.target.begin(), f.target.begin() + size);
+    std::sort(got.begin(), got.end());
+    EXPECT_EQ(got, want[k].voxels) << "object " << k;
+    const std::set<uint32_t> t = f.in_state(fg::kVoxelTarget);
+    EXPECT_EQ(std::vector<uint32_t>(t.begin(), t.end()), want[k].voxels);
+    std::set<uint32_t> all = f.in_state(fg::kVoxelVisited);
+    all.insert(t.begin(), t.end());
+    EXPECT_EQ(all, others_and_target) << "mark_cluster changed voxels outside the objects";
+  }
+  // A removed voxel, or one past the grid, is no seed: nothing changes.
+  const std::vector<uint8_t> before = f.state;
+  EXPECT_EQ(fg::mark_cluster(*f.grid, f.state.data(), f.queue.data(), p, static_cast<uint32_t>(cells.size()),
+                             f.target.data(), 1u),
+            0u);
+  EXPECT_EQ(f.state, before);
+}
+
+TEST(ClusterObjects, TargetSpecValidation) {
+  const char* why = nullptr;
+  fg::TargetSpec t;
+  EXPECT_EQ(fg::validate(t, &why), Status::ok);
+  EXPECT_STREQ(why, "");
+  t.kind = fg::TargetKind::nearest_point;
+  t.point = Vec3(0.5f, NAN, 0.f);
+  EXPECT_EQ(fg::validate(t, &why), Status::non_finite);
+  EXPECT_STREQ(why, "target point: a coordinate is not finite");
+  t.kind = fg::TargetKind::inside_box;
+  t.box_min = Vec3(0.4f, -0.1f, 0.f);
+  t.box_max = Vec3(0.6f, -0.2f, 0.3f);
+  EXPECT_EQ(fg::validate(t, &why), Status::invalid_argument);
+  EXPECT_STREQ(why, "target box: a minimum is above its maximum");
+  t.box_max.y() = INFINITY;
+  EXPECT_EQ(fg::validate(t, &why), Status::non_finite);
+  t.box_max.y() = 0.1f;
+  EXPECT_EQ(fg::validate(t, &why), Status::ok);
+  t.kind = static_cast<fg::TargetKind>(9);
+  EXPECT_EQ(fg::validate(t, &why), Status::invalid_argument);
+  EXPECT_STREQ(why, "target: unknown kind");
+}

@@ -4,6 +4,8 @@
 #include <cstdint>
 
 #include "fg/core/config.hpp"
+#include "fg/core/limits.hpp"
+#include "fg/core/types.hpp"
 #include "fg/core/voxel_grid.hpp"
 
 namespace fg {
@@ -11,11 +13,35 @@ namespace fg {
 //! Per-voxel state used by the clustering (one byte per voxel).
 enum VoxelState : uint8_t { kVoxelRemoved = 0, kVoxelFree = 1, kVoxelVisited = 2, kVoxelTarget = 3 };
 
+//! What picks the target among the clusters: the configured rule (the default), the
+//! cluster nearest a world point (the least distance from the point to any of its
+//! voxel centroids), or the cluster with the most voxel centroids inside a world box.
+enum class TargetKind : uint8_t { by_rule = 0, nearest_point = 1, inside_box = 2 };
+struct TargetSpec {
+  TargetKind kind = TargetKind::by_rule;
+  Vec3 point = Vec3::Zero();                            //!< nearest_point
+  Vec3 box_min = Vec3::Zero(), box_max = Vec3::Zero();  //!< inside_box (inclusive)
+};
+
+//! A target spec's own check: a known kind, finite numbers, a box whose minimum is at
+//! most its maximum on every axis. invalid_argument or non_finite (message: static text
+//! naming the problem), ok otherwise.
+[[nodiscard]] Status validate(const TargetSpec& t, const char** message);
+
 struct ClusterParams {
   uint32_t cells = 1;
   uint32_t min_points = 30;
   float centre_x = 0.5f, centre_y = 0.f;
   TargetRule rule = TargetRule::nearest_to_centre;
+  TargetSpec target;  //!< by_rule: `rule` picks
+};
+
+//! One object on the support plane, as the labelling found it (world frame).
+struct ObjectSummary {
+  uint32_t seed = 0;             //!< its first voxel (lowest index): mark_cluster() takes it again
+  uint32_t voxels = 0;           //!< its voxels
+  Vec3 centroid = Vec3::Zero();  //!< the mean of its voxel centroids
+  Vec3 box_min = Vec3::Zero(), box_max = Vec3::Zero();  //!< the box of its voxels' cells
 };
 
 //! One cluster as the labelling found it: its first voxel (lowest index), its size
@@ -37,6 +63,12 @@ struct ClusterResult {
   ClusterSummary largest[kLargestKept];
   uint32_t n_largest = 0;
   uint32_t largest_dropped = 0;
+  //! The clusters of at least min_points nearest the workspace centre (x-y distance of
+  //! their centroids), nearest first, ties in the order found; `objects_dropped` counts
+  //! those beyond kMaxObjects, which are left out.
+  ObjectSummary objects[kMaxObjects];
+  uint32_t n_objects = 0;
+  uint32_t objects_dropped = 0;
 };
 
 //! The cells of the voxels in one state as a bitmap over their bounding box grown by 2
@@ -61,12 +93,12 @@ struct CellBitmap {
                                      uint64_t* words, uint32_t n_words, CellBitmap& out);
 
 //! Labels the connected components of the voxels whose state is kVoxelFree, picks the
-//! target (nearest centroid to the centre in x-y, or the largest; ties go to the
-//! component found first) and marks its voxels kVoxelTarget (the others
-//! kVoxelVisited). `queue` needs grid.size() entries. Target voxel indices are written
-//! to `target` in breadth-first order (at most target_capacity; the caller checks
-//! target_size against it). O(voxels * neighbours): every voxel is queued once.
-//! `free_cells`, optional: build_cell_bitmap's bitmap of the kVoxelFree voxels (it is
+//! target (params.target; by rule: nearest centroid to the centre in x-y, or the
+//! largest; ties go to the component found first; inside_box: none when no cluster has
+//! a voxel centroid in the box), lists the objects (ClusterResult::objects) and marks its voxels kVoxelTarget (the
+//! others kVoxelVisited). `queue` needs grid.size() entries. Target voxel indices are written to `target` in
+//! breadth-first order (at most target_capacity; the caller checks target_size against it). O(voxels * neighbours):
+//! every voxel is queued once. `free_cells`, optional: build_cell_bitmap's bitmap of the kVoxelFree voxels (it is
 //! consumed: the walks clear the bits they visit); the same result, faster.
 ClusterResult cluster_and_pick(const VoxelGrid& grid, uint8_t* state, uint32_t* queue, const ClusterParams& params,
                                uint32_t* target, uint32_t target_capacity, CellBitmap* free_cells = nullptr);
@@ -87,6 +119,15 @@ ClusterResult cluster_and_pick(const VoxelGrid& grid, uint8_t* state, uint32_t* 
 uint32_t retarget_to_cover(const VoxelGrid& grid, uint8_t* state, uint32_t* queue, const ClusterParams& params,
                            const uint32_t* old_target, uint32_t old_size, float cx, float cy, uint32_t* target,
                            uint32_t target_capacity, const ClusterResult* labelled = nullptr);
+
+//! Makes the cluster of voxel `seed` the target: every kVoxelTarget voxel becomes
+//! kVoxelVisited, then the component of `seed` through kVoxelVisited voxels becomes
+//! kVoxelTarget (after cluster_and_pick, a seed of its object list). Its voxel indices go
+//! to `target` in breadth-first order (at most target_capacity) and its size is returned
+//! (0 when seed is not a voxel in kVoxelVisited or kVoxelTarget state: nothing changes).
+//! `queue` needs grid.size() entries. O(voxels + the cluster's voxels * neighbours).
+uint32_t mark_cluster(const VoxelGrid& grid, uint8_t* state, uint32_t* queue, const ClusterParams& params,
+                      uint32_t seed, uint32_t* target, uint32_t target_capacity);
 
 namespace detail {
 //! The lookup filter's verdicts on the hashes kh + oh[o], o < n <= 32: bit o set when

@@ -41,6 +41,9 @@
 #ifndef FG_MAX_RANKED_GRASPS
 #define FG_MAX_RANKED_GRASPS 8u
 #endif
+#ifndef FG_MAX_OBJECTS
+#define FG_MAX_OBJECTS 8u
+#endif
 #ifndef FG_SIGHT_BINS
 #define FG_SIGHT_BINS 256u
 #endif
@@ -59,6 +62,7 @@ inline constexpr uint32_t kMaxViewpoints = FG_MAX_VIEWPOINTS;
 inline constexpr uint32_t kMaxCandidates = FG_MAX_CANDIDATES;
 inline constexpr uint32_t kMaxCheckedCandidates = FG_MAX_CHECKED_CANDIDATES;  //!< per plan()
 inline constexpr uint32_t kMaxRankedGrasps = FG_MAX_RANKED_GRASPS;            //!< the best and its alternates
+inline constexpr uint32_t kMaxObjects = FG_MAX_OBJECTS;  //!< objects a plan lists (the nearest the centre)
 inline constexpr uint32_t kRansacMaxIters = FG_RANSAC_MAX_ITERS;
 inline constexpr uint32_t kMaxSensors = FG_MAX_SENSORS;
 inline constexpr uint32_t kSightBins = FG_SIGHT_BINS;             //!< per axis, per sensor
@@ -72,6 +76,7 @@ static_assert(kMaxObjectPoints <= kMaxVoxels, "the object is a subset of the vox
 static_assert(kHullGridDim >= 16 && kHullGridDim <= 4096, "hull raster size out of range");
 static_assert(kMaxContourVertices >= 8, "contour capacity too small");
 static_assert(kMaxRankedGrasps >= 1 && kMaxRankedGrasps <= 256u, "ranked grasps out of range");
+static_assert(kMaxObjects >= 1 && kMaxObjects <= 256u, "objects out of range");
 static_assert(kMaxCheckedCandidates >= 1 && kMaxCheckedCandidates <= kMaxCandidates,
               "checked candidates: 1 .. FG_MAX_CANDIDATES");
 static_assert(kSightBins >= 16 && kSightBins <= 1024, "sight map size out of range");

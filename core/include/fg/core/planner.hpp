@@ -201,6 +201,36 @@ class Planner {
   //! since plan() return at most kMaxRankedGrasps - 1.
   uint32_t more_grasps(RankedGrasp* out, uint32_t max);
 
+  //! What picks the target of the next plan() calls: by the configured rule (the
+  //! default, TargetSpec{}), the cluster nearest a world point, or the cluster with the
+  //! most voxels inside a world box (cluster.hpp). Kept across reset() and configure().
+  //! A spec that fails validate(TargetSpec) is refused (its status; last_message() says
+  //! why) and the one before stays. plan() answers invalid_argument when the point, or
+  //! the whole box, lies outside the configured workspace crop box, and no_grasp
+  //! (no_object) when no cluster has a voxel inside the box.
+  [[nodiscard]] Status set_target(const TargetSpec& target);
+  const TargetSpec& target() const { return target_; }
+
+  //! The objects on the support plane that the last plan() found (clusters of at least
+  //! min_object_points), nearest the workspace centre first: at most kMaxObjects
+  //! (FG_MAX_OBJECTS); objects_dropped() counts those left out. Empty before a plan()
+  //! reached its clustering stage, and after reset().
+  uint32_t object_count() const { return objects_ready_ ? clusters_.n_objects : 0u; }
+  //! Object k < object_count() (its centroid, box and voxel count; world frame).
+  const ObjectSummary& object(uint32_t k) const { return clusters_.objects[k < kMaxObjects ? k : 0u]; }
+  uint32_t objects_dropped() const { return objects_ready_ ? clusters_.objects_dropped : 0u; }
+  //! The index in that list of the cluster the last plan() or plan_object() searched
+  //! (the target; after the fall-back, its cluster), or -1 (none, or not listed).
+  int32_t target_object() const;
+
+  //! After plan(), and before the next reset(): plans again, stages B-G, for object k of
+  //! its list, with every other voxel above the plane as an obstacle and the same
+  //! support plane. The result is as plan() fills it for its target (no fall-back: each
+  //! object answers for itself); its stage times cover this call alone (no ingest or
+  //! plane). invalid_sequence when no plan() reached the objects, invalid_argument when
+  //! k >= object_count(). more_grasps() and the inspection then refer to this object.
+  [[nodiscard]] Status plan_object(uint32_t k, PlanResult& out);
+
   //! The message of the last add_* or plan failure (static text).
   const char* last_message() const { return message_; }
 
@@ -239,6 +269,23 @@ class Planner {
   // One piece of a sensor's points into the grid; false when the grid is full.
   [[nodiscard]] bool ingest_piece(ingest::State& in, const uint8_t* const base[3], uint32_t count,
                                   uint32_t stride_bytes);
+  // What a plan's report counts from its start: the clock, the time of work before it
+  // (ingest, for plan()), and the viewpoints and candidates of a first search that gave
+  // way to the fall-back.
+  struct PlanTally {
+    uint64_t t_start = 0;
+    uint32_t earlier_us = 0;
+    uint32_t views_before = 0, candidates_before = 0;
+  };
+  // Fills the report's status, counts and total time; returns s.
+  Status finish(PlanResult& out, const PlanTally& tally, Status s, NoGraspReason r, const char* msg);
+  // The start of plan() and plan_object(): an empty report and a fresh search state.
+  void begin_report(PlanResult& out);
+  // The end of plan() and plan_object(), after the search: the grasp of candidate
+  // `found` (ok), or no_grasp for `reason` when found is kMaxCandidates.
+  Status report_search(PlanResult& out, const PlanTally& tally, uint32_t found, NoGraspReason reason, const char* why);
+  // A target outside the configured crop box: the message, or null.
+  const char* target_outside_workspace() const;
   // The target's voxels (object_voxel_[0, size)) become the object points, and the
   // checks' near list is built around them in `storage`.
   void load_target(uint32_t size, uint32_t* storage);
@@ -293,6 +340,9 @@ class Planner {
 
   // A.5 support plane, A.6 target, B object frame, C viewpoints.
   SupportPlane support_;
+  TargetSpec target_;       // set_target()
+  ClusterResult clusters_;  // the last plan()'s labelling: its objects, and the fall-back's list
+  bool objects_ready_ = false;
   uint32_t object_voxel_[kMaxObjectPoints];
   PointBuffer<kMaxObjectPoints> object_;
   ObjectFrame frame_;
