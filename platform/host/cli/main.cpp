@@ -22,6 +22,7 @@ struct PlanArgs {
   CLI::App* cmd = nullptr;
   PlanOptions po;
   bool json_out = false;
+  std::string objects_arg;  // --objects: "all" or not given
 };
 
 //! `forcegrasp sim`: its options as parsed.
@@ -57,6 +58,17 @@ void add_plan_command(CLI::App& app, PlanArgs& a) {
                    "report the N best distinct grasps, best first, in a `grasps` array (at most " +
                        std::to_string(fg::kMaxRankedGrasps) + ", FG_MAX_RANKED_GRASPS)")
       ->check(CLI::Range(1u, fg::kMaxRankedGrasps));
+  a.cmd
+      ->add_option("--objects", a.objects_arg,
+                   "all: plan for every object on the support plane too, each in the `objects` array (at most " +
+                       std::to_string(fg::kMaxObjects) + ", FG_MAX_OBJECTS: those nearest the workspace centre)")
+      ->check(CLI::IsMember({"all"}));
+  auto* target =
+      a.cmd->add_option("--target", a.po.target, "x,y,z: the target is the object nearest this world point (metres)");
+  auto* box = a.cmd->add_option("--target-box", a.po.target_box,
+                                "xmin,ymin,zmin,xmax,ymax,zmax: the target is the object with the most voxels "
+                                "inside this world box (metres)");
+  target->excludes(box);
 }
 
 void add_sim_command(CLI::App& app, SimArgs& a) {
@@ -100,7 +112,8 @@ int report_parse_error(CLI::App& app, const CLI::ParseError& e, int argc, char**
   return kExitInvalid;
 }
 
-int run_plan_command(const PlanArgs& a) {
+int run_plan_command(PlanArgs& a) {
+  a.po.all_objects = a.objects_arg == "all";
   const PlanOutcome o = run_plan(a.po);
   if (a.json_out)
     std::cout << o.report.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) << "\n";

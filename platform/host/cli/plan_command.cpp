@@ -16,6 +16,7 @@
 #include "io/pcd_stream.hpp"
 #include "io/ply.hpp"
 #include "io/scene.hpp"
+#include "io/text_parse.hpp"
 #include "plan/plan_report.hpp"
 #include "svg_pictures.hpp"
 
@@ -191,14 +192,33 @@ SensorRole role_of(const SceneSensor& s) { return s.name == "head" ? SensorRole:
   return true;
 }
 
+//! `n` comma-separated finite numbers; false when the text is anything else.
+[[nodiscard]] bool parse_numbers(const std::string& text, float* out, size_t n) {
+  size_t k = 0, from = 0;
+  for (; k < n; ++k) {
+    const size_t comma = text.find(',', from);
+    const bool last = k + 1 == n;
+    if (last != (comma == std::string::npos)) return false;  // too few or too many
+    const std::string_view part = std::string_view(text).substr(from, last ? std::string::npos : comma - from);
+    double v = 0.0;
+    if (!text::parse_real(text::trim(part), v) || !std::isfinite(v) || std::fabs(v) > 1e6) return false;
+    out[k] = static_cast<float>(v);
+    from = comma + 1;
+  }
+  return true;
+}
+
 //! The whole command, which may throw.
 PlanOutcome plan_scene(const PlanOptions& opts) {
   const uint64_t t_process = platform::monotonic_us();
   PlannerConfig cfg;
   Scene scene;
   std::string err;
+  TargetSpec target;
+  if (!parse_target(opts, target, err)) return invalid("command line: " + err);
   if (!read_and_configure(opts, scene, cfg, err)) return invalid(err);
   Planner& planner = planner_instance();
+  if (planner.set_target(target) != Status::ok) return invalid(planner.last_message());
   uint64_t t_plan = t_process;
   if (!read_and_add_clouds(opts, scene, planner, t_process, t_plan, err)) return invalid(err);
   robot::GraspCheckConfig check_cfg;
@@ -207,10 +227,10 @@ PlanOutcome plan_scene(const PlanOptions& opts) {
     if (s.joints) joints = s.joints->data();
   static robot::Ur5GraspCheck check;  // one per process, like the planner
   set_up_robot_check(check, cfg, joints, check_cfg);
-  planner.set_grasp_check(cfg.executability_checks ? &check : nullptr);
   PlanResult res;
-  const Status st = planner.plan(res);
-  planner.set_grasp_check(nullptr);
+  json report;
+  std::vector<Grasp> alternates;
+  const Status st = plan_target(planner, cfg, check, check_cfg, opts.top, res, report, &alternates);
 
   PlanOutcome o;
   if (st == Status::ok) {
@@ -223,16 +243,9 @@ PlanOutcome plan_scene(const PlanOptions& opts) {
     return invalid(opts.scene_path + ": " + res.message + " (" + to_string(st) + ")");
   }
   json& j = o.report;
-  j = plan_report(planner, res, st, cfg, check_cfg, check);  // the best grasp's joints: before the alternates
-  std::vector<Grasp> alternates;
-  if (opts.top > 0 && st == Status::ok) {
-    RankedGrasp more[kMaxRankedGrasps];
-    planner.set_grasp_check(cfg.executability_checks ? &check : nullptr);
-    const uint32_t n_more = planner.more_grasps(more, opts.top - 1);
-    planner.set_grasp_check(nullptr);
-    j["grasps"] = ranked_grasps_report(res, more, n_more, cfg, check_cfg);
-    for (uint32_t k = 0; k < n_more; ++k) alternates.push_back(more[k].grasp);
-  }
+  j = std::move(report);
+  if (st == Status::internal_error || st == Status::numeric_failure)  // plan_target reports ok and no_grasp
+    j = plan_report(planner, res, st, cfg, check_cfg, check);
   const uint64_t t_done = platform::monotonic_us();
   j["timing_us"]["process_plan"] = t_done - t_plan;
   j["timing_us"]["process_read"] = t_plan - t_process;
@@ -243,10 +256,45 @@ PlanOutcome plan_scene(const PlanOptions& opts) {
     else
       j["pictures"] = opts.pictures_dir;
   }
+  // After the pictures, which show the target's search: each object's plan replaces it.
+  if (opts.all_objects) add_objects(j, planner, cfg, check, check_cfg, opts.top);
   return o;
 }
 
 }  // namespace
+
+bool parse_target(const PlanOptions& opts, TargetSpec& target, std::string& err) {
+  target = TargetSpec{};
+  float v[6];
+  if (!opts.target.empty() && !opts.target_box.empty()) {
+    err = "--target and --target-box: give one of them";
+    return false;
+  }
+  if (!opts.target.empty()) {
+    if (!parse_numbers(opts.target, v, 3)) {
+      err = "--target: expected x,y,z (three finite numbers, metres, world frame), got \"" +
+            text::printable(opts.target) + "\"";
+      return false;
+    }
+    target.kind = TargetKind::nearest_point;
+    target.point = Vec3(v[0], v[1], v[2]);
+  } else if (!opts.target_box.empty()) {
+    if (!parse_numbers(opts.target_box, v, 6)) {
+      err = "--target-box: expected xmin,ymin,zmin,xmax,ymax,zmax (six finite numbers, metres, world frame), got \"" +
+            text::printable(opts.target_box) + "\"";
+      return false;
+    }
+    target.kind = TargetKind::inside_box;
+    target.box_min = Vec3(v[0], v[1], v[2]);
+    target.box_max = Vec3(v[3], v[4], v[5]);
+  }
+  const char* why = "";
+  if (validate(target, &why) != Status::ok) {
+    err = std::string(opts.target.empty() ? "--target-box: " : "--target: ") + why;
+    return false;
+  }
+  return true;
+}
 
 PlanOutcome run_plan(const PlanOptions& opts) {
   try {

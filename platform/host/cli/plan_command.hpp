@@ -15,7 +15,14 @@ struct PlanOptions {
   std::vector<std::string> sets;  //!< name=value overrides
   std::string pictures_dir;       //!< write SVG pictures here when set
   uint32_t top = 0;               //!< --top N: the N best distinct grasps in `grasps` (0: not asked)
+  bool all_objects = false;       //!< --objects all: every object on the plane in `objects`
+  std::string target;             //!< --target x,y,z: the object nearest this world point
+  std::string target_box;         //!< --target-box xmin,ymin,zmin,xmax,ymax,zmax: the object inside
 };
+
+//! The target of --target or --target-box (both empty: the configured rule); false
+//! with err naming the option and the problem.
+[[nodiscard]] bool parse_target(const PlanOptions& opts, TargetSpec& target, std::string& err);
 
 //! Exit codes of the contract.
 enum ExitCode : int { kExitOk = 0, kExitInternal = 1, kExitInvalid = 2, kExitNoGrasp = 3 };

@@ -126,4 +126,71 @@ json ranked_grasps_report(const PlanResult& best, const RankedGrasp* more, uint3
   return list;
 }
 
+Status plan_target(Planner& planner, const PlannerConfig& cfg, robot::Ur5GraspCheck& check,
+                   const robot::GraspCheckConfig& check_cfg, uint32_t top, PlanResult& res, json& report,
+                   std::vector<Grasp>* alternates) {
+  planner.set_grasp_check(cfg.executability_checks ? &check : nullptr);
+  const Status st = planner.plan(res);
+  if (st == Status::ok || st == Status::no_grasp)
+    report = plan_report(planner, res, st, cfg, check_cfg, check);  // the grasp's joints: before the alternates
+  if (st == Status::ok && top > 0) {
+    RankedGrasp more[kMaxRankedGrasps];
+    const uint32_t n_more = planner.more_grasps(more, top - 1);
+    report["grasps"] = ranked_grasps_report(res, more, n_more, cfg, check_cfg);
+    if (alternates != nullptr)
+      for (uint32_t k = 0; k < n_more; ++k) alternates->push_back(more[k].grasp);
+  }
+  planner.set_grasp_check(nullptr);
+  return st;
+}
+
+json objects_report(Planner& planner, const PlannerConfig& cfg, robot::Ur5GraspCheck& check,
+                    const robot::GraspCheckConfig& check_cfg, uint32_t top) {
+  json list = json::array();
+  const int32_t target = planner.target_object();
+  const uint32_t n = planner.object_count();
+  for (uint32_t k = 0; k < n; ++k) {
+    const ObjectSummary o = planner.object(k);
+    json e{{"index", k},
+           {"target", static_cast<int32_t>(k) == target},
+           {"centroid", vec(o.centroid)},
+           {"box", json{{"min", vec(o.box_min)}, {"max", vec(o.box_max)}}},
+           {"voxels", o.voxels}};
+    planner.set_grasp_check(cfg.executability_checks ? &check : nullptr);
+    PlanResult r;
+    const Status st = planner.plan_object(k, r);
+    if (st == Status::ok) {
+      e["status"] = "ok";
+      report_grasp(e, r, cfg, check_cfg, check);
+      if (top > 0) {
+        RankedGrasp more[kMaxRankedGrasps];
+        const uint32_t n_more = planner.more_grasps(more, top - 1);
+        e["grasps"] = ranked_grasps_report(r, more, n_more, cfg, check_cfg);
+      }
+    } else if (st == Status::no_grasp) {
+      e["status"] = "no_grasp";
+      e["reason"] = to_string(r.reason);
+      e["message"] = r.message;
+    } else {  // an object larger than the build holds
+      e["status"] = to_string(st);
+      e["error"] = r.message;
+    }
+    planner.set_grasp_check(nullptr);
+    e["timing_us"] = r.stage_us[static_cast<int>(Stage::total)];
+    list.push_back(std::move(e));
+  }
+  return list;
+}
+
+void add_objects(json& report, Planner& planner, const PlannerConfig& cfg, robot::Ur5GraspCheck& check,
+                 const robot::GraspCheckConfig& check_cfg, uint32_t top) {
+  report["objects"] = objects_report(planner, cfg, check, check_cfg, top);
+  const uint32_t dropped = planner.objects_dropped();
+  report["objects_dropped"] = dropped;
+  if (dropped > 0)
+    report["note"] = "the scene holds " + std::to_string(planner.object_count() + dropped) +
+                     " objects; the build lists " + std::to_string(kMaxObjects) +
+                     " (FG_MAX_OBJECTS): those nearest the workspace centre";
+}
+
 }  // namespace fg::host

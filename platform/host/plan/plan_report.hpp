@@ -3,6 +3,7 @@
 // report (spec/scene-and-cli.md) of a plan's outcome as JSON.
 #pragma once
 #include <nlohmann/json.hpp>
+#include <vector>
 
 #include "fg/core/config.hpp"
 #include "fg/core/planner.hpp"
@@ -31,5 +32,27 @@ nlohmann::json plan_report(const Planner& planner, const PlanResult& res, Status
 //! not measured). The order is the planner's (force balance), not the score's.
 nlohmann::json ranked_grasps_report(const PlanResult& best, const RankedGrasp* more, uint32_t n_more,
                                     const PlannerConfig& cfg, const robot::GraspCheckConfig& check_cfg);
+
+//! The plan of the target as `forcegrasp plan` runs it, once the sensors are added and
+//! the robot's check is set up (set_up_robot_check): plan() with that check, and for a
+//! status ok or no_grasp the report (plan_report), with the `grasps` list of the `top`
+//! best when top > 0 and the plan found a grasp. `alternates` (optional) gets the ranked
+//! alternates' grasps. Returns plan()'s status; `res` is its result.
+Status plan_target(Planner& planner, const PlannerConfig& cfg, robot::Ur5GraspCheck& check,
+                   const robot::GraspCheckConfig& check_cfg, uint32_t top, PlanResult& res, nlohmann::json& report,
+                   std::vector<Grasp>* alternates = nullptr);
+
+//! Every object the last plan() listed (`--objects all`), nearest the workspace centre
+//! first, each planned for itself (Planner::plan_object) with the others as obstacles:
+//! its index, whether it is the plan's target, its centroid, box and voxels, and its
+//! status with the grasp (and the `grasps` list of the `top` best) or the no_grasp reason
+//! and message, or the error. Afterwards the planner's search is the last object's.
+nlohmann::json objects_report(Planner& planner, const PlannerConfig& cfg, robot::Ur5GraspCheck& check,
+                              const robot::GraspCheckConfig& check_cfg, uint32_t top);
+
+//! Adds the objects to a plan's report: `objects` (objects_report), `objects_dropped` (the
+//! objects beyond the build's FG_MAX_OBJECTS, left out) and, when some were, a `note`.
+void add_objects(nlohmann::json& report, Planner& planner, const PlannerConfig& cfg, robot::Ur5GraspCheck& check,
+                 const robot::GraspCheckConfig& check_cfg, uint32_t top);
 
 }  // namespace fg::host
