@@ -41,8 +41,9 @@ def look_at(eye, target):
     return pose
 
 
-def render_depth(pose):
-    """The depth image (uint16 mm, 0 = no return) of the table and the box."""
+def render_depth(pose, boxes=((BOX_MIN, BOX_MAX),)):
+    """The depth image (uint16 mm, 0 = no return) of the table and the boxes (min, max)
+    standing on it."""
     fx, fy, cx, cy = INTRINSICS
     u, v = np.meshgrid(np.arange(WIDTH), np.arange(HEIGHT))
     ray = np.stack([(u - cx) / fx, (v - cy) / fy, np.ones(u.shape)], axis=-1)  # z = 1: t is the depth
@@ -53,11 +54,12 @@ def render_depth(pose):
         hit = o + t_table[..., None] * d
         on_table = (t_table > 0) & (np.abs(hit[..., 0] - 0.5) <= 0.4) & (np.abs(hit[..., 1]) <= 0.4)
         t = np.where(on_table, t_table, np.inf)
-        t1, t2 = (BOX_MIN - o) / d, (BOX_MAX - o) / d
-        t_in = np.nanmax(np.minimum(t1, t2), axis=-1)
-        t_out = np.nanmin(np.maximum(t1, t2), axis=-1)
-    on_box = (t_in <= t_out) & (t_in > 0) & (t_in < t)
-    t = np.where(on_box, t_in, t)
+        for box_min, box_max in boxes:
+            t1, t2 = (box_min - o) / d, (box_max - o) / d
+            t_in = np.nanmax(np.minimum(t1, t2), axis=-1)
+            t_out = np.nanmin(np.maximum(t1, t2), axis=-1)
+            on_box = (t_in <= t_out) & (t_in > 0) & (t_in < t)
+            t = np.where(on_box, t_in, t)
     return np.where(np.isfinite(t), np.round(t * 1000.0), 0).astype(np.uint16)
 
 
@@ -75,14 +77,15 @@ def depth_to_points(depth):
 
 
 class Scene:
-    """The box scene from a head camera and a wrist camera."""
+    """The box scene (or boxes) from a head camera and a wrist camera."""
 
-    def __init__(self):
+    def __init__(self, boxes=((BOX_MIN, BOX_MAX),)):
+        self.boxes = boxes
         self.poses = {
             "head": look_at([0.0, -0.15, 0.75], [0.5, 0.0, 0.05]),
             "hand": look_at([0.5, 0.42, 0.42], [0.5, 0.0, 0.05]),
         }
-        self.depth = {name: render_depth(pose) for name, pose in self.poses.items()}
+        self.depth = {name: render_depth(pose, boxes) for name, pose in self.poses.items()}
         self.organized = {name: depth_to_points(d) for name, d in self.depth.items()}
         # The returns alone, in image order: the points a depth image gives the planner.
         self.points = {name: o[self.depth[name] > 0] for name, o in self.organized.items()}
@@ -94,6 +97,20 @@ class Scene:
 @pytest.fixture(scope="session")
 def scene():
     return Scene()
+
+
+# Three boxes apart on the table: the centre one of the box scene, one to its left
+# (y > 0) and one nearer the head camera and to its right.
+THREE_BOXES = (
+    (BOX_MIN, BOX_MAX),
+    (np.array([0.47, 0.17, 0.0]), np.array([0.53, 0.23, 0.10])),
+    (np.array([0.33, -0.24, 0.0]), np.array([0.37, -0.16, 0.08])),
+)
+
+
+@pytest.fixture(scope="session")
+def three_boxes():
+    return Scene(THREE_BOXES)
 
 
 @pytest.fixture(scope="session")

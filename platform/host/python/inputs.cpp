@@ -220,6 +220,46 @@ std::array<double, 6> read_joints(const py::handle& joints) {
   return out;
 }
 
+namespace {
+//! `n` finite numbers from a sequence or array named `name` (its meaning in `what`).
+void read_numbers(const char* name, const py::handle& obj, size_t n, const char* what, float* out) {
+  const py::array a = as_array(name, obj);
+  const char kind = a.dtype().kind();
+  if (kind != 'f' && kind != 'i' && kind != 'u')
+    throw py::type_error(std::string(name) + " must be numbers, not " + dtype_text(a));
+  if (a.ndim() != 1 || a.shape(0) != static_cast<py::ssize_t>(n))
+    throw py::value_error(std::string("invalid_argument: ") + name + " must be " + what + ", not shape " +
+                          shape_text(a));
+  const auto v = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(a);
+  for (size_t j = 0; j < n; ++j) {
+    if (!std::isfinite(v.data()[j]) || std::fabs(v.data()[j]) > 1e6)
+      throw py::value_error(std::string("non_finite: ") + name + " has a NaN, Inf or absurd value");
+    out[j] = static_cast<float>(v.data()[j]);
+  }
+}
+}  // namespace
+
+TargetSpec read_target(const py::handle& target, const py::handle& target_box) {
+  TargetSpec t;
+  if (!target.is_none() && !target_box.is_none())
+    throw py::value_error("invalid_argument: give target or target_box, not both");
+  float v[6];
+  if (!target.is_none()) {
+    read_numbers("target", target, 3, "3 numbers (x, y, z; metres, world frame)", v);
+    t.kind = TargetKind::nearest_point;
+    t.point = Vec3(v[0], v[1], v[2]);
+  } else if (!target_box.is_none()) {
+    read_numbers("target_box", target_box, 6, "6 numbers (xmin, ymin, zmin, xmax, ymax, zmax; metres, world frame)", v);
+    t.kind = TargetKind::inside_box;
+    t.box_min = Vec3(v[0], v[1], v[2]);
+    t.box_max = Vec3(v[3], v[4], v[5]);
+  }
+  const char* why = "";
+  const Status s = validate(t, &why);
+  if (s != Status::ok) throw py::value_error(std::string(to_string(s)) + ": " + why);
+  return t;
+}
+
 void apply_gripper(PlannerConfig& cfg, const py::handle& gripper) {
   host::SceneGripper g;  // the scene file's defaults and ranges, as `forcegrasp plan` applies them
   if (!gripper.is_none()) {

@@ -41,6 +41,12 @@ SensorInput read_sensor(SensorRole role, const py::handle& spec);
 //! The arm's current joints: six finite angles (radians, URDF order).
 std::array<double, 6> read_joints(const py::handle& joints);
 
+//! The target of plan(target=(x, y, z)) or plan(target_box=(xmin, ymin, zmin, xmax, ymax,
+//! zmax)), world frame, metres; both None: the configured rule. TypeError for
+//! non-numbers, ValueError (with the status's name) for a wrong count, NaN or Inf, an
+//! inverted box, or both given.
+TargetSpec read_target(const py::handle& target, const py::handle& target_box);
+
 //! The gripper dict {max_opening, finger_width, finger_depth} over the scene file's
 //! defaults, with the scene file's ranges.
 void apply_gripper(PlannerConfig& cfg, const py::handle& gripper);

@@ -54,7 +54,8 @@ class PyPlanner {
       throw py::value_error(std::string("invalid_config: configuration value out of range: ") + (field ? field : "?"));
   }
 
-  py::dict plan(const py::object& head, const py::object& hand, const py::object& joints, const py::object& top) {
+  py::dict plan(const py::object& head, const py::object& hand, const py::object& joints, const py::object& top,
+                const py::object& objects, const py::object& target, const py::object& target_box) {
     std::vector<SensorInput> sensors;  // head first, as in the scene files
     if (!head.is_none()) sensors.push_back(read_sensor(SensorRole::head, head));
     if (!hand.is_none()) sensors.push_back(read_sensor(SensorRole::hand, hand));
@@ -71,12 +72,20 @@ class PyPlanner {
                                               " (FG_MAX_RANKED_GRASPS), got ", std::to_string(t)));
       n_top = static_cast<uint32_t>(t);
     }
+    bool all_objects = false;
+    if (!objects.is_none()) {
+      if (!py::isinstance<py::str>(objects) || objects.cast<std::string>() != "all")
+        throw py::value_error("invalid_argument: objects must be None or \"all\", not " +
+                              py::repr(objects).cast<std::string>());
+      all_objects = true;
+    }
+    const TargetSpec tgt = read_target(target, target_box);
     nlohmann::json report;
     std::string error;
     Status st = Status::ok;
     {
       py::gil_scoped_release no_gil;  // every Python object was read above
-      st = run(sensors, q ? q->data() : nullptr, n_top, report, error);
+      st = run(sensors, q ? q->data() : nullptr, Request{n_top, all_objects, tgt}, report, error);
     }
     if (st == Status::internal_error || st == Status::numeric_failure) throw std::runtime_error(error);
     if (!error.empty()) throw py::value_error(error);
@@ -86,16 +95,27 @@ class PyPlanner {
   py::dict config() const { return to_python(host::config_json(cfg_)).cast<py::dict>(); }
 
  private:
+  //! What a plan() call asks beyond the sensors.
+  struct Request {
+    uint32_t top = 0;  // 0: no `grasps` list
+    bool all_objects = false;
+    TargetSpec target;
+  };
+
   //! The plan as `forcegrasp plan` runs it, on inputs read before; no Python here.
   //! The report when the status is ok or no_grasp, else the error: the status's name
   //! and the planner's message.
-  [[nodiscard]] Status run(const std::vector<SensorInput>& sensors, const double* joints, uint32_t top,
+  [[nodiscard]] Status run(const std::vector<SensorInput>& sensors, const double* joints, const Request& req,
                            nlohmann::json& report, std::string& error) {
     const std::lock_guard<std::mutex> lock(mutex_);
     Planner& p = *planner_;
     // Configured anew: every plan starts from the state a fresh program's has.
     Status st = p.configure(cfg_);
     if (st != Status::ok) error = std::string(to_string(st)) + ": the configuration was refused";
+    if (st == Status::ok) {
+      st = p.set_target(req.target);
+      if (st != Status::ok) error = host::text::cat(to_string(st), ": ", p.last_message());
+    }
     for (size_t i = 0; i < sensors.size() && st == Status::ok; ++i) {
       const SensorInput& s = sensors[i];
       st = s.depth ? p.add_depth_image(s.role, s.depth, s.width, s.height, s.intrinsics, s.pose)
@@ -105,19 +125,13 @@ class PyPlanner {
     if (st != Status::ok) return st;
     robot::GraspCheckConfig check_cfg;
     host::set_up_robot_check(*check_, cfg_, joints, check_cfg);
-    p.set_grasp_check(cfg_.executability_checks ? check_.get() : nullptr);
     PlanResult res;
-    st = p.plan(res);
-    if (st == Status::ok || st == Status::no_grasp)
-      report = host::plan_report(p, res, st, cfg_, check_cfg, *check_);  // the grasp's joints: before the alternates
-    if (st == Status::ok && top > 0) {
-      RankedGrasp more[kMaxRankedGrasps];
-      const uint32_t n_more = p.more_grasps(more, top - 1);
-      report["grasps"] = host::ranked_grasps_report(res, more, n_more, cfg_, check_cfg);
-    }
-    p.set_grasp_check(nullptr);
-    if (st != Status::ok && st != Status::no_grasp)
+    st = host::plan_target(p, cfg_, *check_, check_cfg, req.top, res, report);
+    if (st != Status::ok && st != Status::no_grasp) {
       error = host::text::cat(to_string(st), ": ", *p.last_message() ? p.last_message() : res.message);
+      return st;
+    }
+    if (req.all_objects) host::add_objects(report, p, cfg_, *check_, check_cfg, req.top);
     return st;
   }
 
@@ -153,6 +167,11 @@ joints: the arm's six current joint angles (UR5, radians, URDF order): the grasp
 reach is checked too and the report gains "joints".
 top: the N best distinct grasps (1..FG_MAX_RANKED_GRASPS), best first, in the report's
 "grasps" list, as `forcegrasp plan --top N` gives them.
+objects: "all" plans for every object on the support plane too, each in the report's
+"objects" list (centroid, box, voxels, status, grasp or reason), as --objects all.
+target: (x, y, z), the target is the object nearest this world point (--target);
+target_box: (xmin, ymin, zmin, xmax, ymax, zmax), the object with the most voxels in
+this world box (--target-box). Neither: the object nearest the workspace centre.
 
 The report's "status" is "ok" (with "grasp") or "no_grasp" (with "reason" and
 "message"). Bad input raises TypeError or ValueError before planning; an internal
@@ -170,7 +189,8 @@ PYBIND11_MODULE(forcegrasp, m) {
       .def(py::init<const py::object&, const py::object&>(), py::arg("config") = py::none(),
            py::arg("gripper") = py::none())
       .def("plan", &PyPlanner::plan, fg::python::kPlanDoc, py::kw_only(), py::arg("head") = py::none(),
-           py::arg("hand") = py::none(), py::arg("joints") = py::none(), py::arg("top") = py::none())
+           py::arg("hand") = py::none(), py::arg("joints") = py::none(), py::arg("top") = py::none(),
+           py::arg("objects") = py::none(), py::arg("target") = py::none(), py::arg("target_box") = py::none())
       .def_property_readonly("config", &PyPlanner::config, "Every option's value in this planner (a dict).");
   m.def(
       "default_config", [] { return fg::python::to_python(fg::host::default_config_json()); },

@@ -53,15 +53,33 @@ py::object to_python(const nlohmann::json& j) {
   }
 }
 
+namespace {
+constexpr std::initializer_list<const char*> kGraspVectors = {"position", "approach", "closing", "pregrasp"};
+
+//! The grasp and the ranked grasps (--top) of a report or of one of its objects.
+void grasps_to_numpy(const nlohmann::json& report, py::dict& out) {
+  vectors_to_numpy(report, out, "grasp", kGraspVectors);
+  if (!report.contains("grasps")) return;
+  py::list ranked = out["grasps"].cast<py::list>();
+  for (size_t i = 0; i < report["grasps"].size(); ++i) {
+    py::dict entry = ranked[i].cast<py::dict>();
+    for (const char* k : kGraspVectors) entry[k] = vec3(report["grasps"][i][k]);
+  }
+}
+}  // namespace
+
 py::dict report_to_python(const nlohmann::json& report) {
   py::dict out = to_python(report).cast<py::dict>();
-  vectors_to_numpy(report, out, "grasp", {"position", "approach", "closing", "pregrasp"});
+  grasps_to_numpy(report, out);
   vectors_to_numpy(report, out, "support_plane", {"normal"});
-  if (report.contains("grasps")) {  // --top's ranked list: each entry as `grasp`
-    py::list ranked = out["grasps"].cast<py::list>();
-    for (size_t i = 0; i < report["grasps"].size(); ++i) {
-      py::dict entry = ranked[i].cast<py::dict>();
-      for (const char* k : {"position", "approach", "closing", "pregrasp"}) entry[k] = vec3(report["grasps"][i][k]);
+  if (report.contains("objects")) {  // --objects all: each with its centroid, box and grasps
+    py::list objects = out["objects"].cast<py::list>();
+    for (size_t i = 0; i < report["objects"].size(); ++i) {
+      const nlohmann::json& o = report["objects"][i];
+      py::dict entry = objects[i].cast<py::dict>();
+      entry["centroid"] = vec3(o["centroid"]);
+      vectors_to_numpy(o, entry, "box", {"min", "max"});
+      grasps_to_numpy(o, entry);
     }
   }
   return out;

@@ -1,6 +1,6 @@
 // Host-only: the contract's JSON report (plan_report) as plain Python values: dicts,
-// lists, floats, ints, strings, None; the grasp's and the support plane's 3-vectors as
-// numpy float64 arrays of shape (3,).
+// lists, floats, ints, strings, None; the 3-vectors of the grasps, the support plane and
+// the objects (centroid, box) as numpy float64 arrays of shape (3,).
 #pragma once
 #include <pybind11/pybind11.h>
 
