@@ -850,6 +850,118 @@ TEST_F(CliContract, TopGraspsAddARankedListAndKeepTheContract) {
   }
 }
 
+// --objects all on a real capture with five labelled objects (shared/data/scenes): the
+// contract's report is unchanged but for the added `objects` list, each object with its
+// figures and its own outcome; one of them is the plan's target.
+std::string learn33_scene() {
+  return (source_root() / ".." / "shared" / "data" / "scenes" / "learn33-obj4" / "scene.json").string();
+}
+
+std::string csv(const json& a, const json& b = json()) {
+  std::string out;
+  for (const json* v : {&a, &b})
+    if (v->is_array())
+      for (const auto& x : *v) out += (out.empty() ? "" : ",") + std::to_string(x.get<double>());
+  return out;
+}
+
+TEST_F(CliContract, ObjectsAllListsEveryObjectAndKeepsTheContract) {
+  const CliRun rb = plan(learn33_scene());
+  const CliRun ra = plan(learn33_scene(), {"--objects", "all"});
+  expect_sane(ra);
+  EXPECT_EQ(ra.exit_code, rb.exit_code) << describe(ra);
+  json base = parse_report(rb), all = parse_report(ra);
+  ASSERT_TRUE(base.is_object() && all.is_object());
+  ASSERT_TRUE(all.contains("objects") && all["objects"].is_array());
+  EXPECT_EQ(all.value("objects_dropped", -1), 0);
+  const json objects = all["objects"];
+  ASSERT_GE(objects.size(), 5u) << "learn33 holds five labelled objects apart";
+  int targets = 0, grasps = 0;
+  for (size_t k = 0; k < objects.size(); ++k) {
+    const json& o = objects[k];
+    SCOPED_TRACE("object " + std::to_string(k));
+    EXPECT_EQ(o.value("index", -1), static_cast<int>(k));
+    targets += o.value("target", false) ? 1 : 0;
+    ASSERT_TRUE(o["centroid"].is_array() && o["centroid"].size() == 3);
+    ASSERT_TRUE(o["box"]["min"].is_array() && o["box"]["max"].is_array());
+    EXPECT_GT(o.value("voxels", 0), 0);
+    for (int a = 0; a < 3; ++a) {
+      EXPECT_LE(o["box"]["min"][a].get<double>(), o["centroid"][a].get<double>());
+      EXPECT_GE(o["box"]["max"][a].get<double>(), o["centroid"][a].get<double>());
+    }
+    const std::string st = o.value("status", "");
+    if (st == "ok") {
+      ++grasps;
+      for (int a = 0; a < 3; ++a) {  // its grasp lies on it: inside its box grown by 2 cm
+        const double p = o["grasp"]["position"][a].get<double>();
+        EXPECT_GE(p, o["box"]["min"][a].get<double>() - 0.02);
+        EXPECT_LE(p, o["box"]["max"][a].get<double>() + 0.02);
+      }
+    } else {
+      EXPECT_EQ(st, "no_grasp");
+      EXPECT_TRUE(o["reason"].is_string() && o["message"].is_string());
+    }
+  }
+  EXPECT_EQ(targets, 1);
+  EXPECT_GT(grasps, 1);
+  for (json* j : {&base, &all}) {
+    j->erase("timing_us");
+    j->erase("objects");
+    j->erase("objects_dropped");
+  }
+  EXPECT_EQ(base.dump(), all.dump()) << "--objects all changes nothing but the added list";
+
+  // A target point at an object's centroid, or a box about it, makes that object the
+  // plan's target, whichever it is in the list.
+  for (size_t k = 1; k < objects.size(); k += 2) {
+    const json& o = objects[k];
+    SCOPED_TRACE("target object " + std::to_string(k));
+    for (const std::vector<std::string>& how :
+         {std::vector<std::string>{"--target", csv(o["centroid"])},
+          std::vector<std::string>{"--target-box", csv(o["box"]["min"], o["box"]["max"])}}) {
+      std::vector<std::string> args = how;
+      args.insert(args.end(), {"--objects", "all"});
+      const json t = parse_report(plan(learn33_scene(), args));
+      ASSERT_TRUE(t.is_object() && t.contains("objects"));
+      ASSERT_EQ(t["objects"].size(), objects.size());
+      EXPECT_TRUE(t["objects"][k].value("target", false)) << how[0];
+      EXPECT_EQ(t.value("status", ""), o.value("status", "")) << how[0];
+      if (o.value("status", "") == "ok") {
+        EXPECT_EQ(t["grasp"]["position"].dump(), o["grasp"]["position"].dump());
+      }
+    }
+  }
+}
+
+TEST_F(CliContract, BadTargetsAreInvalidInput) {
+  const std::string scene = example_scene();
+  struct Case {
+    std::vector<std::string> args;
+    std::string names;
+    std::vector<std::string> problem;
+  };
+  const Case cases[] = {
+      {{"--target", "0.5,0"}, "--target", {"x,y,z"}},
+      {{"--target", "0.5,0,0,1"}, "--target", {"x,y,z"}},
+      {{"--target", "a,b,c"}, "--target", {"x,y,z"}},
+      {{"--target", "nan,0,0"}, "--target", {"finite"}},
+      {{"--target", "0.5,,0"}, "--target", {"x,y,z"}},
+      {{"--target-box", "0.6,0,0,0.5,0.1,0.1"}, "--target-box", {"minimum is above"}},
+      {{"--target-box", "0,0,0,1,1"}, "--target-box", {"six"}},
+      {{"--target", "5,0,0"}, "scene.json", {"outside the workspace"}},
+      {{"--target-box", "3,3,0,4,4,1"}, "scene.json", {"does not overlap the workspace"}},
+      {{"--target", "0.5,0,0", "--target-box", "0,0,0,1,1,1"}, "--target", {"excludes", "one of them"}},
+      {{"--objects", "some"}, "--objects", {"all", "some"}},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(join(c.args));
+    (void)expect_invalid(plan(scene, c.args), c.names, c.problem);
+  }
+  // A box inside the workspace that holds no object: nothing to grasp there.
+  const json j = expect_no_grasp(plan(scene, {"--target-box", "0.8,0.4,0.0,0.9,0.5,0.2"}), "no_object");
+  EXPECT_NE(j.value("message", "").find("target box"), std::string::npos) << j.dump();
+}
+
 TEST_F(CliContract, DeterministicOutput) {
   const CliRun a = plan(example_scene());
   const CliRun b = plan(example_scene());
