@@ -648,7 +648,9 @@ GeneratedScene make_cell_scene(ObjectKind kind, uint64_t seed, const SceneOption
   // target. One that finds no place is left out.
   const std::vector<V3> target_pts = surface_samples(target);
   const double target_to_ws = std::hypot(tc.x() - opt.workspace_centre.x(), tc.y() - opt.workspace_centre.y());
-  const int others = static_cast<int>(rng.index(static_cast<uint64_t>(std::max(0, cell.others_max)) + 1));
+  const int fewest = std::max(0, std::min(cell.others_min, cell.others_max));
+  const int others =
+      fewest + static_cast<int>(rng.index(static_cast<uint64_t>(std::max(0, cell.others_max) - fewest) + 1));
   for (int k = 0; k < others; ++k) {
     const ObjectKind other_kind = all_kinds()[rng.index(all_kinds().size())];
     Object other = draw_cell_object(other_kind, rng, opt, false);

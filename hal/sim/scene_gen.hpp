@@ -86,6 +86,7 @@ struct CellOptions {
   //! Other objects besides the target: 0..others_max of them (uniform), analytic kinds with
   //! the widened sizes, each others_gap_min..others_gap_max (m) from the target surface to
   //! surface (the smallest distance between the two solids), and apart from each other.
+  int others_min = 0;  //!< at least this many (then others_min..others_max, uniform)
   int others_max = 3;
   double others_gap_min = 0.03, others_gap_max = 0.30;
   //! Each other object's centre lies this much farther (m, in x-y) from the workspace
