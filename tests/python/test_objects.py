@@ -94,3 +94,12 @@ def test_empty_target_box_is_no_object(three_boxes):
 def test_bad_targets(three_boxes, kwargs, error, words):
     with pytest.raises(error, match=words):
         forcegrasp.Planner().plan(**sensors(three_boxes), **kwargs)
+
+
+def test_table_without_objects():
+    """A bare table: no target, no object, and `objects` is an empty list."""
+    from conftest import Scene
+
+    r = forcegrasp.Planner().plan(**sensors(Scene(boxes=())), objects="all", top=3)
+    assert r["status"] == "no_grasp" and r["reason"] == "no_object"
+    assert r["objects"] == [] and r["objects_dropped"] == 0 and "grasps" not in r
