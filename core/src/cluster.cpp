@@ -349,8 +349,8 @@ bool build_cell_bitmap(const VoxelGrid& grid, const uint8_t* state, uint8_t from
   return true;
 }
 
-ClusterResult cluster_and_pick(const VoxelGrid& grid, uint8_t* state, uint32_t* queue, const ClusterParams& prm,
-                               uint32_t* target, uint32_t target_capacity, CellBitmap* free_cells) {
+void cluster_and_pick(const VoxelGrid& grid, uint8_t* state, uint32_t* queue, const ClusterParams& prm,
+                      uint32_t* target, uint32_t target_capacity, ClusterResult& res, CellBitmap* free_cells) {
   Offset off[kMaxOffsets];
   OffsetHashes hashes;
   const uint32_t n_off = make_offsets(prm.cells > 2 ? 2u : prm.cells, off, hashes);
@@ -359,7 +359,7 @@ ClusterResult cluster_and_pick(const VoxelGrid& grid, uint8_t* state, uint32_t* 
     for (uint32_t o = 0; o < n_off; ++o)
       lin[o] = off[o].dx +
                static_cast<int32_t>(free_cells->nx) * (off[o].dy + static_cast<int32_t>(free_cells->ny) * off[o].dz);
-  ClusterResult res;
+  res = ClusterResult{};
   const uint32_t n = grid.size();
   uint32_t best_seed = VoxelGrid::kNone, best_size = 0;
   float best_score = 0.f;
@@ -401,13 +401,13 @@ ClusterResult cluster_and_pick(const VoxelGrid& grid, uint8_t* state, uint32_t* 
   }
   if (best_seed == VoxelGrid::kNone) {
     res.other_points = free_total;
-    return res;
+    return;
   }
   res.target_size = best_size;
   res.other_points = free_total - best_size;
   if (best_size <= target_capacity) {
     for (uint32_t k = 0; k < best_size; ++k) state[target[k]] = kVoxelTarget;
-    return res;
+    return;
   }
   // Larger than the caller's list (the caller reports capacity_exceeded): walk the
   // winner again to mark it, turning it from visited into target.
@@ -418,7 +418,6 @@ ClusterResult cluster_and_pick(const VoxelGrid& grid, uint8_t* state, uint32_t* 
   for (uint32_t i = 0; i < n; ++i)
     if (state[i] == kVoxelFree) state[i] = kVoxelVisited;
   for (uint32_t i = 0; i < target_capacity; ++i) target[i] = queue[i];
-  return res;
 }
 
 uint32_t retarget_to_cover(const VoxelGrid& grid, uint8_t* state, uint32_t* queue, const ClusterParams& prm,

@@ -140,7 +140,7 @@ Status Planner::plan(PlanResult& out) {
   {
     StageTimer t(out.stage_us, Stage::cluster);
     const LentWords lent{view_words_, sizeof(view_words_) / sizeof(view_words_[0]), kViewWorkWordBits};
-    clusters_ = find_target(grid_, state_, cp, queue, lent, object_voxel_);
+    find_target(grid_, state_, cp, queue, lent, object_voxel_, clusters_);
     objects_ready_ = true;
     if (clusters_.target_size == 0) {
       const char* why = target_.kind == TargetKind::inside_box ? "no object has a voxel inside the target box"

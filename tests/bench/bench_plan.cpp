@@ -251,14 +251,16 @@ void BM_Cluster(benchmark::State& st) {
   // 256 KiB here holds the example's).
   std::vector<uint64_t> words(1u << 15);
   fg::ClusterParams cp;
+  fg::ClusterResult result;
   bool dense = false;
   for (auto _ : st) {
     std::memcpy(state.data(), base.data(), n);
     fg::CellBitmap cells;
     dense = fg::build_cell_bitmap(p.voxels(), state.data(), fg::kVoxelFree, queue.data(), words.data(),
                                   static_cast<uint32_t>(words.size()), cells);
-    benchmark::DoNotOptimize(fg::cluster_and_pick(p.voxels(), state.data(), queue.data(), cp, target.data(),
-                                                  fg::kMaxObjectPoints, dense ? &cells : nullptr));
+    fg::cluster_and_pick(p.voxels(), state.data(), queue.data(), cp, target.data(), fg::kMaxObjectPoints, result,
+                         dense ? &cells : nullptr);
+    benchmark::DoNotOptimize(result);
   }
   st.counters["bitmap"] = dense ? 1 : 0;  // 0: the cells span more than the bitmap holds
 }

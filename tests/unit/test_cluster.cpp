@@ -63,8 +63,10 @@ struct Fixture {
     std::vector<uint64_t> words(bitmap_words);
     used_bitmap = bitmap && fg::build_cell_bitmap(*grid, state.data(), fg::kVoxelFree, queue.data(), words.data(),
                                                   bitmap_words, bits);
-    return fg::cluster_and_pick(*grid, state.data(), queue.data(), p, target.data(),
-                                static_cast<uint32_t>(target.size()), used_bitmap ? &bits : nullptr);
+    ClusterResult r;
+    fg::cluster_and_pick(*grid, state.data(), queue.data(), p, target.data(), static_cast<uint32_t>(target.size()), r,
+                         used_bitmap ? &bits : nullptr);
+    return r;
   }
   bool used_bitmap = false;
   std::set<uint32_t> targets(const ClusterResult& r) const {
@@ -263,7 +265,9 @@ TEST(Cluster, RemovedVoxelsAreIgnoredAndBlockConnections) {
 TEST(Cluster, EmptyGrid) {
   Fixture f(std::vector<Cell>{});
   ClusterParams p;
-  const ClusterResult r = fg::cluster_and_pick(*f.grid, nullptr, nullptr, p, nullptr, 0);
+  ClusterResult r;
+  r.clusters = 7;  // filled anew
+  fg::cluster_and_pick(*f.grid, nullptr, nullptr, p, nullptr, 0, r);
   EXPECT_EQ(r.clusters, 0u);
   EXPECT_EQ(r.target_size, 0u);
   EXPECT_EQ(r.other_points, 0u);
@@ -277,7 +281,8 @@ TEST(Cluster, TargetCapacitySmallerThanTheTarget) {
   p.centre_x = 1.0f;
   p.centre_y = 1.0f;
   std::vector<uint32_t> small(12, 0xDEADBEEFu);
-  const ClusterResult r = fg::cluster_and_pick(*f.grid, f.state.data(), f.queue.data(), p, small.data(), 10);
+  ClusterResult r;
+  fg::cluster_and_pick(*f.grid, f.state.data(), f.queue.data(), p, small.data(), 10, r);
   EXPECT_EQ(r.target_size, 100u);  // the caller compares it with its capacity
   for (int i = 0; i < 10; ++i) EXPECT_LT(small[i], 100u);
   EXPECT_EQ(small[10], 0xDEADBEEFu);

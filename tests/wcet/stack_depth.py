@@ -35,6 +35,8 @@ DEFAULT_ENTRIES = [
     "fg::Planner::add_points(",
     "fg::Planner::add_depth_image(",
     "fg::Planner::plan(",
+    "fg::Planner::plan_object(",
+    "fg::Planner::more_grasps(",
     "fg::Planner::analyze_view(",
 ]
 

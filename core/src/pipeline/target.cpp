@@ -17,15 +17,13 @@ ClusterParams target_cluster_params(const PlannerConfig& cfg) {
 
 // Not inlined: its bitmap stays off the planner's frame, which the deepest stack path
 // holds.
-[[gnu::noinline]] ClusterResult find_target(VoxelGrid& grid, uint8_t* state, const ClusterParams& cp, uint32_t* queue,
-                                            LentWords lent, uint32_t* target_voxels) {
+[[gnu::noinline]] void find_target(VoxelGrid& grid, uint8_t* state, const ClusterParams& cp, uint32_t* queue,
+                                   LentWords lent, uint32_t* target_voxels, ClusterResult& res) {
   CellBitmap free_cells;
   const bool dense = build_cell_bitmap(grid, state, kVoxelFree, queue, lent.words, lent.count, free_cells);
   if (!dense) grid.prepare_lookups(state, lent.words, lent.bits);
-  const ClusterResult cr =
-      cluster_and_pick(grid, state, queue, cp, target_voxels, kMaxObjectPoints, dense ? &free_cells : nullptr);
+  cluster_and_pick(grid, state, queue, cp, target_voxels, kMaxObjectPoints, res, dense ? &free_cells : nullptr);
   grid.prepare_lookups(state);  // the lent memory back (the same kept set)
-  return cr;
 }
 
 uint32_t find_covering_cluster(const VoxelGrid& grid, uint8_t* state, uint32_t* queue, const ClusterParams& cp,

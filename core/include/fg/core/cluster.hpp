@@ -100,8 +100,9 @@ struct CellBitmap {
 //! breadth-first order (at most target_capacity; the caller checks target_size against it). O(voxels * neighbours):
 //! every voxel is queued once. `free_cells`, optional: build_cell_bitmap's bitmap of the kVoxelFree voxels (it is
 //! consumed: the walks clear the bits they visit); the same result, faster.
-ClusterResult cluster_and_pick(const VoxelGrid& grid, uint8_t* state, uint32_t* queue, const ClusterParams& params,
-                               uint32_t* target, uint32_t target_capacity, CellBitmap* free_cells = nullptr);
+//! The result goes to `res` (about a kilobyte: filled in place, never a temporary).
+void cluster_and_pick(const VoxelGrid& grid, uint8_t* state, uint32_t* queue, const ClusterParams& params,
+                      uint32_t* target, uint32_t target_capacity, ClusterResult& res, CellBitmap* free_cells = nullptr);
 
 //! The target-fragment fall-back (docs/method.md A.6), after cluster_and_pick: among
 //! the components of the voxels marked kVoxelVisited (the clusters not picked), the

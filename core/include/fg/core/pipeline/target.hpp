@@ -26,9 +26,9 @@ ClusterParams target_cluster_params(const PlannerConfig& cfg);
 //! The walks test their neighbours in a bitmap of the objects' cells in `lent`; when the
 //! cells span more than it holds, they ask the hash through the larger lookup filter
 //! `lent` then holds. Either is given back before returning (the grid's lookups are
-//! prepared again without it).
-ClusterResult find_target(VoxelGrid& grid, uint8_t* state, const ClusterParams& cp, uint32_t* queue, LentWords lent,
-                          uint32_t* target_voxels);
+//! prepared again without it). The result goes to `res`.
+void find_target(VoxelGrid& grid, uint8_t* state, const ClusterParams& cp, uint32_t* queue, LentWords lent,
+                 uint32_t* target_voxels, ClusterResult& res);
 
 //! The target-fragment fall-back (docs/method.md A.6): the larger cluster whose
 //! footprint holds the x-y centroid of the first target's points `first` (a stand under
