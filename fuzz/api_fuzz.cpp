@@ -5,10 +5,12 @@
 // guard is armed around every call), and breaches of the API's promises checked below
 // (a failed fg_init writes nothing and sets *out to NULL; refusals of bad memory have
 // their own statuses; every status has a name; messages are never NULL; an FG_OK grasp
-// is finite, with unit vectors and a width inside the gripper's opening).
+// is finite, with unit vectors and a width inside the gripper's opening; the object
+// list fits its array and marks at most one target; fg_plan_object plans only for an
+// index of the list).
 //
 // Input: a sequence of operations until the bytes run out (at most 64), each a u8 op
-// code (modulo 10) and its arguments; bytes past the end read as 0.
+// code (modulo 13) and its arguments; bytes past the end read as 0.
 //   0 init        u8 slot, u8 memory (bits 0-3 misalignment, bits 4-5 size: whole
 //                 buffer / exactly fg_workspace_size() / one byte less / u16 * 64;
 //                 bit 6 null memory, bit 7 null out), u8 config (0 default, 1 raw
@@ -33,6 +35,14 @@
 //                 task on callback hardware (sensors replay the last depth payload with
 //                 the last pose; the arm reaches each target in two ticks), stepped
 //                 `steps` times, aborted when bit 0 of extra is set
+//  10 target      u8 slot, u8 variant (modulo 4: 0 clear, 1 point, 2 box, 3 null
+//                 pointers: point, box_min or box_max by bits 2-3), 9 raw floats: point,
+//                 box_min, box_max (NaN, Inf, huge values, inverted boxes)
+//  11 objects     u8 slot, u8 flags (bit 0 null array, bit 1 null count, bit 2 null
+//                 dropped), u8 capacity (modulo FG_MAX_OBJECTS + 2: 0 included)
+//  12 plan_object u8 slot, u8 index (0xFF: 2^32 - 1, else modulo the listed count + 2),
+//                 u8 flags (bit 0 null output, bit 1 ranked, bits 2-5 capacity of the
+//                 ranked array, 0 included)
 // Slot 2 and 3 name no workspace (NULL), so calls on them test that path too.
 #include <cmath>
 #include <cstdint>
@@ -106,6 +116,9 @@ fg_pose read_pose(uint32_t encoding, Reader& r) {
 }
 
 fg_workspace* slot_ws(uint8_t s) { return g_ws[s & 3u]; }
+
+// A byte read as a signed one (two's complement): roles from -128 to 127.
+int32_t i8(uint8_t b) { return b < 128u ? static_cast<int32_t>(b) : static_cast<int32_t>(b) - 256; }
 
 // The last depth image decoded by op_add_depth: what the task's sensors replay.
 struct LastImage {
@@ -274,7 +287,7 @@ void op_init(Reader& r) {
 
 void op_add_points(Reader& r) {
   fg_workspace* ws = slot_ws(r.u8());
-  const int32_t role = static_cast<int8_t>(r.u8());
+  const int32_t role = i8(r.u8());
   const uint8_t flags = r.u8();
   const fg_pose pose = read_pose((flags >> 2) & 3u, r);
   const size_t stride = r.u8();
@@ -292,7 +305,7 @@ void op_add_points(Reader& r) {
 
 void op_add_depth(Reader& r) {
   fg_workspace* ws = slot_ws(r.u8());
-  const int32_t role = static_cast<int8_t>(r.u8());
+  const int32_t role = i8(r.u8());
   const uint8_t flags = r.u8();
   const fg_pose pose = read_pose((flags >> 2) & 3u, r);
   const uint16_t w = static_cast<uint16_t>(r.u8() % (kMaxDepthSide + 1));
@@ -321,6 +334,14 @@ bool unit(const float v[3]) {
   return std::fabs(n - 1.f) < 1e-3f;
 }
 
+// An FG_OK grasp: finite, with unit vectors and a width inside any opening.
+void check_grasp(const fg_grasp& g, fg_status s) {
+  for (int i = 0; i < 3; ++i)
+    if (!std::isfinite(g.position[i]) || !std::isfinite(g.pregrasp[i])) breach("non-finite grasp position", s);
+  if (!unit(g.approach) || !unit(g.closing)) breach("grasp directions are not unit vectors", s);
+  if (!(g.width_m >= 0.f && g.width_m <= 0.5f)) breach("grasp width outside any opening", s);
+}
+
 void op_plan(Reader& r) {
   fg_workspace* ws = slot_ws(r.u8());
   const bool null_out = (r.u8() & 1u) != 0;
@@ -331,10 +352,95 @@ void op_plan(Reader& r) {
   if (g_verbose) std::fprintf(stderr, "api_fuzz: plan %s\n", fg_status_str(s));
   if (s != FG_OK) return;
   if (null_out) breach("fg_plan returned FG_OK without an output", s);
-  for (int i = 0; i < 3; ++i)
-    if (!std::isfinite(g.position[i]) || !std::isfinite(g.pregrasp[i])) breach("non-finite grasp position", s);
-  if (!unit(g.approach) || !unit(g.closing)) breach("grasp directions are not unit vectors", s);
-  if (!(g.width_m >= 0.f && g.width_m <= 0.5f)) breach("grasp width outside any opening", s);
+  check_grasp(g, s);
+}
+
+void op_target(Reader& r) {
+  fg_workspace* ws = slot_ws(r.u8());
+  const uint8_t variant = r.u8();
+  float v[9];
+  for (float& f : v) f = r.f32();
+  const float* point = v;
+  const float* box_min = v + 3;
+  const float* box_max = v + 6;
+  if (variant % 4u == 3u) {  // a null pointer in place of one of them
+    const uint32_t which = (variant >> 2) % 3u;
+    if (which == 0) point = nullptr;
+    if (which == 1) box_min = nullptr;
+    if (which == 2) box_max = nullptr;
+  }
+  fg_fuzz::arm();
+  fg_status s = FG_OK;
+  if (variant % 4u == 0u) {
+    s = named(fg_clear_target(ws));
+  } else if (variant % 4u == 1u || (variant % 4u == 3u && point == nullptr)) {
+    s = named(fg_set_target_point(ws, point));
+  } else {
+    s = named(fg_set_target_box(ws, box_min, box_max));
+  }
+  fg_fuzz::disarm();
+  if (ws != nullptr && variant % 4u == 3u && s != FG_ERR_INVALID_ARGUMENT)
+    breach("a null target pointer was not refused", s);
+}
+
+// The list of objects as fg_objects gives it to an array of `capacity`; FG_OK or a refusal.
+fg_status list_objects(fg_workspace* ws, fg_object* out, uint32_t capacity, uint32_t* count, uint32_t* dropped) {
+  fg_fuzz::arm();
+  const fg_status s = named(fg_objects(ws, out, capacity, count, dropped));
+  fg_fuzz::disarm();
+  if (s != FG_OK) return s;
+  if (*count > capacity || *count > FG_MAX_OBJECTS) breach("fg_objects wrote more than its array holds", s);
+  uint32_t targets = 0;
+  for (uint32_t k = 0; k < *count; ++k) {
+    const fg_object& o = out[k];
+    if (o.is_target > 1u) breach("is_target is neither 0 nor 1", s);
+    targets += o.is_target;
+    if (o.voxels == 0) breach("a listed object has no voxel", s);
+    for (int i = 0; i < 3; ++i)
+      if (!std::isfinite(o.centroid[i]) || !(o.box_min[i] <= o.box_max[i])) breach("an object's box is malformed", s);
+  }
+  if (targets > 1u) breach("more than one object marked as the target", s);
+  return s;
+}
+
+fg_object g_objects[FG_MAX_OBJECTS + 2];
+fg_grasp g_ranked[16];
+
+void op_objects(Reader& r) {
+  fg_workspace* ws = slot_ws(r.u8());
+  const uint8_t flags = r.u8();
+  const uint32_t capacity = r.u8() % (FG_MAX_OBJECTS + 2u);
+  uint32_t count = 0, dropped = 0;
+  const fg_status s = list_objects(ws, (flags & 1u) != 0 ? nullptr : g_objects, capacity,
+                                   (flags & 2u) != 0 ? nullptr : &count, (flags & 4u) != 0 ? nullptr : &dropped);
+  const bool bad = (flags & 3u) != 0 || capacity == 0;
+  if (ws != nullptr && bad != (s == FG_ERR_INVALID_ARGUMENT))
+    breach("fg_objects' refusal disagrees with its arguments", s);
+}
+
+void op_plan_object(Reader& r) {
+  fg_workspace* ws = slot_ws(r.u8());
+  const uint8_t index_byte = r.u8(), flags = r.u8();
+  uint32_t listed = 0;
+  if (list_objects(ws, g_objects, FG_MAX_OBJECTS, &listed, nullptr) != FG_OK) listed = 0;
+  const uint32_t index = index_byte == 0xFFu ? UINT32_MAX : index_byte % (listed + 2u);
+  const bool null_out = (flags & 1u) != 0;
+  const uint32_t capacity = (flags >> 2) & 15u;
+  uint32_t count = 99;
+  fg_fuzz::arm();
+  const fg_status s = (flags & 2u) != 0
+                          ? named(fg_plan_object_ranked(ws, index, null_out ? nullptr : g_ranked, capacity, &count))
+                          : named(fg_plan_object(ws, index, null_out ? nullptr : g_ranked));
+  fg_fuzz::disarm();
+  if (g_verbose) std::fprintf(stderr, "api_fuzz: plan_object %u of %u: %s\n", index, listed, fg_status_str(s));
+  if (ws != nullptr && (flags & 2u) != 0 && s != FG_OK && count != 0) breach("a refused ranked plan left a count", s);
+  if (s != FG_OK) return;
+  if (null_out) breach("fg_plan_object returned FG_OK without an output", s);
+  if (index >= listed) breach("fg_plan_object planned for an index beyond the list", s);
+  const uint32_t n = (flags & 2u) != 0 ? count : 1u;
+  if (n == 0 || n > FG_MAX_RANKED_GRASPS || ((flags & 2u) != 0 && n > capacity))
+    breach("the ranked count is out of its bounds", s);
+  for (uint32_t i = 0; i < n; ++i) check_grasp(g_ranked[i], s);
 }
 
 void op_bogus(Reader& r) {
@@ -356,9 +462,18 @@ void op_bogus(Reader& r) {
   const fg_status a = fg_plan(ws, &g), b = fg_reset(ws);
   const fg_status c = fg_add_points(ws, FG_SENSOR_HEAD, xyz, 1, 12, &pose);
   const char* m = fg_last_message(ws);
+  // The target and object calls likewise.
+  fg_object objects[2];
+  uint32_t n = 0;
+  const fg_status d[] = {fg_set_target_point(ws, xyz), fg_set_target_box(ws, xyz, xyz),
+                         fg_clear_target(ws),          fg_objects(ws, objects, 2, &n, nullptr),
+                         fg_plan_object(ws, 0, &g),    fg_plan_object_ranked(ws, 0, &g, 1, &n)};
   fg_fuzz::disarm();
   if (a != FG_ERR_NOT_A_WORKSPACE || b != FG_ERR_NOT_A_WORKSPACE || c != FG_ERR_NOT_A_WORKSPACE)
     breach("a call on memory that is no workspace was not refused", a);
+  for (const fg_status e : d)
+    if (e != FG_ERR_NOT_A_WORKSPACE)
+      breach("a target or object call on memory that is no workspace was not refused", e);
   if (m == nullptr) breach("fg_last_message returned NULL", 0);
 }
 
@@ -389,7 +504,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
 
   Reader r(data, size);
   for (int op = 0; op < 64 && !r.done(); ++op) {
-    switch (r.u8() % 10u) {
+    switch (r.u8() % 13u) {
       case 0:
         op_init(r);
         break;
@@ -429,8 +544,17 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       case 8:
         op_check(r);
         break;
-      default:
+      case 9:
         op_task(r);
+        break;
+      case 10:
+        op_target(r);
+        break;
+      case 11:
+        op_objects(r);
+        break;
+      default:
+        op_plan_object(r);
         break;
     }
   }

@@ -14,7 +14,12 @@ plan/  inputs in the layout of fuzz/plan_fuzz.cpp: a table and a box seen as a p
        cloud and as a depth image, both sensors, configuration presets and overrides,
        and the invalid cases (NaN / Inf / denormal poses, reflections, bad roles, a
        role twice, null data, small strides, bad intrinsics, empty images); points
-       also in pieces through add_point_source.
+       also in pieces through add_point_source; targets by a point or a box (on the
+       box, around it, outside the workspace, empty, NaN, Inf, inverted, a raw kind)
+       and plan_object / more_grasps on two boxes, out of range and out of sequence.
+api/   call sequences in the layout of fuzz/api_fuzz.cpp: captures, plans, bad memory
+       and configurations, the grasp task, bogus workspaces; targets, the object list
+       and each object's plan, ranked, with null pointers and indices out of range.
 The real clouds of ../shared/data/clouds are added at run time by scripts/fuzz.sh.
 """
 import math
@@ -355,21 +360,27 @@ def cast(eye, d):
     return best
 
 
-def points_block(role, eye, target, stride=12, kind_extra=0, pose=None, step=1):
-    """A head-like view of the scene as sensor-frame points (pose encoding 2: look-at)."""
+ONE_BOX = ((0.0, 0.12),)
+
+
+def points_block(role, eye, target, stride=12, kind_extra=0, pose=None, step=1, boxes=ONE_BOX):
+    """A head-like view of the scene as sensor-frame points (pose encoding 2: look-at):
+    the table and a box of each (y offset, height) of `boxes` (more than one: objects
+    standing apart)."""
     axes = look_at(eye, target)
     world = []
-    for i in range(11):          # table around the box
+    for i in range(11):          # table around the boxes
         for j in range(11):
             x, y = 0.35 + 0.03 * i, -0.15 + 0.03 * j
-            if not (0.455 < x < 0.545 and -0.035 < y < 0.035):
+            if not any(0.455 < x < 0.545 and -0.035 < y - b < 0.035 for b, _ in boxes):
                 world.append((x, y, 0.0))
-    for i in range(9):           # box side facing the sensor (x = 0.465) and its top
-        for k in range(15):
-            world.append((0.465, -0.024 + 0.006 * i, 0.004 + 0.008 * k))
-    for i in range(9):
-        for j in range(7):
-            world.append((0.468 + 0.008 * i, -0.022 + 0.0073 * j, 0.12))
+    for b, h in boxes:
+        for i in range(9):       # box side facing the sensor (x = 0.465) and its top
+            for k in range(int(round(h / 0.008))):
+                world.append((0.465, b - 0.024 + 0.006 * i, 0.004 + 0.008 * k))
+        for i in range(9):
+            for j in range(7):
+                world.append((0.468 + 0.008 * i, b - 0.022 + 0.0073 * j, h))
     world = world[::step]
     payload = b""
     for p in world:
@@ -396,16 +407,31 @@ def depth_block(role, eye, target, w=64, h=48, f=120.0, kind_extra=0, intr=None)
     return bytes([role, kind]) + f32(*eye, *target) + bytes([w, h]) + intr + struct.pack("<H", len(px)) + px
 
 
-def plan_input(blocks, config=0, overrides=b"", flags_extra=0, view=0):
+def plan_input(blocks, config=0, overrides=b"", flags_extra=0, view=0, target=b"", objects=b""):
+    """target: a target block (flags bit 4); objects: the object calls after the plan (bit 5)."""
     n_over = len(overrides) // 5
     assert len(overrides) == 5 * n_over and n_over < 8
-    return bytes([config | (n_over << 3)]) + overrides + bytes([len(blocks) | flags_extra, view]) + b"".join(blocks)
+    flags = len(blocks) | flags_extra | (16 if target else 0) | (32 if objects else 0)
+    return bytes([config | (n_over << 3)]) + overrides + bytes([flags, view]) + target + b"".join(blocks) + objects
+
+
+def target_block(kind, point=(0, 0, 0), box_min=(0, 0, 0), box_max=(0, 0, 0), raw_kind=None):
+    """plan_fuzz.cpp's target: kind 0 by rule, 1 point, 2 box, 3 the raw kind byte."""
+    head = bytes([kind]) if raw_kind is None else bytes([3, raw_kind])
+    return head + f32(*point, *box_min, *box_max)
+
+
+def object_calls(*calls):
+    """plan_object calls after the plan: (index byte, more byte) each, 1 to 4 of them."""
+    assert 1 <= len(calls) <= 4
+    return bytes([len(calls) - 1]) + b"".join(bytes([i, m]) for i, m in calls)
 
 
 def override(index, value, is_int=False):
     return bytes([index]) + (struct.pack("<I", value) if is_int else f32(value))
 
 
+TWO_BOXES = ((0.0, 0.12), (-0.1, 0.08))
 HEAD_EYE, HAND_EYE, TARGET = (0.15, 0.0, 0.55), (0.5, -0.42, 0.42), (0.5, 0.0, 0.05)
 
 
@@ -465,6 +491,32 @@ def make_plan():
     out("plan", "depth_intrinsics_tiny.bin",
         plan_input([depth_block(1, HAND_EYE, TARGET, 16, 12, 30.0, intr=f32(1.0001, DENORM, -1e5, 1e5))]))
     out("plan", "depth_empty.bin", plan_input([depth_block(1, HAND_EYE, TARGET, 0, 12, 30.0)]))
+    # targets and the objects: two boxes apart (y = 0 and -0.1; the second lower, so no
+    # plane through both tops outweighs the table; preset 5 joins cells two apart, so
+    # each box is one object), each planned for itself with the other as an obstacle,
+    # ranked; indices out of range (1 past, 2^32 - 1)
+    two = points_block(0, HEAD_EYE, TARGET, boxes=TWO_BOXES)
+    every = object_calls((0, 3), (1, 0x80 | 2), (2, 31), (0xFF, 1))
+    out("plan", "objects_two_boxes.bin", plan_input([two], config=5, objects=every))
+    out("plan", "target_point_far_box.bin",
+        plan_input([two], config=5, target=target_block(1, point=(0.45, -0.1, 0.05)), objects=every))
+    out("plan", "target_box_around.bin",
+        plan_input([two], config=5, target=target_block(2, box_min=(0.45, -0.14, -0.01), box_max=(0.55, -0.06, 0.09)),
+                   flags_extra=8, objects=object_calls((1, 4))))
+    out("plan", "target_box_empty.bin",
+        plan_input([two], config=5, target=target_block(2, box_min=(0.3, -0.1, 0.4), box_max=(0.4, 0.0, 0.5)),
+                   objects=every))
+    out("plan", "target_outside.bin",
+        plan_input([two], config=5, target=target_block(1, point=(5.0, 0.0, 0.05)), objects=object_calls((0, 2))))
+    out("plan", "target_box_outside.bin",
+        plan_input([small], target=target_block(2, box_min=(3.0, 3.0, 0.0), box_max=(1e30, 1e30, 1e30))))
+    out("plan", "target_nan.bin", plan_input([small], target=target_block(1, point=(0.5, NAN, 0.05))))
+    out("plan", "target_inf_box.bin", plan_input([small], target=target_block(2, box_min=(-INF, 0, 0), box_max=(INF, 1, 1))))
+    out("plan", "target_inverted_box.bin",
+        plan_input([small], target=target_block(2, box_min=(0.6, 0.1, 0.2), box_max=(0.4, -0.1, 0.0))))
+    out("plan", "target_raw_kind.bin", plan_input([small], target=target_block(0, raw_kind=7)))
+    out("plan", "objects_before_plan.bin", plan_input([small], flags_extra=64, objects=object_calls((0, 1))))
+    out("plan", "objects_no_input.bin", plan_input([], flags_extra=64, objects=object_calls((0, 1), (0xFF, 0))))
 
 
 # ---- firmware C API call sequences (layout: fuzz/api_fuzz.cpp) ------------------------
@@ -479,9 +531,8 @@ def api_init(slot, mem=0, cfg=0, extra=b""):
     return bytes([0, slot, mem, cfg]) + extra
 
 
-def api_points(slot, role, eye, target, step=2, flags=1 << 2, stride=12):
-    axes = look_at(eye, target)
-    block = points_block(0, eye, target, stride=stride, step=step)
+def api_points(slot, role, eye, target, step=2, flags=1 << 2, stride=12, boxes=ONE_BOX):
+    block = points_block(0, eye, target, stride=stride, step=step, boxes=boxes)
     # Reuse the world points of points_block: its payload follows role, kind, pose, stride, u16.
     payload = block[2 + 24 + 1 + 2:]
     return bytes([2, slot, role & 0xFF, flags]) + api_pose_raw(eye, target) + bytes([stride]) + \
@@ -496,6 +547,20 @@ def api_depth(slot, role, eye, target, w=40, h=30, f=75.0, flags=1 << 2):
 
 def api_plan(slot, null_out=0):
     return bytes([4, slot, null_out])
+
+
+def api_target(slot, variant, point=(0, 0, 0), box_min=(0, 0, 0), box_max=(0, 0, 0)):
+    """Op 10: variant 0 clear, 1 point, 2 box, 3 a null pointer (bits 2-3: which)."""
+    return bytes([10, slot, variant]) + f32(*point, *box_min, *box_max)
+
+
+def api_objects(slot, flags=0, capacity=16):
+    return bytes([11, slot, flags, capacity])
+
+
+def api_plan_object(slot, index, flags=0):
+    """Op 12: flags bit 0 null output, bit 1 ranked, bits 2-5 the ranked capacity."""
+    return bytes([12, slot, index, flags])
 
 
 def make_api():
@@ -523,6 +588,26 @@ def make_api():
     out("api", "task.bin", api_init(0, cfg=4, extra=bytes([19]) + struct.pack("<I", 2)) + head_img + bytes([9, 0, 1, 200, 0]) +
         bytes([9, 0, 1 | 128, 200, 0]) + bytes([9, 0, 3 | 16, 50, 0]) + bytes([9, 0, 1, 200, 1]) +
         bytes([9, 0, 1 | 4, 5, 0]) + bytes([9, 0, 1 | 8, 5, 3]) + bytes([9, 2, 1, 5, 0]))
+    # targets and the objects: plan/'s two boxes; every object planned, plain and ranked;
+    # a target by a point and by a box; out of range, out of sequence, null pointers
+    two = api_points(0, 0, HEAD_EYE, TARGET, step=1, boxes=TWO_BOXES)
+    cells2 = bytes([19]) + struct.pack("<I", 2)  # config field 19: cluster_cells = 2, each box one object
+    objects = (api_objects(0) + api_plan_object(0, 0) + api_plan_object(0, 1, 2 | (4 << 2)) +
+               api_plan_object(0, 2) + api_plan_object(0, 0xFF) + api_objects(0, capacity=1))
+    out("api", "objects.bin",
+        api_init(0, cfg=4, extra=cells2) + api_plan_object(0, 0) + api_objects(0) + two + api_plan(0) + objects +
+        api_target(0, 1, point=(0.45, -0.1, 0.05)) + api_plan(0) + api_objects(0) +
+        api_target(0, 2, box_min=(0.45, -0.04, -0.01), box_max=(0.55, 0.04, 0.13)) + api_plan(0) + objects +
+        api_target(0, 0) + bytes([1, 0]) + api_plan_object(0, 0, 2 | (2 << 2)) + two + api_plan(0) + objects)
+    out("api", "targets_bad.bin",
+        api_init(0) + api_target(0, 1, point=(NAN, 0.0, 0.05)) + api_target(0, 2, box_min=(0, 0, 0), box_max=(INF, 1, 1)) +
+        api_target(0, 2, box_min=(0.6, 0.1, 0.2), box_max=(0.4, -0.1, 0.0)) + api_target(0, 3) +
+        api_target(0, 3 | (1 << 2)) + api_target(0, 3 | (2 << 2)) + api_target(2, 1, point=(0.5, 0, 0)) +
+        api_objects(0, flags=1) + api_objects(0, flags=2) + api_objects(0, flags=4) + api_objects(0, capacity=0) +
+        api_objects(3) + api_plan_object(0, 0, 1) + api_plan_object(0, 0, 2) + api_plan_object(2, 0) +
+        api_target(0, 1, point=(0.5, 0.0, 9.0)) + api_points(0, 0, HEAD_EYE, TARGET, step=4) + api_plan(0) +
+        api_plan_object(0, 0) + api_target(0, 2, box_min=(0.3, -0.1, 0.4), box_max=(0.4, 0.0, 0.5)) + api_plan(0) +
+        api_objects(0) + api_plan_object(0, 0, 2 | (15 << 2)))
     out("api", "bogus_and_strings.bin",
         api_init(0) + bytes([7, 0, 7, 1, 7, 2, 7, 3]) + bytes([6]) + struct.pack("<ii", -112, 10) +
         bytes([6]) + struct.pack("<ii", 12345, -3) + bytes([8, 3, 13]) + f32(NAN) + bytes([40]) + f32(-1.0) +

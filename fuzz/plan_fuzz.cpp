@@ -1,14 +1,19 @@
-// Fuzz target: the core planner (fg::Planner configure / reset / add_points /
-// add_point_source / add_depth_image / plan / analyze_view) on inputs decoded from the bytes. It asserts
-// nothing about the outcome: the findings are crashes, sanitizer reports, hangs, and any
-// heap use inside the core (the no-heap guard is armed around every core call and
-// abort()s on an allocation or a free).
+// Fuzz target: the core planner (fg::Planner configure / reset / set_target / add_points /
+// add_point_source / add_depth_image / plan / analyze_view / plan_object / more_grasps)
+// on inputs decoded from the bytes. It asserts nothing about the outcome: the findings
+// are crashes, sanitizer reports, hangs, and any heap use inside the core (the no-heap
+// guard is armed around every core call and abort()s on an allocation or a free).
 //
 // Input layout (little endian; bytes past the end read as 0, so every input decodes):
 //   u8  config   bits 0-2: preset (see apply_preset), bits 3-5: number of overrides
 //   overrides:   u8 field index, 4 bytes value (float or uint32 by field), each
-//   u8  flags    bits 0-1: sensor blocks (0..3), bit 2: plan twice, bit 3: analyze_view
+//   u8  flags    bits 0-1: sensor blocks (0..3), bit 2: plan twice, bit 3: analyze_view,
+//                bit 4: a target block follows, bit 5: object calls after the plan,
+//                bit 6: plan_object(0) before the plan (out of sequence)
 //   u8  view     analyze_view index (modulo view_count() + 2: out of range included)
+//   target (bit 4): u8 kind (modulo 4: 0 by rule, 1 nearest point, 2 inside box, 3 the
+//                next byte as the raw kind, valid or not), then 9 floats: point, box_min,
+//                box_max (raw: NaN, Inf, huge values and inverted boxes reach set_target)
 //   sensor block, repeated:
 //     u8 role    raw & 3 (0 head, 1 hand, 2 and 3 are invalid roles)
 //     u8 kind    bit 0: 0 add_points, 1 add_depth_image; bits 1-2: pose encoding;
@@ -22,6 +27,11 @@
 //                payload: points of x y z floats `stride` bytes apart
 //     depth:     u8 width % 65, u8 height % 65, fx fy cx cy (4 floats), u16 payload bytes,
 //                payload: uint16 millimetres, row major (missing pixels are 0)
+//   object calls (bit 5), after the plan: u8 n (1 + n % 4 calls), each u8 index (0xFF:
+//                2^32 - 1, else modulo object_count() + 2: out of range included) and
+//                u8 more (more_grasps after it: bits 0-4 max, modulo kMaxRankedGrasps + 2;
+//                bit 7 a null output)
+// The target and every other setting start afresh on each input.
 // Raw floats reach the core as they are: NaN, Inf, denormals, huge values.
 // fuzz/make_seeds.py writes seeds in this layout.
 #include <cmath>
@@ -44,6 +54,7 @@ constexpr size_t kMaxPointBytes = 65535;  // a u16 payload length
 fg::Planner g_planner;  // ~4 MB, constructed once
 fg::PlanResult g_result;
 fg::ViewDetail g_detail;
+fg::RankedGrasp g_more[fg::kMaxRankedGrasps + 2];
 alignas(16) unsigned char g_points[kMaxPointBytes + 16];
 uint16_t g_depth[kMaxDepthSide * kMaxDepthSide];
 const bool g_verbose = std::getenv("FG_FUZZ_PLAN_VERBOSE") != nullptr;
@@ -234,6 +245,43 @@ Call read_call(Reader& r) {
   return c;
 }
 
+// A target as the bytes give it: any kind byte, any floats.
+fg::TargetSpec read_target(Reader& r) {
+  fg::TargetSpec t;
+  switch (r.u8() % 4u) {
+    case 1:
+      t.kind = fg::TargetKind::nearest_point;
+      break;
+    case 2:
+      t.kind = fg::TargetKind::inside_box;
+      break;
+    case 3:
+      t.kind = static_cast<fg::TargetKind>(r.u8());  // any byte, valid or not
+      break;
+    default:
+      break;  // 0: by rule
+  }
+  for (int i = 0; i < 3; ++i) t.point(i) = r.f32();
+  for (int i = 0; i < 3; ++i) t.box_min(i) = r.f32();
+  for (int i = 0; i < 3; ++i) t.box_max(i) = r.f32();
+  return t;
+}
+
+// After the plan: plan_object for a few indices of its list (out of range included),
+// each followed by more_grasps on that object; their statuses go to st[ns..].
+void object_calls(Reader& r, fg::Status* st, uint32_t& ns) {
+  const uint32_t n = 1u + r.u8() % 4u;
+  for (uint32_t i = 0; i < n; ++i) {
+    const uint8_t index_byte = r.u8(), more_byte = r.u8();
+    fg_fuzz::arm();
+    const uint32_t k = index_byte == 0xFFu ? UINT32_MAX : index_byte % (g_planner.object_count() + 2u);
+    st[ns++] = g_planner.plan_object(k, g_result);
+    const uint32_t max = (more_byte & 31u) % (fg::kMaxRankedGrasps + 2u);
+    (void)g_planner.more_grasps((more_byte & 128u) != 0 ? nullptr : g_more, max);
+    fg_fuzz::disarm();
+  }
+}
+
 // A call's points handed over in pieces of a few points each (the last may be shorter),
 // each piece's coordinates in place in the payload; a null payload is a null piece.
 class Pieces final : public fg::PointSource {
@@ -282,7 +330,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const uint8_t view_byte = r.u8();
   const uint32_t blocks = flags & 3u;
 
-  fg::Status st[8] = {};
+  fg::Status st[16] = {};
   uint32_t ns = 0;
   fg_fuzz::arm();
   const char* field = nullptr;
@@ -292,7 +340,15 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (g_planner.configure(fg::PlannerConfig{}) != fg::Status::ok) std::abort();  // the defaults are always valid
   }
   g_planner.reset();
+  // Nor the previous input's target: the default (always valid), then this input's.
+  if (g_planner.set_target(fg::TargetSpec{}) != fg::Status::ok) std::abort();
   fg_fuzz::disarm();
+  if ((flags & 16u) != 0) {
+    const fg::TargetSpec target = read_target(r);
+    fg_fuzz::arm();
+    st[ns++] = g_planner.set_target(target);
+    fg_fuzz::disarm();
+  }
 
   for (uint32_t b = 0; b < blocks; ++b) {
     const Call c = read_call(r);  // decoding (outside the core) is not guarded
@@ -302,6 +358,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   }
 
   fg_fuzz::arm();
+  if ((flags & 64u) != 0) st[ns++] = g_planner.plan_object(0, g_result);  // invalid_sequence
   st[ns++] = g_planner.plan(g_result);
   if ((flags & 4u) != 0) st[ns++] = g_planner.plan(g_result);
   if ((flags & 8u) != 0) {
@@ -309,13 +366,17 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     st[ns++] = g_planner.analyze_view(view_byte % (views + 2), g_detail);
   }
   fg_fuzz::disarm();
+  if ((flags & 32u) != 0) object_calls(r, st, ns);
 
   if (g_verbose) {
     std::fprintf(stderr, "plan_fuzz: config %s%s, statuses:", fg::to_string(st[0]), field != nullptr ? field : "");
     for (uint32_t i = 1; i < ns; ++i) std::fprintf(stderr, " %s", fg::to_string(st[i]));
-    std::fprintf(stderr, "; reason %s, %u input, %u kept, %u voxels, %u object, %u views, %u candidates\n",
+    std::fprintf(stderr,
+                 "; reason %s, %u input, %u kept, %u voxels, %u object, %u views, %u candidates; "
+                 "%u objects (%u dropped), target %d\n",
                  fg::to_string(g_result.reason), g_result.points.input, g_result.points.after_filter,
-                 g_result.points.voxels, g_result.points.object, g_result.viewpoints, g_result.candidates);
+                 g_result.points.voxels, g_result.points.object, g_result.viewpoints, g_result.candidates,
+                 g_planner.object_count(), g_planner.objects_dropped(), g_planner.target_object());
   }
   return 0;
 }

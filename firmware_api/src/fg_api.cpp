@@ -111,6 +111,7 @@ struct fg_workspace {
 static_assert(sizeof(fg_workspace) <= FG_WORKSPACE_SIZE,  // NOLINT(bugprone-sizeof-expression)
               "the workspace outgrew the build configuration's FG_WORKSPACE_SIZE budget");
 static_assert(alignof(fg_workspace) <= FG_WORKSPACE_ALIGN, "workspace alignment above FG_WORKSPACE_ALIGN");
+static_assert(FG_MAX_OBJECTS == fg::kMaxObjects, "fg_objects' list is the planner's: FG_MAX_OBJECTS is kMaxObjects");
 
 // The C statuses and reasons are the core's values: one numbering, checked here.
 #define FG_SAME(c_value, core_value) \
@@ -294,6 +295,52 @@ void fill_grasp(const fg::PlanResult& r, fg_grasp& out) {
   for (uint32_t i = 0; i < FG_STAGE_COUNT; ++i) out.stage_us[i] = r.stage_us[i];
 }
 
+// fg_plan_ranked and fg_plan_object_ranked: `plan` (the planner's plan or plan_object)
+// fills out[0], then the alternates on its target fill out[1..].
+template <typename Plan>
+[[nodiscard]] fg_status plan_ranked(fg_workspace* ws, fg_grasp* out, uint32_t capacity, uint32_t* count,
+                                    const Plan& plan) {
+  if (count != nullptr) *count = 0;
+  if (out == nullptr || count == nullptr || capacity == 0)
+    return fail(ws, FG_ERR_INVALID_ARGUMENT, "ranked grasp array or count pointer is null, or capacity is 0");
+  fg::PlanResult r;
+  const fg::Status s = plan(r);
+  fill_grasp(r, out[0]);
+  ws->message = r.message;
+  if (s != fg::Status::ok) return to_c(s);
+  // One alternate a call: the planner goes on where the last call stopped, so no
+  // array of them is needed here; each entry carries the plan's counts and times.
+  uint32_t n = 1;
+  const uint32_t cap = capacity < FG_MAX_RANKED_GRASPS ? capacity : FG_MAX_RANKED_GRASPS;
+  fg::RankedGrasp next;
+  while (n < cap && ws->planner.more_grasps(&next, 1) == 1) {
+    out[n] = out[0];
+    copy_pose(next.grasp, out[n]);
+    ++n;
+  }
+  *count = n;
+  return FG_OK;
+}
+
+// A target through the planner's own check (validate(TargetSpec)): refused, the one
+// before stays and the message says why.
+[[nodiscard]] fg_status set_target(fg_workspace* ws, const fg::TargetSpec& target) {
+  const fg::Status s = ws->planner.set_target(target);
+  ws->message = s == fg::Status::ok ? "" : ws->planner.last_message();
+  return to_c(s);
+}
+
+fg::Vec3 to_vec3(const float v[3]) { return fg::Vec3(v[0], v[1], v[2]); }
+
+void to_c(const fg::ObjectSummary& o, bool is_target, fg_object& out) {
+  out = fg_object{};
+  copy3(o.centroid, out.centroid);
+  copy3(o.box_min, out.box_min);
+  copy3(o.box_max, out.box_max);
+  out.voxels = o.voxels;
+  out.is_target = is_target ? 1u : 0u;
+}
+
 }  // namespace
 
 extern "C" {
@@ -460,26 +507,63 @@ fg_status fg_plan(fg_workspace* ws, fg_grasp* out) {
 
 fg_status fg_plan_ranked(fg_workspace* ws, fg_grasp* out, uint32_t capacity, uint32_t* count) {
   if (!valid(ws)) return FG_ERR_NOT_A_WORKSPACE;
+  return plan_ranked(ws, out, capacity, count, [ws](fg::PlanResult& r) { return ws->planner.plan(r); });
+}
+
+fg_status fg_set_target_point(fg_workspace* ws, const float xyz[3]) {
+  if (!valid(ws)) return FG_ERR_NOT_A_WORKSPACE;
+  if (xyz == nullptr) return fail(ws, FG_ERR_INVALID_ARGUMENT, "target point pointer is null");
+  fg::TargetSpec t;
+  t.kind = fg::TargetKind::nearest_point;
+  t.point = to_vec3(xyz);
+  return set_target(ws, t);
+}
+
+fg_status fg_set_target_box(fg_workspace* ws, const float box_min[3], const float box_max[3]) {
+  if (!valid(ws)) return FG_ERR_NOT_A_WORKSPACE;
+  if (box_min == nullptr || box_max == nullptr) return fail(ws, FG_ERR_INVALID_ARGUMENT, "target box pointer is null");
+  fg::TargetSpec t;
+  t.kind = fg::TargetKind::inside_box;
+  t.box_min = to_vec3(box_min);
+  t.box_max = to_vec3(box_max);
+  return set_target(ws, t);
+}
+
+fg_status fg_clear_target(fg_workspace* ws) {
+  if (!valid(ws)) return FG_ERR_NOT_A_WORKSPACE;
+  return set_target(ws, fg::TargetSpec{});
+}
+
+fg_status fg_objects(fg_workspace* ws, fg_object* out, uint32_t capacity, uint32_t* count, uint32_t* dropped) {
+  if (!valid(ws)) return FG_ERR_NOT_A_WORKSPACE;
   if (count != nullptr) *count = 0;
+  if (dropped != nullptr) *dropped = 0;
   if (out == nullptr || count == nullptr || capacity == 0)
-    return fail(ws, FG_ERR_INVALID_ARGUMENT, "ranked grasp array or count pointer is null, or capacity is 0");
-  fg::PlanResult r;
-  const fg::Status s = ws->planner.plan(r);
-  fill_grasp(r, out[0]);
-  ws->message = r.message;
-  if (s != fg::Status::ok) return to_c(s);
-  // One alternate a call: the planner goes on where the last call stopped, so no
-  // array of them is needed here; each entry carries the plan's counts and times.
-  uint32_t n = 1;
-  const uint32_t cap = capacity < FG_MAX_RANKED_GRASPS ? capacity : FG_MAX_RANKED_GRASPS;
-  fg::RankedGrasp next;
-  while (n < cap && ws->planner.more_grasps(&next, 1) == 1) {
-    out[n] = out[0];
-    copy_pose(next.grasp, out[n]);
-    ++n;
-  }
-  *count = n;
+    return fail(ws, FG_ERR_INVALID_ARGUMENT, "object array or count pointer is null, or capacity is 0");
+  const fg::Planner& planner = ws->planner;
+  const uint32_t n = planner.object_count();
+  const uint32_t written = n < capacity ? n : capacity;
+  const int32_t target = planner.target_object();
+  for (uint32_t k = 0; k < written; ++k) to_c(planner.object(k), static_cast<int32_t>(k) == target, out[k]);
+  *count = written;
+  if (dropped != nullptr) *dropped = planner.objects_dropped() + (n - written);
   return FG_OK;
+}
+
+fg_status fg_plan_object(fg_workspace* ws, uint32_t index, fg_grasp* out) {
+  if (!valid(ws)) return FG_ERR_NOT_A_WORKSPACE;
+  if (out == nullptr) return fail(ws, FG_ERR_INVALID_ARGUMENT, "grasp output pointer is null");
+  fg::PlanResult r;
+  const fg::Status s = ws->planner.plan_object(index, r);  // the same as r.status
+  fill_grasp(r, *out);
+  ws->message = r.message;
+  return to_c(s);
+}
+
+fg_status fg_plan_object_ranked(fg_workspace* ws, uint32_t index, fg_grasp* out, uint32_t capacity, uint32_t* count) {
+  if (!valid(ws)) return FG_ERR_NOT_A_WORKSPACE;
+  return plan_ranked(ws, out, capacity, count,
+                     [ws, index](fg::PlanResult& r) { return ws->planner.plan_object(index, r); });
 }
 
 fg_status fg_task_config_default(fg_task_config* cfg) {

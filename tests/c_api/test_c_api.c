@@ -1,8 +1,9 @@
 /* Drives the whole firmware C API from C99, as controller firmware would: sizes and
  * versions, every status string, config checks, fg_init's refusals, calls in the
  * wrong order or with bad pointers, a two-sensor plan on a ray-cast scene (a box
- * narrower than the opening in x only, on a table), two workspaces side by side, and
- * bit-identical repeats. Exit status 0 when every check passes. */
+ * narrower than the opening in x only, on a table) with its object list, the object's
+ * own plan and targets, two workspaces side by side, and bit-identical repeats. Exit
+ * status 0 when every check passes. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -47,7 +48,8 @@ static float cast(const camera *c, const box3 *b, int u, int v) {
   const float d[3] = {((float)u - c->k.cx) / c->k.fx, ((float)v - c->k.cy) / c->k.fy, 1.f};
   float o[3], w[3];
   float best = 1e9f, t0 = 0.f, t1 = 1e9f;
-  int i, hit_box = 1;
+  size_t i;
+  int hit_box = 1;
   for (i = 0; i < 3; ++i) {
     o[i] = c->pose.t[i];
     w[i] = c->pose.r[3 * i] * d[0] + c->pose.r[3 * i + 1] * d[1] + c->pose.r[3 * i + 2] * d[2];
@@ -159,12 +161,27 @@ static fg_status capture_and_plan(fg_workspace *ws, const box3 *b, fg_grasp *g) 
   return fg_plan(ws, g);
 }
 
+/* n floats bit for bit (NaN and -0 included), as their bit patterns. */
+static int same_floats(const float *a, const float *b, size_t n) {
+  size_t i;
+  for (i = 0; i < n; ++i) {
+    uint32_t x, y;
+    memcpy(&x, &a[i], sizeof x);
+    memcpy(&y, &b[i], sizeof y);
+    if (x != y) return 0;
+  }
+  return 1;
+}
+
 /* Grasps compared without their timings, which differ run to run. */
 static int same_grasp(const fg_grasp *a, const fg_grasp *b) {
-  fg_grasp x = *a, y = *b;
-  memset(x.stage_us, 0, sizeof x.stage_us);
-  memset(y.stage_us, 0, sizeof y.stage_us);
-  return memcmp(&x, &y, sizeof x) == 0;
+  return a->reason == b->reason && same_floats(a->position, b->position, 3) &&
+         same_floats(a->approach, b->approach, 3) && same_floats(a->closing, b->closing, 3) &&
+         same_floats(a->pregrasp, b->pregrasp, 3) && same_floats(&a->width_m, &b->width_m, 1) &&
+         same_floats(&a->beta_rad, &b->beta_rad, 1) && same_floats(&a->dz_m, &b->dz_m, 1) &&
+         a->points_input == b->points_input && a->points_finite == b->points_finite &&
+         a->points_kept == b->points_kept && a->voxels == b->voxels && a->plane_voxels == b->plane_voxels &&
+         a->object_voxels == b->object_voxels && a->viewpoints == b->viewpoints && a->candidates == b->candidates;
 }
 
 static void test_versions_and_sizes(void) {
@@ -308,6 +325,19 @@ static void test_wrong_order_and_bad_arguments(void) {
   /* A byte copy is not a workspace either: it would share nothing with the original. */
   memcpy(g_mem_copy, g_mem_a, fg_workspace_size());
   CHECK_STATUS(fg_plan((fg_workspace *)g_mem_copy, &g), FG_ERR_NOT_A_WORKSPACE);
+  {
+    /* The target and object calls too. */
+    const float at[3] = {0.5f, 0.f, 0.05f}, lo[3] = {0.4f, -0.1f, 0.f}, hi[3] = {0.6f, 0.1f, 0.2f};
+    fg_object objects[2];
+    uint32_t n_objects = 7, n_dropped = 7;
+    CHECK_STATUS(fg_set_target_point(NULL, at), FG_ERR_NOT_A_WORKSPACE);
+    CHECK_STATUS(fg_set_target_box((fg_workspace *)junk, lo, hi), FG_ERR_NOT_A_WORKSPACE);
+    CHECK_STATUS(fg_clear_target(NULL), FG_ERR_NOT_A_WORKSPACE);
+    CHECK_STATUS(fg_objects(NULL, objects, 2, &n_objects, &n_dropped), FG_ERR_NOT_A_WORKSPACE);
+    CHECK_STATUS(fg_plan_object((fg_workspace *)junk, 0, &g), FG_ERR_NOT_A_WORKSPACE);
+    CHECK_STATUS(fg_plan_object_ranked(NULL, 0, &g, 1, &n_objects), FG_ERR_NOT_A_WORKSPACE);
+    CHECK_STATUS(fg_objects((fg_workspace *)g_mem_copy, objects, 2, &n_objects, NULL), FG_ERR_NOT_A_WORKSPACE);
+  }
 
   /* Plan before data. */
   CHECK_STATUS(fg_plan(ws, &g), FG_ERR_NO_INPUT);
@@ -343,6 +373,35 @@ static void test_wrong_order_and_bad_arguments(void) {
   CHECK_STATUS(fg_add_points(ws, FG_SENSOR_HAND, pts, 2, 12, &pose), FG_ERR_INVALID_SEQUENCE);
   CHECK_STATUS(fg_reset(ws), FG_OK);
   CHECK_STATUS(fg_add_points(ws, FG_SENSOR_HAND, pts, 2, 12, &pose), FG_OK);
+  /* The target and object calls: null pointers, bad numbers, object calls before fg_plan. */
+  {
+    const float at[3] = {0.5f, 0.f, 0.05f}, lo[3] = {0.4f, -0.1f, 0.f}, hi[3] = {0.6f, 0.1f, 0.2f};
+    const float nan_at[3] = {0.5f, NAN, 0.05f};
+    fg_object objects[2];
+    fg_grasp ranked[2];
+    uint32_t n_objects = 7, n_dropped = 7;
+    CHECK_STATUS(fg_reset(ws), FG_OK);
+    CHECK_STATUS(fg_set_target_point(ws, NULL), FG_ERR_INVALID_ARGUMENT);
+    CHECK_STATUS(fg_set_target_point(ws, nan_at), FG_ERR_NON_FINITE);
+    CHECK_STATUS(fg_set_target_box(ws, NULL, hi), FG_ERR_INVALID_ARGUMENT);
+    CHECK_STATUS(fg_set_target_box(ws, lo, NULL), FG_ERR_INVALID_ARGUMENT);
+    CHECK_STATUS(fg_set_target_box(ws, hi, lo), FG_ERR_INVALID_ARGUMENT); /* minimum above maximum */
+    CHECK(strstr(fg_last_message(ws), "target box") != NULL);
+    CHECK_STATUS(fg_set_target_point(ws, at), FG_OK);
+    CHECK_STATUS(fg_clear_target(ws), FG_OK);
+    CHECK_STATUS(fg_objects(ws, NULL, 2, &n_objects, &n_dropped), FG_ERR_INVALID_ARGUMENT);
+    CHECK(n_objects == 0 && n_dropped == 0);
+    CHECK_STATUS(fg_objects(ws, objects, 2, NULL, &n_dropped), FG_ERR_INVALID_ARGUMENT);
+    CHECK_STATUS(fg_objects(ws, objects, 0, &n_objects, &n_dropped), FG_ERR_INVALID_ARGUMENT);
+    CHECK_STATUS(fg_objects(ws, objects, 2, &n_objects, NULL), FG_OK); /* before fg_plan: none */
+    CHECK(n_objects == 0);
+    CHECK_STATUS(fg_plan_object(ws, 0, NULL), FG_ERR_INVALID_ARGUMENT);
+    CHECK_STATUS(fg_plan_object(ws, 0, &g), FG_ERR_INVALID_SEQUENCE);
+    CHECK_STATUS(fg_plan_object_ranked(ws, 0, ranked, 2, &n_objects), FG_ERR_INVALID_SEQUENCE);
+    CHECK_STATUS(fg_plan_object_ranked(ws, 0, NULL, 2, &n_objects), FG_ERR_INVALID_ARGUMENT);
+    CHECK_STATUS(fg_plan_object_ranked(ws, 0, ranked, 0, &n_objects), FG_ERR_INVALID_ARGUMENT);
+    CHECK_STATUS(fg_plan_object_ranked(ws, 0, ranked, 2, NULL), FG_ERR_INVALID_ARGUMENT);
+  }
   /* Zero points is valid (nothing seen) and plans to no_grasp, reason no_points. */
   CHECK_STATUS(fg_reset(ws), FG_OK);
   CHECK_STATUS(fg_add_points(ws, FG_SENSOR_HEAD, pts, 0, 12, &pose), FG_OK);
@@ -372,6 +431,38 @@ static void test_plan_two_sensors(void) {
   CHECK(g.position[2] > 0.f && g.position[2] < 0.11f);
   CHECK(g.points_input == 2u * 160u * 120u && g.object_voxels > 0 && g.voxels >= g.object_voxels);
   /* Planning again without new data gives the same grasp, bit for bit. */
+  CHECK_STATUS(fg_plan(ws, &again), FG_OK);
+  CHECK(same_grasp(&g, &again));
+  /* The objects on the table: the box (its sides seen edge-on by the hand sensor may
+   * stand apart as pieces of their own), the target among them, planned for itself
+   * alike. */
+  {
+    fg_object objects[FG_MAX_OBJECTS];
+    uint32_t n_objects = 0, n_dropped = 9, k, targets = 0, target = 0;
+    const float on_box[3] = {0.5f, 0.f, 0.05f}, outside[3] = {0.5f, 0.f, 3.f};
+    CHECK_STATUS(fg_objects(ws, objects, FG_MAX_OBJECTS, &n_objects, &n_dropped), FG_OK);
+    CHECK(n_objects >= 1 && n_dropped == 0);
+    for (k = 0; k < n_objects; ++k) {
+      CHECK(fabsf(objects[k].centroid[0] - 0.5f) < 0.03f && fabsf(objects[k].centroid[1]) < 0.065f);
+      CHECK(objects[k].box_min[0] <= objects[k].centroid[0] && objects[k].centroid[0] <= objects[k].box_max[0]);
+      if (objects[k].is_target) {
+        target = k;
+        ++targets;
+      }
+    }
+    CHECK(targets == 1 && objects[target].voxels == g.object_voxels);
+    CHECK_STATUS(fg_plan_object(ws, target, &again), FG_OK);
+    CHECK(same_floats(again.position, g.position, 3) && again.width_m == g.width_m);
+    CHECK_STATUS(fg_plan_object(ws, n_objects, &again), FG_ERR_INVALID_ARGUMENT);
+    /* A target on the box gives fg_plan's grasp; one above the crop box is refused. */
+    CHECK_STATUS(fg_set_target_point(ws, on_box), FG_OK);
+    CHECK_STATUS(fg_plan(ws, &again), FG_OK);
+    CHECK(same_floats(again.position, g.position, 3));
+    CHECK_STATUS(fg_set_target_point(ws, outside), FG_OK);
+    CHECK_STATUS(fg_plan(ws, &again), FG_ERR_INVALID_ARGUMENT);
+    CHECK(strstr(fg_last_message(ws), "outside") != NULL);
+    CHECK_STATUS(fg_clear_target(ws), FG_OK);
+  }
   CHECK_STATUS(fg_plan(ws, &again), FG_OK);
   CHECK(same_grasp(&g, &again));
   /* A new capture of the same scene too. */

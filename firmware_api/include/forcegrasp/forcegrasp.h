@@ -252,6 +252,67 @@ FG_NODISCARD fg_status fg_plan(fg_workspace *ws, fg_grasp *out);
  *  FG_ERR_INVALID_ARGUMENT. No heap: the caller's array is the only output. */
 FG_NODISCARD fg_status fg_plan_ranked(fg_workspace *ws, fg_grasp *out, uint32_t capacity, uint32_t *count);
 
+/* ---- The target and the objects on the table ----------------------------------------
+ * fg_plan picks its target by fg_config.target_rule unless a target is set here: the
+ * object nearest a world point, or the object with the most voxels inside a world box.
+ * A target is kept across fg_reset and applies to every later plan of the workspace
+ * (fg_plan, fg_plan_ranked, the grasp task's) until fg_clear_target or another one.
+ * fg_plan then answers FG_ERR_INVALID_ARGUMENT when the point, or the whole box, lies
+ * outside the workspace crop box (fg_last_message says which), and FG_NO_GRASP with
+ * reason FG_REASON_NO_OBJECT when no object has a voxel inside the box. A refused
+ * target leaves the one before in place. */
+
+#ifndef FG_MAX_OBJECTS
+#define FG_MAX_OBJECTS 8u /* the core's default when fg_limits.h leaves it out */
+#endif
+
+/** The target: the object nearest xyz (world, metres). Refused: NULL
+ *  (FG_ERR_INVALID_ARGUMENT), a NaN or Inf coordinate (FG_ERR_NON_FINITE). */
+FG_NODISCARD fg_status fg_set_target_point(fg_workspace *ws, const float xyz[3]);
+
+/** The target: the object with the most voxels inside [box_min, box_max] (world,
+ *  metres, inclusive). Refused: NULL (FG_ERR_INVALID_ARGUMENT), a NaN or Inf coordinate
+ *  (FG_ERR_NON_FINITE), a minimum above its maximum (FG_ERR_INVALID_ARGUMENT). */
+FG_NODISCARD fg_status fg_set_target_box(fg_workspace *ws, const float box_min[3], const float box_max[3]);
+
+/** Back to the default: the target picked by fg_config.target_rule. */
+FG_NODISCARD fg_status fg_clear_target(fg_workspace *ws);
+
+/** One object on the support plane, as the last fg_plan found it (world frame). */
+typedef struct fg_object {
+  float centroid[3]; /**< the mean of its voxels' centroids */
+  float box_min[3];  /**< the box of its voxels' cells */
+  float box_max[3];
+  uint32_t voxels;    /**< its occupied voxels */
+  uint32_t is_target; /**< 1 for the object the last fg_plan or fg_plan_object searched */
+} fg_object;
+
+/** The objects the last fg_plan found standing on the support plane (clusters of at
+ *  least min_object_points voxels), nearest the workspace centre first: out[k] is the
+ *  object fg_plan_object(ws, k, ...) plans for. *count (at most capacity and
+ *  FG_MAX_OBJECTS) says how many were written; *dropped (optional: may be NULL) how
+ *  many more the plan found, beyond FG_MAX_OBJECTS or capacity. FG_OK with *count 0
+ *  before an fg_plan that reached its clustering stage, after fg_reset, and when
+ *  nothing stands on the plane. A null array or count, or capacity 0:
+ *  FG_ERR_INVALID_ARGUMENT. fg_last_message is left as it was on success. */
+FG_NODISCARD fg_status fg_objects(fg_workspace *ws, fg_object *out, uint32_t capacity, uint32_t *count,
+                                  uint32_t *dropped);
+
+/** After fg_plan, and before the next fg_reset: plans a grasp on object `index` of
+ *  fg_objects' list, every other object an obstacle, on the same capture and support
+ *  plane. FG_OK: *out holds the grasp; FG_NO_GRASP: out->reason says why; out's counts
+ *  are the capture's, its stage times this call's. FG_ERR_INVALID_SEQUENCE before an
+ *  fg_plan that listed the objects (since fg_init or fg_reset), FG_ERR_INVALID_ARGUMENT
+ *  for a null output or an index at or beyond the list's count. The objects' list stays;
+ *  their is_target then marks this object. */
+FG_NODISCARD fg_status fg_plan_object(fg_workspace *ws, uint32_t index, fg_grasp *out);
+
+/** fg_plan_object, ranked as fg_plan_ranked ranks fg_plan's grasp: out[0] the grasp,
+ *  out[1..] distinct alternates on the same object, *count of them (FG_NO_GRASP or an
+ *  error: *count 0). A null array or count, or capacity 0: FG_ERR_INVALID_ARGUMENT. */
+FG_NODISCARD fg_status fg_plan_object_ranked(fg_workspace *ws, uint32_t index, fg_grasp *out, uint32_t capacity,
+                                             uint32_t *count);
+
 /** The last call's message naming the problem (static text, never NULL). */
 const char *fg_last_message(const fg_workspace *ws);
 
