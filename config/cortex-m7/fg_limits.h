@@ -23,8 +23,8 @@
 
 /* The workspace budget: firmware_api's FG_WORKSPACE_SIZE, a compile-time upper bound of
  * fg_workspace_size() (checked by a static_assert in firmware_api/src/fg_api.cpp).
- * Kept close to the real size (227.3 KiB) because firmware reserves FG_WORKSPACE_SIZE
+ * Kept close to the real size (228.2 KiB) because firmware reserves FG_WORKSPACE_SIZE
  * bytes statically; the configuration's limit is 512 KiB. */
-#define FG_WORKSPACE_SIZE 233472u /* 228 KiB */
+#define FG_WORKSPACE_SIZE 234496u /* 229 KiB */
 
 #endif
