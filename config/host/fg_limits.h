@@ -15,11 +15,11 @@
 #define FG_MAX_CANDIDATES 512u         /* ranked grasp candidates kept for the checks */
 #define FG_MAX_CHECKED_CANDIDATES 128u /* candidates the executability checks examine per plan */
 #define FG_MAX_RANKED_GRASPS 16u       /* grasps one ranked plan returns (the best and its alternates) */
-#define FG_MAX_OBJECTS 16u             /* objects on the support plane a plan lists (the nearest the workspace centre) */
-#define FG_RANSAC_MAX_ITERS 1024u      /* upper bound of the configured iteration count */
-#define FG_MAX_SENSORS 2u              /* head and hand */
-#define FG_SIGHT_BINS 256u             /* nearest-return direction bins per axis, per sensor */
-#define FG_VOXEL_CACHE_BITS 13u /* 2^bits recent cells cached by the ingest loop; then the lookup filter (64 KiB) */
+#define FG_MAX_OBJECTS 16u        /* objects on the support plane a plan lists (the nearest the workspace centre) */
+#define FG_RANSAC_MAX_ITERS 1024u /* upper bound of the configured iteration count */
+#define FG_MAX_SENSORS 2u         /* head and hand */
+#define FG_SIGHT_BINS 256u        /* nearest-return direction bins per axis, per sensor */
+#define FG_VOXEL_CACHE_BITS 13u   /* 2^bits recent cells cached by the ingest loop; then the lookup filter (64 KiB) */
 
 /* The workspace budget: firmware_api's FG_WORKSPACE_SIZE, a compile-time upper bound of
  * fg_workspace_size() (checked by a static_assert in firmware_api/src/fg_api.cpp). */

@@ -359,7 +359,7 @@ void cluster_and_pick(const VoxelGrid& grid, uint8_t* state, uint32_t* queue, co
     for (uint32_t o = 0; o < n_off; ++o)
       lin[o] = off[o].dx +
                static_cast<int32_t>(free_cells->nx) * (off[o].dy + static_cast<int32_t>(free_cells->ny) * off[o].dz);
-  res = ClusterResult{};
+  res.clear();
   const uint32_t n = grid.size();
   uint32_t best_seed = VoxelGrid::kNone, best_size = 0;
   float best_score = 0.f;

@@ -69,6 +69,14 @@ struct ClusterResult {
   ObjectSummary objects[kMaxObjects];
   uint32_t n_objects = 0;
   uint32_t objects_dropped = 0;
+  //! Empty lists and counts (the lists' entries past their counts are never read). Not
+  //! an assignment of a fresh result: clang-tidy takes the loop variable of the
+  //! implicit copy of the arrays for a reserved identifier.
+  void clear() {
+    clusters = target_size = other_points = 0;
+    n_largest = largest_dropped = 0;
+    n_objects = objects_dropped = 0;
+  }
 };
 
 //! The cells of the voxels in one state as a bitmap over their bounding box grown by 2
