@@ -363,10 +363,10 @@ def cast(eye, d):
 ONE_BOX = ((0.0, 0.12),)
 
 
-def points_block(role, eye, target, stride=12, kind_extra=0, pose=None, step=1, boxes=ONE_BOX):
+def points_block(role, eye, target, stride=12, kind_extra=0, pose=None, step=1, boxes=ONE_BOX, scale=1.0):
     """A head-like view of the scene as sensor-frame points (pose encoding 2: look-at):
     the table and a box of each (y offset, height) of `boxes` (more than one: objects
-    standing apart)."""
+    standing apart); coordinates times `scale` (1000: millimetres)."""
     axes = look_at(eye, target)
     world = []
     for i in range(11):          # table around the boxes
@@ -384,7 +384,7 @@ def points_block(role, eye, target, stride=12, kind_extra=0, pose=None, step=1, 
     world = world[::step]
     payload = b""
     for p in world:
-        payload += f32(*to_sensor(p, eye, axes)) + b"\0" * (stride - 12)
+        payload += f32(*(c * scale for c in to_sensor(p, eye, axes))) + b"\0" * (stride - 12)
     kind = 0 | (2 << 1) | kind_extra
     pose_bytes = f32(*eye, *target) if pose is None else pose
     if pose is not None:
@@ -407,12 +407,14 @@ def depth_block(role, eye, target, w=64, h=48, f=120.0, kind_extra=0, intr=None)
     return bytes([role, kind]) + f32(*eye, *target) + bytes([w, h]) + intr + struct.pack("<H", len(px)) + px
 
 
-def plan_input(blocks, config=0, overrides=b"", flags_extra=0, view=0, target=b"", objects=b""):
-    """target: a target block (flags bit 4); objects: the object calls after the plan (bit 5)."""
+def plan_input(blocks, config=0, overrides=b"", flags_extra=0, view=0, target=b"", objects=b"", units=b""):
+    """target: a target block (flags bit 4); objects: the object calls after the plan (bit 5);
+    units: a units block (bit 7: u8 role, float metres per unit)."""
     n_over = len(overrides) // 5
     assert len(overrides) == 5 * n_over and n_over < 8
-    flags = len(blocks) | flags_extra | (16 if target else 0) | (32 if objects else 0)
-    return bytes([config | (n_over << 3)]) + overrides + bytes([flags, view]) + target + b"".join(blocks) + objects
+    flags = len(blocks) | flags_extra | (16 if target else 0) | (32 if objects else 0) | (128 if units else 0)
+    return (bytes([config | (n_over << 3)]) + overrides + bytes([flags, view]) + target + units + b"".join(blocks) +
+            objects)
 
 
 def target_block(kind, point=(0, 0, 0), box_min=(0, 0, 0), box_max=(0, 0, 0), raw_kind=None):
@@ -498,6 +500,12 @@ def make_plan():
     two = points_block(0, HEAD_EYE, TARGET, boxes=TWO_BOXES)
     every = object_calls((0, 3), (1, 0x80 | 2), (2, 31), (0xFF, 1))
     out("plan", "objects_two_boxes.bin", plan_input([two], config=5, objects=every))
+    # units: a cloud in millimetres (refused, naming them), declared (planned), bad units
+    mm = points_block(0, HEAD_EYE, TARGET, step=2, scale=1000.0)
+    out("plan", "units_mm_refused.bin", plan_input([mm]))
+    out("plan", "units_mm_declared.bin", plan_input([mm], units=bytes([0]) + f32(0.001)))
+    out("plan", "units_nan.bin", plan_input([mm], units=bytes([1]) + f32(NAN)))
+    out("plan", "units_role_invalid.bin", plan_input([mm], units=bytes([3]) + f32(0.001)))
     out("plan", "target_point_far_box.bin",
         plan_input([two], config=5, target=target_block(1, point=(0.45, -0.1, 0.05)), objects=every))
     out("plan", "target_box_around.bin",

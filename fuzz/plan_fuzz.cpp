@@ -1,4 +1,5 @@
-// Fuzz target: the core planner (fg::Planner configure / reset / set_target / add_points /
+// Fuzz target: the core planner (fg::Planner configure / reset / set_target /
+// set_sensor_units / add_points /
 // add_point_source / add_depth_image / plan / analyze_view / plan_object / more_grasps)
 // on inputs decoded from the bytes. It asserts nothing about the outcome: the findings
 // are crashes, sanitizer reports, hangs, and any heap use inside the core (the no-heap
@@ -9,11 +10,14 @@
 //   overrides:   u8 field index, 4 bytes value (float or uint32 by field), each
 //   u8  flags    bits 0-1: sensor blocks (0..3), bit 2: plan twice, bit 3: analyze_view,
 //                bit 4: a target block follows, bit 5: object calls after the plan,
-//                bit 6: plan_object(0) before the plan (out of sequence)
+//                bit 6: plan_object(0) before the plan (out of sequence), bit 7: a units
+//                block follows (after the target's)
 //   u8  view     analyze_view index (modulo view_count() + 2: out of range included)
 //   target (bit 4): u8 kind (modulo 4: 0 by rule, 1 nearest point, 2 inside box, 3 the
 //                next byte as the raw kind, valid or not), then 9 floats: point, box_min,
 //                box_max (raw: NaN, Inf, huge values and inverted boxes reach set_target)
+//   units (bit 7): u8 role (raw & 3: 2 and 3 are invalid roles), float metres per unit
+//                (raw: 0, negative, NaN, huge reach set_sensor_units)
 //   sensor block, repeated:
 //     u8 role    raw & 3 (0 head, 1 hand, 2 and 3 are invalid roles)
 //     u8 kind    bit 0: 0 add_points, 1 add_depth_image; bits 1-2: pose encoding;
@@ -31,7 +35,7 @@
 //                2^32 - 1, else modulo object_count() + 2: out of range included) and
 //                u8 more (more_grasps after it: bits 0-4 max, modulo kMaxRankedGrasps + 2;
 //                bit 7 a null output)
-// The target and every other setting start afresh on each input.
+// The target, the units and every other setting start afresh on each input.
 // Raw floats reach the core as they are: NaN, Inf, denormals, huge values.
 // fuzz/make_seeds.py writes seeds in this layout.
 #include <cmath>
@@ -342,11 +346,20 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   g_planner.reset();
   // Nor the previous input's target: the default (always valid), then this input's.
   if (g_planner.set_target(fg::TargetSpec{}) != fg::Status::ok) std::abort();
+  for (const fg::SensorRole role : {fg::SensorRole::head, fg::SensorRole::hand})  // nor its units
+    if (g_planner.set_sensor_units(role, 1.f) != fg::Status::ok) std::abort();
   fg_fuzz::disarm();
   if ((flags & 16u) != 0) {
     const fg::TargetSpec target = read_target(r);
     fg_fuzz::arm();
     st[ns++] = g_planner.set_target(target);
+    fg_fuzz::disarm();
+  }
+  if ((flags & 128u) != 0) {
+    const auto role = static_cast<fg::SensorRole>(r.u8() & 3u);
+    const float metres_per_unit = r.f32();
+    fg_fuzz::arm();
+    st[ns++] = g_planner.set_sensor_units(role, metres_per_unit);
     fg_fuzz::disarm();
   }
 

@@ -9,6 +9,7 @@
 #include <cstdint>
 
 #include "fg/core/limits.hpp"
+#include "fg/core/pipeline/units.hpp"
 #include "fg/core/vec4.hpp"
 #include "fg/core/voxel_grid.hpp"
 
@@ -21,6 +22,7 @@ struct State {
   float r[3][3], c[3];
   float lo[3], hi[3];  // the crop box in cell units
   float leaf, zmin, zmax;
+  float depth_mm = 1000.f;    // millimetres per unit of depth (the sight map's)
   uint16_t* sight = nullptr;  // kSightBins^2 nearest returns of this sensor
   uint32_t offered = 0, nonfinite = 0, kept = 0;
   uint32_t parity = 0;  // valid-depth points so far, mod 2 (the direction bins' share)
@@ -34,7 +36,26 @@ struct State {
   uint32_t pend_key[kBatch];
   uint8_t pend_lane[kBatch];  // the point's place in its block
   uint32_t n_pend = 0;
+  // The units check's sample (units.hpp), taken while the sensor has kept no point: the
+  // depth of one refused point in front of the sensor per group of lanes, from every
+  // 2^k-th such group, k growing as the sample fills, so that it spans the whole cloud.
+  float depth_sample[kUnitSamples];
+  uint32_t n_depth_sample = 0;
+  uint32_t depth_groups = 0;       // groups offered to the sample
+  uint32_t depth_stride_mask = 0;  // 2^k - 1
 };
+
+//! Offers one refused depth to the units check's sample (State::depth_sample).
+inline void sample_depth(State& s, float z) {
+  if ((s.depth_groups++ & s.depth_stride_mask) != 0u) return;
+  if (s.n_depth_sample == kUnitSamples) {  // full: keep every other, take half as many
+    for (uint32_t i = 0; i < kUnitSamples / 2; ++i) s.depth_sample[i] = s.depth_sample[2 * i];
+    s.n_depth_sample = kUnitSamples / 2;
+    s.depth_stride_mask = 2u * s.depth_stride_mask + 1u;
+    if (((s.depth_groups - 1u) & s.depth_stride_mask) != 0u) return;
+  }
+  s.depth_sample[s.n_depth_sample++] = z;
+}
 
 //! Stages and adds n <= State::kBatch points; false when the grid is full. Then
 //! offered, nonfinite and kept count exactly the points read up to the refused one.

@@ -126,11 +126,14 @@ void gather(Block& blk, const uint8_t* const b[3], uint32_t stride, uint32_t n, 
   }
 }
 
+// `metres_per_unit` scales the points on their way in: folded into the transform, the
+// range filter's bounds and the sight map's millimetres (exact at 1).
 void make_ingest(ingest::State& in, const Pose& p, const PlannerConfig& cfg, const VoxelGrid& grid,
-                 const float crop_lo[3], const float crop_hi[3], uint16_t* sight, uint32_t requested_lanes) {
+                 const float crop_lo[3], const float crop_hi[3], uint16_t* sight, uint32_t requested_lanes,
+                 float metres_per_unit) {
   const float inv = 1.f / grid.leaf();
   for (int j = 0; j < 3; ++j)
-    for (int k = 0; k < 3; ++k) in.r[j][k] = p.R(j, k) * inv;
+    for (int k = 0; k < 3; ++k) in.r[j][k] = p.R(j, k) * inv * metres_per_unit;
   const Vec3 c = (p.t - grid.origin()) * inv;
   for (int j = 0; j < 3; ++j) {
     in.c[j] = c[j];
@@ -138,14 +141,15 @@ void make_ingest(ingest::State& in, const Pose& p, const PlannerConfig& cfg, con
     in.hi[j] = crop_hi[j];
   }
   in.leaf = grid.leaf();
-  in.zmin = cfg.range_min_m;
-  in.zmax = cfg.range_max_m;
+  in.zmin = cfg.range_min_m / metres_per_unit;
+  in.zmax = cfg.range_max_m / metres_per_unit;
+  in.depth_mm = 1000.f * metres_per_unit;
   in.sight = sight;
   in.lanes = ingest::lanes(requested_lanes);
 }
 }  // namespace
 
-Status Planner::ingest_begin(SensorRole role, const Pose& world_T_sensor, ingest::State& in) {
+Status Planner::ingest_begin(SensorRole role, const Pose& world_T_sensor, ingest::State& in, bool in_sensor_units) {
   const uint32_t r = static_cast<uint32_t>(role);
   if (r >= kMaxSensors) {
     message_ = "unknown sensor role";
@@ -162,8 +166,36 @@ Status Planner::ingest_begin(SensorRole role, const Pose& world_T_sensor, ingest
   const Status s = check_pose(world_T_sensor);
   if (s != Status::ok) return s;
   sensors_.begin(r, world_T_sensor);
-  make_ingest(in, world_T_sensor, cfg_, grid_, crop_lo_cells_, crop_hi_cells_, sensors_.sight_mm[r], ingest_lanes_);
+  make_ingest(in, world_T_sensor, cfg_, grid_, crop_lo_cells_, crop_hi_cells_, sensors_.sight_mm[r], ingest_lanes_,
+              in_sensor_units ? units_.m[r] : 1.f);
   return Status::ok;
+}
+
+Status Planner::set_sensor_units(SensorRole role, float metres_per_unit) {
+  const uint32_t r = static_cast<uint32_t>(role);
+  if (r >= kMaxSensors) {
+    message_ = "unknown sensor role";
+    return Status::invalid_sensor;
+  }
+  if (!std::isfinite(metres_per_unit)) {
+    message_ = "sensor units: metres per unit is not finite";
+    return Status::non_finite;
+  }
+  if (!(metres_per_unit >= 1e-6f && metres_per_unit <= 1e3f)) {
+    message_ = "sensor units: metres per unit outside 1e-6 .. 1e3";
+    return Status::invalid_argument;
+  }
+  units_.m[r] = metres_per_unit;
+  return Status::ok;
+}
+
+Status Planner::check_units(const ingest::State& in, SensorRole role, Status st) {
+  if (st != Status::ok || in.kept != 0u || in.n_depth_sample == 0u) return st;
+  const char* why = units_mistake(in.depth_sample, in.n_depth_sample, cfg_.range_min_m, cfg_.range_max_m,
+                                  units_.m[static_cast<uint32_t>(role) % kMaxSensors]);
+  if (why == nullptr) return st;
+  message_ = why;
+  return Status::invalid_argument;
 }
 
 uint32_t Planner::ingest_lanes() const { return ingest::lanes(ingest_lanes_); }
@@ -292,7 +324,7 @@ Status Planner::add_coordinates(SensorRole role, const uint8_t* const base[3], u
   if (s != Status::ok) return s;
   const uint64_t t0 = platform::monotonic_us();
   const Status st = ingest_piece(in, base, count, stride_bytes) ? Status::ok : Status::capacity_exceeded;
-  return end_ingest(count, in.offered - in.nonfinite, in.kept, t0, st);
+  return end_ingest(count, in.offered - in.nonfinite, in.kept, t0, check_units(in, role, st));
 }
 
 Status Planner::add_point_source(SensorRole role, PointSource& source, const Pose& world_T_sensor) {
@@ -325,7 +357,7 @@ Status Planner::add_point_source(SensorRole role, PointSource& source, const Pos
       return end_ingest(offered, in.offered - in.nonfinite, in.kept, t0, Status::capacity_exceeded);
     }
   }
-  return end_ingest(offered, in.offered - in.nonfinite, in.kept, t0, Status::ok);
+  return end_ingest(offered, in.offered - in.nonfinite, in.kept, t0, check_units(in, role, Status::ok));
 }
 
 Status Planner::add_depth_image(SensorRole role, const uint16_t* depth_mm, uint16_t width, uint16_t height,
@@ -343,7 +375,7 @@ Status Planner::add_depth_image(SensorRole role, const uint16_t* depth_mm, uint1
     return Status::invalid_argument;
   }
   ingest::State in;
-  const Status s = ingest_begin(role, world_T_sensor, in);
+  const Status s = ingest_begin(role, world_T_sensor, in, false);  // metres from its millimetres
   if (s != Status::ok) return s;
   const uint64_t t0 = platform::monotonic_us();
   Status st = Status::ok;

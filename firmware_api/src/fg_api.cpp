@@ -485,6 +485,14 @@ fg_status fg_add_points(fg_workspace* ws, int32_t role, const float* xyz, size_t
   return to_c(s);
 }
 
+fg_status fg_set_sensor_units(fg_workspace* ws, int32_t role, float metres_per_unit) {
+  if (!valid(ws)) return FG_ERR_NOT_A_WORKSPACE;
+  if (!role_ok(role)) return fail(ws, FG_ERR_INVALID_SENSOR, "unknown sensor role");
+  const fg::Status s = ws->planner.set_sensor_units(static_cast<fg::SensorRole>(role), metres_per_unit);
+  ws->message = s == fg::Status::ok ? "" : ws->planner.last_message();
+  return to_c(s);
+}
+
 fg_status fg_add_points_planar(fg_workspace* ws, int32_t role, const float* x, const float* y, const float* z,
                                size_t count, const fg_pose* world_T_sensor) {
   if (const fg_status c = points_call_ok(ws, role, count, world_T_sensor); c != FG_OK) return c;

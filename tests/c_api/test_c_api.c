@@ -333,6 +333,7 @@ static void test_wrong_order_and_bad_arguments(void) {
     CHECK_STATUS(fg_set_target_point(NULL, at), FG_ERR_NOT_A_WORKSPACE);
     CHECK_STATUS(fg_set_target_box((fg_workspace *)junk, lo, hi), FG_ERR_NOT_A_WORKSPACE);
     CHECK_STATUS(fg_clear_target(NULL), FG_ERR_NOT_A_WORKSPACE);
+    CHECK_STATUS(fg_set_sensor_units(NULL, FG_SENSOR_HEAD, 0.001f), FG_ERR_NOT_A_WORKSPACE);
     CHECK_STATUS(fg_objects(NULL, objects, 2, &n_objects, &n_dropped), FG_ERR_NOT_A_WORKSPACE);
     CHECK_STATUS(fg_plan_object((fg_workspace *)junk, 0, &g), FG_ERR_NOT_A_WORKSPACE);
     CHECK_STATUS(fg_plan_object_ranked(NULL, 0, &g, 1, &n_objects), FG_ERR_NOT_A_WORKSPACE);
@@ -389,6 +390,12 @@ static void test_wrong_order_and_bad_arguments(void) {
     CHECK(strstr(fg_last_message(ws), "target box") != NULL);
     CHECK_STATUS(fg_set_target_point(ws, at), FG_OK);
     CHECK_STATUS(fg_clear_target(ws), FG_OK);
+    CHECK_STATUS(fg_set_sensor_units(ws, 9, 1.f), FG_ERR_INVALID_SENSOR);
+    CHECK_STATUS(fg_set_sensor_units(ws, FG_SENSOR_HAND, 0.f), FG_ERR_INVALID_ARGUMENT);
+    CHECK_STATUS(fg_set_sensor_units(ws, FG_SENSOR_HAND, NAN), FG_ERR_NON_FINITE);
+    CHECK(strstr(fg_last_message(ws), "units") != NULL);
+    CHECK_STATUS(fg_set_sensor_units(ws, FG_SENSOR_HAND, 0.001f), FG_OK);
+    CHECK_STATUS(fg_set_sensor_units(ws, FG_SENSOR_HAND, 1.f), FG_OK);
     CHECK_STATUS(fg_objects(ws, NULL, 2, &n_objects, &n_dropped), FG_ERR_INVALID_ARGUMENT);
     CHECK(n_objects == 0 && n_dropped == 0);
     CHECK_STATUS(fg_objects(ws, objects, 2, NULL, &n_dropped), FG_ERR_INVALID_ARGUMENT);

@@ -962,6 +962,34 @@ TEST_F(CliContract, BadTargetsAreInvalidInput) {
   EXPECT_NE(j.value("message", "").find("target box"), std::string::npos) << j.dump();
 }
 
+// The example's clouds written in millimetres: invalid input naming the units, unless the
+// manifest's "units" or --units say millimetres; bad units are invalid input too.
+TEST_F(CliContract, CloudsInMillimetres) {
+  json m = example_manifest();
+  for (json& s : m["sensors"]) {
+    fg::host::PointCloud c;
+    ASSERT_TRUE(fg::host::read_pcd(s["cloud"].get<std::string>(), c).ok);
+    std::string bytes = xyz_header(c.size(), 1, c.size(), "binary");
+    for (float v : c.xyz) {
+      v *= 1000.f;
+      bytes.append(reinterpret_cast<const char*>(&v), sizeof v);
+    }
+    const std::string name = "mm_" + s["name"].get<std::string>() + ".pcd";
+    write_file(path(name), bytes);
+    s["cloud"] = name;
+  }
+  const std::string e = expect_invalid(plan(manifest(m, "mm.json")), "mm_head.pcd", {"millimetres"});
+  EXPECT_NE(e.find("units"), std::string::npos) << e;
+  (void)expect_ok(plan(manifest(m, "mm.json"), {"--units", "head=mm", "--units", "hand=mm"}));
+  for (json& s : m["sensors"]) s["units"] = "mm";
+  (void)expect_ok(plan(manifest(m, "declared.json")));
+  m["sensors"][0]["units"] = "inch";
+  expect_invalid(plan(manifest(m, "inch.json")), "inch.json", {"units"});
+  m["sensors"][0]["units"] = "mm";
+  for (const char* bad : {"head", "head=inch", "wrist=mm", "=mm"})
+    expect_invalid(plan(manifest(m, "declared.json"), {"--units", bad}), "--units", {"SENSOR=UNIT", "no sensor"});
+}
+
 TEST_F(CliContract, DeterministicOutput) {
   const CliRun a = plan(example_scene());
   const CliRun b = plan(example_scene());

@@ -178,6 +178,45 @@ INSTANTIATE_TEST_SUITE_P(Shipped, FirmwareApiScenes,
                                            FG_SHARED_DIR "/data/scenes/learn3-obj3/scene.json",
                                            FG_SHARED_DIR "/data/scenes/learn42-obj3/scene.json"));
 
+// The example's clouds in millimetres: refused naming the units, then with the sensors'
+// units set planned as the planner plans them with the same units.
+TEST(FirmwareApi, SensorUnits) {
+  SceneData d;
+  ASSERT_TRUE(load(FG_SOURCE_DIR "/examples/two-sensor-box/scene.json", d));
+  std::vector<std::vector<float>> mm;
+  for (const auto& c : d.clouds) {
+    mm.emplace_back(c.xyz.begin(), c.xyz.end());
+    for (float& v : mm.back()) v *= 1000.f;
+  }
+  auto mem = std::make_unique<Memory>();
+  fg_config cfg;
+  ASSERT_EQ(fg_config_default(&cfg), FG_OK);
+  fg_workspace* ws = nullptr;
+  ASSERT_EQ(fg_init(mem->bytes, sizeof mem->bytes, &cfg, &ws), FG_OK);
+  const fg_pose pose0 = to_c(d.poses[0]);
+  EXPECT_EQ(fg_add_points(ws, static_cast<int32_t>(d.roles[0]), mm[0].data(), mm[0].size() / 3, 12, &pose0),
+            FG_ERR_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(fg_last_message(ws)).find("millimetres"), std::string::npos) << fg_last_message(ws);
+
+  auto oracle = std::make_unique<fg::Planner>();
+  ASSERT_EQ(oracle->configure(fg::PlannerConfig{}), fg::Status::ok);
+  ASSERT_EQ(fg_reset(ws), FG_OK);
+  for (size_t i = 0; i < d.clouds.size(); ++i) {
+    ASSERT_EQ(oracle->set_sensor_units(d.roles[i], 0.001f), fg::Status::ok);
+    ASSERT_EQ(oracle->add_points(d.roles[i], mm[i].data(), static_cast<uint32_t>(mm[i].size() / 3), 12, d.poses[i]),
+              fg::Status::ok);
+    ASSERT_EQ(fg_set_sensor_units(ws, static_cast<int32_t>(d.roles[i]), 0.001f), FG_OK);
+    const fg_pose pose = to_c(d.poses[i]);
+    ASSERT_EQ(fg_add_points(ws, static_cast<int32_t>(d.roles[i]), mm[i].data(), mm[i].size() / 3, 12, &pose), FG_OK);
+  }
+  fg::PlanResult want;
+  ASSERT_EQ(oracle->plan(want), fg::Status::ok);
+  fg_grasp got;
+  ASSERT_EQ(fg_plan(ws, &got), FG_OK);
+  for (int i = 0; i < 3; ++i) EXPECT_EQ(got.position[i], want.grasp.position(i));
+  EXPECT_EQ(got.width_m, want.grasp.width);
+}
+
 // Every field of fg_config reaches the planner: default -> C -> check is ok, and a
 // value out of range in each field is refused under its option name.
 TEST(FirmwareApi, EveryConfigFieldIsChecked) {

@@ -228,6 +228,14 @@ FG_NODISCARD fg_status fg_reset(fg_workspace *ws);
 FG_NODISCARD fg_status fg_add_depth_image(fg_workspace *ws, int32_t role, const uint16_t *depth_mm, uint16_t width,
                                           uint16_t height, const fg_intrinsics *k, const fg_pose *world_T_sensor);
 
+/** The units of a sensor's points (fg_add_points, fg_add_points_planar): metres per
+ *  unit, 1.0f (metres, the default) or 0.001f (millimetres), within 1e-6 .. 1e3
+ *  (FG_ERR_INVALID_ARGUMENT; NaN: FG_ERR_NON_FINITE). Kept across fg_reset. Depth
+ *  images are in millimetres whatever this says. Points all outside the depth range that
+ *  would lie within it in other units are refused with FG_ERR_INVALID_ARGUMENT and a
+ *  message naming those units. */
+FG_NODISCARD fg_status fg_set_sensor_units(fg_workspace *ws, int32_t role, float metres_per_unit);
+
 /** Adds one sensor's points: count xyz triples of float (sensor frame, metres), the
  *  first float of point i at xyz + i * stride_bytes (stride >= 12; any alignment).
  *  NaN points are skipped. role: an fg_sensor_role, each at most once per capture. */

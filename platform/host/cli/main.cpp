@@ -69,6 +69,9 @@ void add_plan_command(CLI::App& app, PlanArgs& a) {
                                 "xmin,ymin,zmin,xmax,ymax,zmax: the target is the object with the most voxels "
                                 "inside this world box (metres)");
   target->excludes(box);
+  a.cmd->add_option("--units", a.po.units,
+                    "SENSOR=UNIT: the units of a sensor's cloud, m (the default), cm or mm, over the scene's "
+                    "\"units\" (repeatable)");
 }
 
 void add_sim_command(CLI::App& app, SimArgs& a) {

@@ -65,6 +65,24 @@ namespace {
     err = r.error;
     return false;
   }
+  // --units SENSOR=UNIT over the manifest's "units".
+  for (const std::string& u : opts.units) {
+    const size_t eq = u.find('=');
+    const std::string name = u.substr(0, eq), unit = eq == std::string::npos ? "" : u.substr(eq + 1);
+    double m = 1.0;
+    if (eq == std::string::npos || !units_by_name(unit, m)) {
+      err = "command line: --units " + text::printable(u) + ": expected SENSOR=UNIT, UNIT m, cm or mm";
+      return false;
+    }
+    bool found = false;
+    for (SceneSensor& s : scene.sensors)
+      if (s.name == name) s.units_m = m, found = true;
+    if (!found) {
+      err =
+          "command line: --units " + text::printable(u) + ": the scene has no sensor \"" + text::printable(name) + "\"";
+      return false;
+    }
+  }
   cfg.gripper.max_opening_m = static_cast<float>(scene.gripper.max_opening);
   cfg.gripper.finger_width_m = static_cast<float>(scene.gripper.finger_width);
   cfg.gripper.finger_depth_m = static_cast<float>(scene.gripper.finger_depth);
@@ -173,7 +191,11 @@ SensorRole role_of(const SceneSensor& s) { return s.name == "head" ? SensorRole:
       return false;
     }
     if (!add_error.empty()) continue;  // only the later sensors' file errors matter now
-    if (streamed[i]) {                 // read while ingested
+    if (planner.set_sensor_units(role_of(s), static_cast<float>(s.units_m)) != Status::ok) {
+      err = opts.scene_path + ": sensor \"" + s.name + "\": " + planner.last_message();
+      return false;
+    }
+    if (streamed[i]) {  // read while ingested
       if (!stream_cloud(planner, s, streams[i], pose, add_error, err)) return false;
       read_done_us[i] = platform::monotonic_us();
       continue;

@@ -11,13 +11,14 @@ namespace fg::host {
 
 struct PlanOptions {
   std::string scene_path;
-  std::string config_path;        //!< optional JSON of options
-  std::vector<std::string> sets;  //!< name=value overrides
-  std::string pictures_dir;       //!< write SVG pictures here when set
-  uint32_t top = 0;               //!< --top N: the N best distinct grasps in `grasps` (0: not asked)
-  bool all_objects = false;       //!< --objects all: every object on the plane in `objects`
-  std::string target;             //!< --target x,y,z: the object nearest this world point
-  std::string target_box;         //!< --target-box xmin,ymin,zmin,xmax,ymax,zmax: the object inside
+  std::string config_path;         //!< optional JSON of options
+  std::vector<std::string> sets;   //!< name=value overrides
+  std::string pictures_dir;        //!< write SVG pictures here when set
+  uint32_t top = 0;                //!< --top N: the N best distinct grasps in `grasps` (0: not asked)
+  bool all_objects = false;        //!< --objects all: every object on the plane in `objects`
+  std::string target;              //!< --target x,y,z: the object nearest this world point
+  std::string target_box;          //!< --target-box xmin,ymin,zmin,xmax,ymax,zmax: the object inside
+  std::vector<std::string> units;  //!< --units SENSOR=UNIT (m, cm, mm), over the manifest's
 };
 
 //! The target of --target or --target-box (both empty: the configured rule); false

@@ -176,9 +176,27 @@ struct Ctx {
   const std::string cloud = s["cloud"].get<std::string>();
   if (cloud.find('\0') != std::string::npos) return fail(manifest_path, cat(sw, " cloud path has a NUL byte"));
   ss.cloud_path = (!cloud.empty() && cloud[0] == '/') ? cloud : base + cloud;
+  if (s.contains("units")) {
+    const json& u = s["units"];
+    if (!u.is_string() || !units_by_name(u.get<std::string>(), ss.units_m))
+      return fail(manifest_path, cat(sw, " units must be \"m\", \"cm\" or \"mm\""));
+  }
   return read_sensor_pose(s, sw, c, ss);
 }
 }  // namespace
+
+bool units_by_name(const std::string& name, double& metres_per_unit) {
+  if (name == "m") {
+    metres_per_unit = 1.0;
+  } else if (name == "cm") {
+    metres_per_unit = 0.01;
+  } else if (name == "mm") {
+    metres_per_unit = 0.001;
+  } else {
+    return false;
+  }
+  return true;
+}
 
 ReadResult parse_scene(const std::string& text, const std::string& manifest_path, Scene& out) {
   Ctx c{manifest_path, {}};
@@ -253,6 +271,8 @@ ReadResult write_scene(const std::string& path, const Scene& scene) {
     if (s.pose) js["pose"] = pose_json(*s.pose);
     if (s.joints) js["joints"] = *s.joints;
     if (s.hand_eye) js["hand_eye"] = pose_json(*s.hand_eye);
+    if (s.units_m == 0.001) js["units"] = "mm";
+    if (s.units_m == 0.01) js["units"] = "cm";
     sensors.push_back(js);
   }
   json root{{"sensors", sensors},

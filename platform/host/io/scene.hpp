@@ -21,7 +21,12 @@ struct SceneSensor {
   std::optional<PoseD> pose;                    //!< world_T_sensor
   std::optional<std::array<double, 6>> joints;  //!< UR5 joints, instead of pose
   std::optional<PoseD> hand_eye;                //!< tool0_T_sensor with joints
+  double units_m = 1.0;                         //!< metres per unit of the cloud ("units": m, cm, mm)
 };
+
+//! The metres per unit of a cloud's units by name: "m" 1, "cm" 0.01, "mm" 0.001; false
+//! for any other name.
+[[nodiscard]] bool units_by_name(const std::string& name, double& metres_per_unit);
 
 struct SceneGripper {
   double max_opening = 0.085;

@@ -156,7 +156,7 @@ void read_depth(SensorInput& in, const std::string& what, const py::handle& obj,
 }
 
 void read_sensor_dict(SensorInput& in, const std::string& what, const py::dict& d) {
-  py::handle points, depth, pose, intrinsics = py::none();
+  py::handle points, depth, pose, intrinsics = py::none(), units = py::none();
   for (const auto& item : d) {
     const std::string key = py::str(item.first).cast<std::string>();
     if (key == "points")
@@ -167,8 +167,19 @@ void read_sensor_dict(SensorInput& in, const std::string& what, const py::dict& 
       pose = item.second;
     else if (key == "intrinsics")
       intrinsics = item.second;
+    else if (key == "units")
+      units = item.second;
     else
-      throw py::value_error(host::text::cat(what, ": unknown key \"", key, "\" (points or depth, pose, intrinsics)"));
+      throw py::value_error(
+          host::text::cat(what, ": unknown key \"", key, "\" (points or depth, pose, intrinsics, units)"));
+  }
+  if (!units.is_none()) {
+    double m = 1.0;
+    if (!py::isinstance<py::str>(units) || !host::units_by_name(units.cast<std::string>(), m))
+      throw py::value_error(what + ": units must be \"m\", \"cm\" or \"mm\", not " +
+                            py::repr(units).cast<std::string>());
+    if (depth) throw py::value_error(what + ": a depth image is in millimetres; \"units\" belong to points");
+    in.units_m = static_cast<float>(m);
   }
   if (!pose) throw py::value_error(what + ": no \"pose\" (the 4x4 world_T_sensor)");
   if (bool(points) == bool(depth)) throw py::value_error(what + ": give \"points\" or \"depth\", one of them");

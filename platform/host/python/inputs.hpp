@@ -32,10 +32,11 @@ struct SensorInput {
   const uint16_t* depth = nullptr;
   uint16_t width = 0, height = 0;
   PinholeIntrinsics intrinsics;
+  float units_m = 1.f;  // metres per unit of the points ("units": m, cm, mm)
 };
 
 //! A sensor as plan() takes it: a (points, pose) tuple, or a dict {"points" or "depth",
-//! "pose", "intrinsics" (depth only)}.
+//! "pose", "intrinsics" (depth only), "units" (points only: "m", "cm" or "mm")}.
 SensorInput read_sensor(SensorRole role, const py::handle& spec);
 
 //! The arm's current joints: six finite angles (radians, URDF order).

@@ -116,10 +116,14 @@ class PyPlanner {
       st = p.set_target(req.target);
       if (st != Status::ok) error = host::text::cat(to_string(st), ": ", p.last_message());
     }
+    for (const SensorRole role : {SensorRole::head, SensorRole::hand})  // metres unless a sensor says otherwise
+      if (st == Status::ok) st = p.set_sensor_units(role, 1.f);
     for (size_t i = 0; i < sensors.size() && st == Status::ok; ++i) {
       const SensorInput& s = sensors[i];
-      st = s.depth ? p.add_depth_image(s.role, s.depth, s.width, s.height, s.intrinsics, s.pose)
-                   : p.add_points(s.role, s.xyz, s.count, s.stride, s.pose);
+      st = p.set_sensor_units(s.role, s.units_m);
+      if (st == Status::ok)
+        st = s.depth ? p.add_depth_image(s.role, s.depth, s.width, s.height, s.intrinsics, s.pose)
+                     : p.add_points(s.role, s.xyz, s.count, s.stride, s.pose);
       if (st != Status::ok) error = host::text::cat(to_string(st), ": ", role_name(s.role), ": ", p.last_message());
     }
     if (st != Status::ok) return st;

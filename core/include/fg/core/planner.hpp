@@ -173,6 +173,15 @@ class Planner {
   [[nodiscard]] Status add_depth_image(SensorRole role, const uint16_t* depth_mm, uint16_t width, uint16_t height,
                                        const PinholeIntrinsics& k, const Pose& world_T_sensor);
 
+  //! The units of a sensor's points (add_points, add_points_planar, add_point_source):
+  //! metres per unit, 1 (metres, the default) or 0.001 (millimetres), within 1e-6 .. 1e3.
+  //! Kept across reset() and configure(). Depth images carry their millimetres and are
+  //! not scaled. A sensor whose every point fails the range filter while most of its
+  //! depths would pass it in other units (units.hpp) is refused with invalid_argument
+  //! and a message naming the likely units, rather than planned as "no points".
+  [[nodiscard]] Status set_sensor_units(SensorRole role, float metres_per_unit);
+  float sensor_units(SensorRole role) const { return units_.m[static_cast<uint32_t>(role) % kMaxSensors]; }
+
   //! This planner's ingest vector width: 0 (the default) the widest this CPU runs (8
   //! lanes on x86-64 with AVX2, else 4), 4 the path of every target. Every width gives
   //! the same grid, bit for bit; tests and benchmarks compare them. Kept across reset().
@@ -257,8 +266,14 @@ class Planner {
   [[nodiscard]] Status check_pose(const Pose& p);
   // A sensor's start: the role once per capture, before plan(), with a rigid pose;
   // then its ingest state (the transform to cells, the crop box, its direction bins).
-  [[nodiscard]] Status ingest_begin(SensorRole role, const Pose& world_T_sensor, ingest::State& in);
+  // `in_sensor_units`: the points are in the sensor's units (set_sensor_units); false for
+  // a depth image's, in metres.
+  [[nodiscard]] Status ingest_begin(SensorRole role, const Pose& world_T_sensor, ingest::State& in,
+                                    bool in_sensor_units = true);
   [[nodiscard]] Status end_ingest(uint32_t offered, uint32_t finite, uint32_t kept, uint64_t t0, Status st);
+  // After a sensor's points (not a depth image's): st, or invalid_argument when none
+  // passed the range filter and their depths name other units (units.hpp).
+  [[nodiscard]] Status check_units(const ingest::State& in, SensorRole role, Status st);
   // Before a block of n points: room for n more voxels, the crop box shrunk if need be
   // (at crop_shrink_min the block is added as far as the grid holds it).
   void make_room(ingest::State& in, uint32_t n);
@@ -335,6 +350,12 @@ class Planner {
   uint32_t ingest_us_ = 0;
   bool overflow_ = false;
   uint32_t ingest_lanes_ = 0;  // the width asked for (set_ingest_lanes)
+  struct SensorUnits {         // metres per unit of each sensor's points (set_sensor_units)
+    float m[kMaxSensors];
+    SensorUnits() {
+      for (float& v : m) v = 1.f;
+    }
+  } units_;
   VoxelGrid grid_;
   uint8_t state_[kMaxVoxels];  // per voxel (cluster.hpp's VoxelState)
 
