@@ -25,8 +25,11 @@ using fg::Vec3;
 const char* const kMm = "likely in millimetres";
 
 TEST(UnitsMistake, NamesTheUnitsTheDepthsFit) {
-  const auto named = [](std::vector<float> d, float metres_per_unit = 1.f) {
-    const char* m = fg::units_mistake(d.data(), static_cast<uint32_t>(d.size()), 0.3f, 1.5f, metres_per_unit);
+  // The depths given, repeated to the sample's size (the same shares).
+  const auto named = [](const std::vector<float>& d, float metres_per_unit = 1.f) {
+    std::vector<float> sample;
+    while (!d.empty() && sample.size() < fg::kUnitSamples) sample.insert(sample.end(), d.begin(), d.end());
+    const char* m = fg::units_mistake(sample.data(), static_cast<uint32_t>(sample.size()), 0.3f, 1.5f, metres_per_unit);
     return std::string(m == nullptr ? "" : m);
   };
   EXPECT_NE(named({450.f, 800.f, 1200.f, 640.f}).find(kMm), std::string::npos);
@@ -42,7 +45,10 @@ TEST(UnitsMistake, NamesTheUnitsTheDepthsFit) {
   // Absurd whatever the units: every depth over 100 times the range.
   EXPECT_NE(named({2e6f, 5e6f}).find("100 times outside"), std::string::npos);
   EXPECT_EQ(named({}), "");
-  EXPECT_EQ(fg::units_mistake(nullptr, 3, 0.3f, 1.5f, 1.f), nullptr);
+  EXPECT_EQ(fg::units_mistake(nullptr, 30, 0.3f, 1.5f, 1.f), nullptr);
+  // Too few to say: a handful of stray points.
+  const std::vector<float> few(fg::kUnitSamplesNeeded - 1, 800.f);
+  EXPECT_EQ(fg::units_mistake(few.data(), static_cast<uint32_t>(few.size()), 0.3f, 1.5f, 1.f), nullptr);
 }
 
 Pose look_at(const Vec3& eye, const Vec3& target) {

@@ -26,7 +26,7 @@ constexpr Unit kUnits[] = {
 }  // namespace
 
 const char* units_mistake(const float* depth, uint32_t n, float range_min_m, float range_max_m, float metres_per_unit) {
-  if (depth == nullptr || n == 0) return nullptr;
+  if (depth == nullptr || n < kUnitSamplesNeeded) return nullptr;
   const float n_f = static_cast<float>(n);
   for (const Unit& u : kUnits) {
     const float ratio = u.metres / metres_per_unit;
