@@ -1,6 +1,7 @@
 // The `forcegrasp` host program.
 #include <CLI/CLI.hpp>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -36,6 +37,7 @@ struct SimArgs {
   bool quiet = false;
   CLI::Option* seed_opt = nullptr;
   std::string distribution_arg = "cell";
+  std::vector<double> calibration_error;  // --calibration-error MM,DEG
 };
 
 //! Every object kind's name, comma-separated (the --objects help).
@@ -91,6 +93,13 @@ void add_sim_command(CLI::App& app, SimArgs& a) {
       ->check(CLI::IsMember({"cell", "classic"}));
   sim_cmd->add_option("--mu", so.mu, "friction coefficient of the judge");
   sim_cmd->add_option("--second-object-rate", so.second_object_rate, "classic: share of scenes with a second object");
+  sim_cmd
+      ->add_option("--calibration-error", a.calibration_error,
+                   "MM,DEG: the wrist sensor's pose the task believes is off by MM millimetres and DEG degrees in each "
+                   "trial (a hand-eye error in a direction drawn from the trial's seed)")
+      ->delimiter(',')
+      ->expected(2)
+      ->check(CLI::Range(0.0, 100.0));
   sim_cmd->add_option("--pictures", so.pictures_dir, "write SVG pictures of each trial's plan to DIR/<kind>-<seed>");
   sim_cmd->add_option("--export", so.export_dir,
                       "write each trial's scene (scene.json, PCD, truth.json) to DIR/<kind>-<seed>");
@@ -172,6 +181,14 @@ int run_sim_command(SimArgs& a) {
     return kExitInvalid;
   }
   so.progress = !a.quiet;
+  if (a.calibration_error.size() == 2) {
+    if (!std::isfinite(a.calibration_error[0]) || !std::isfinite(a.calibration_error[1])) {
+      std::cerr << "forcegrasp sim: --calibration-error: MM and DEG must be finite numbers (0..100)\n";
+      return kExitInvalid;
+    }
+    so.calibration_error_mm = a.calibration_error[0];
+    so.calibration_error_deg = a.calibration_error[1];
+  }
   // The parser let only the distributions' names through (CLI::IsMember).
   if (!fg::sim::distribution_from_name(a.distribution_arg, so.distribution)) {
     std::cerr << "forcegrasp sim: unknown distribution \"" << a.distribution_arg << "\"\n";

@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -12,10 +13,12 @@
 #include <map>
 #include <stdexcept>
 
+#include "fg/core/constants.hpp"
 #include "fg/robot/grasp_motion.hpp"
 #include "fg/robot/ur5.hpp"
 #include "fg/robot/ur5_ik.hpp"
 #include "fg/task/grasp_task.hpp"
+#include "sim/calibration_error.hpp"
 #include "sim/grasp_judge.hpp"
 #include "sim/scene_export.hpp"
 #include "sim/scene_gen.hpp"
@@ -265,7 +268,9 @@ SimTrial run_sim_trial(const std::string& kind_name, uint64_t seed, const SimOpt
   out.wrist_view = capture_joints(scene.hand.world_T_sensor, tool0_T_camera, q0);
   task::TaskConfig tc;
   tc.world_T_head = scene.head.world_T_sensor.to_pose();
-  tc.tool0_T_hand = hand_eye;
+  // What the task believes of the wrist sensor's mount: off by the calibration error.
+  tc.tool0_T_hand =
+      sim::with_calibration_error(tool0_T_camera, opt.calibration_error_mm, opt.calibration_error_deg, seed).to_pose();
   TrialHardware hw(scene, q0, tc.tcp_offset_m, tool0_T_camera, cfg.gripper);
   task::GraspTask grasp_task;
   const TaskRun run = run_task(grasp_task, tc, hw, scene, planner, cfg.gripper);
@@ -371,6 +376,9 @@ json results_table(const std::vector<SimTrial>& trials, const SimOptions& opt) {
   std::printf("distribution %s, seed %llu (trial i: seed + i; --distribution %s --seed %llu repeats it)\n",
               sim::distribution_name(opt.distribution), static_cast<unsigned long long>(opt.seed),
               sim::distribution_name(opt.distribution), static_cast<unsigned long long>(opt.seed));
+  if (opt.calibration_error_mm > 0.0 || opt.calibration_error_deg > 0.0)
+    std::printf("the wrist sensor's believed pose off by %g mm and %g deg in each trial\n", opt.calibration_error_mm,
+                opt.calibration_error_deg);
   std::printf("%-22s %6s %5s %8s %9s %11s %9s  %s\n", "object", "trials", "fits", "success", "rate", "plan med ms",
               "max ms", "failures");
   for (const std::string& k : order) table.push_back(print_row(k, rows[k]));
@@ -420,6 +428,7 @@ nlohmann::json run_sim(const SimOptions& opt, const PlannerConfig& cfg, Planner&
   for (const SimTrial& t : trials) records.push_back(trial_json(t));
   return json{{"distribution", sim::distribution_name(opt.distribution)},
               {"seed", opt.seed},
+              {"calibration_error", json{{"mm", opt.calibration_error_mm}, {"deg", opt.calibration_error_deg}}},
               {"trials", records},
               {"table", table}};
 }

@@ -27,6 +27,11 @@ struct SimOptions {
   std::string json_path;            //!< per trial records and the table, as JSON
   bool progress = true;             //!< a progress line on stderr
   double second_object_rate = 0.3;  //!< classic only (cell draws 0-3 other objects)
+  //! --calibration-error MM,DEG: the wrist sensor's pose the task believes is off the
+  //! true one by this much in each trial (a hand-eye error: a translation of MM in a
+  //! random direction and a turn of DEG about a random axis through the sensor, drawn
+  //! from the trial's seed); the camera itself stays where the arm holds it.
+  double calibration_error_mm = 0.0, calibration_error_deg = 0.0;
 };
 
 //! One trial's outcome.

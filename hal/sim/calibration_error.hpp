@@ -1,0 +1,16 @@
+// Host-only simulation: a calibration error of a known size in a direction drawn from a
+// seed (`forcegrasp sim --calibration-error MM,DEG`): the pose a robot believes a sensor
+// has when its hand-eye calibration is off.
+#pragma once
+#include <cstdint>
+
+#include "sim/sim_world.hpp"
+
+namespace fg::sim {
+
+//! a_T_b off by `mm` millimetres along a direction and `deg` degrees about an axis through
+//! b's origin, both uniform on the sphere and drawn from `seed` (the same on every
+//! compiler): a_T_b * error, in b's frame. a_T_b itself when both are 0.
+Rigid with_calibration_error(const Rigid& a_T_b, double mm, double deg, uint64_t seed);
+
+}  // namespace fg::sim
