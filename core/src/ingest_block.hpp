@@ -49,7 +49,7 @@ struct State {
 inline void sample_depth(State& s, float z) {
   if ((s.depth_groups++ & s.depth_stride_mask) != 0u) return;
   if (s.n_depth_sample == kUnitSamples) {  // full: keep every other, take half as many
-    for (uint32_t i = 0; i < kUnitSamples / 2; ++i) s.depth_sample[i] = s.depth_sample[2 * i];
+    for (uint32_t i = 0, j = 0; i < kUnitSamples / 2; ++i, j += 2) s.depth_sample[i] = s.depth_sample[j];
     s.n_depth_sample = kUnitSamples / 2;
     s.depth_stride_mask = 2u * s.depth_stride_mask + 1u;
     if (((s.depth_groups - 1u) & s.depth_stride_mask) != 0u) return;
