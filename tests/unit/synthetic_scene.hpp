@@ -19,6 +19,22 @@ inline fg::Vec3 v3(double x, double y, double z) {
   return fg::Vec3(static_cast<float>(x), static_cast<float>(y), static_cast<float>(z));
 }
 
+// The pose (world_T_sensor) of a sensor at `eye` looking at `target`, in the optical
+// frame: z forward, x right and horizontal, y down (x along world x when looking
+// straight down).
+inline fg::Pose look_at(const fg::Vec3& eye, const fg::Vec3& target) {
+  const fg::Vec3 z = (target - eye).normalized();
+  fg::Vec3 x = z.cross(fg::Vec3::UnitZ());
+  if (x.norm() < 1e-6f) x = fg::Vec3::UnitX();
+  x.normalize();
+  fg::Pose p;
+  p.R.col(0) = x;
+  p.R.col(1) = z.cross(x);
+  p.R.col(2) = z;
+  p.t = eye;
+  return p;
+}
+
 // A 0.8 x 0.8 table top centred at (0.5, 0) at z = 0, sampled every `step` with a
 // small jitter, leaving out the footprint [x0, x1] x [y0, y1] (hidden under an object).
 inline void add_table(std::vector<fg::Vec3>& pts, std::mt19937& rng, float step, float x0 = 1, float x1 = 0,

@@ -22,6 +22,8 @@
 
 namespace {
 
+using fg::test::look_at;
+
 struct SceneData {
   std::vector<fg::host::PointCloud> clouds;
   std::vector<fg::Pose> poses;
@@ -266,20 +268,6 @@ struct BoxSpec {
 // The first nearest the workspace centre (0.5, 0), the others 25 cm and more away.
 constexpr BoxSpec kBoxes[3] = {
     {0.5f, 0.f, 0.05f, 0.07f, 0.12f}, {0.34f, 0.22f, 0.05f, 0.06f, 0.10f}, {0.68f, -0.21f, 0.06f, 0.05f, 0.09f}};
-
-// The optical frame of a sensor at `eye` looking at `target`.
-fg::Pose look_at(const fg::Vec3& eye, const fg::Vec3& target) {
-  const fg::Vec3 z = (target - eye).normalized();
-  fg::Vec3 x = z.cross(fg::Vec3::UnitZ());
-  if (x.norm() < 1e-6f) x = fg::Vec3::UnitX();
-  x.normalize();
-  fg::Pose p;
-  p.R.col(0) = x;
-  p.R.col(1) = z.cross(x);
-  p.R.col(2) = z;
-  p.t = eye;
-  return p;
-}
 
 // The three boxes on the table as test_ranked_grasps.cpp's two sensors give them (a
 // head sensor in front and above, a wrist sensor from the side): each sensor's points

@@ -26,6 +26,8 @@
 
 namespace {
 
+using fg::test::look_at;
+
 using fg::test::add_box;
 using fg::test::add_table;
 
@@ -130,22 +132,6 @@ std::vector<Vec3> box_scene(uint32_t seed, float sx, float sy) {
   add_table(pts, rng, 0.003f, 0.5f - 0.5f * sx, 0.5f + 0.5f * sx, -0.5f * sy, 0.5f * sy);
   add_box(pts, rng, 0.5f, 0.f, sx, sy, 0.12f, 0.0015f);
   return pts;
-}
-
-// The pose of a sensor at `eye` looking at `target` (optical frame: z forward, x right,
-// y down), world_T_sensor.
-Pose look_at(const Vec3& eye, const Vec3& target) {
-  const Vec3 z = (target - eye).normalized();
-  Vec3 x = z.cross(Vec3::UnitZ());  // right, horizontal
-  if (x.norm() < 1e-6f) x = Vec3::UnitX();
-  x.normalize();
-  const Vec3 y = z.cross(x);
-  Pose p;
-  p.R.col(0) = x;
-  p.R.col(1) = y;
-  p.R.col(2) = z;
-  p.t = eye;
-  return p;
 }
 
 std::vector<Vec3> to_sensor(const std::vector<Vec3>& world, const Pose& world_T_sensor) {

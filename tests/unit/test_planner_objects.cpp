@@ -16,24 +16,13 @@
 
 namespace {
 
+using fg::test::look_at;
+
 using fg::PlanResult;
 using fg::Pose;
 using fg::SensorRole;
 using fg::Status;
 using fg::Vec3;
-
-Pose look_at(const Vec3& eye, const Vec3& target) {
-  const Vec3 z = (target - eye).normalized();
-  Vec3 x = z.cross(Vec3::UnitZ());
-  if (x.norm() < 1e-6f) x = Vec3::UnitX();
-  x.normalize();
-  Pose p;
-  p.R.col(0) = x;
-  p.R.col(1) = z.cross(x);
-  p.R.col(2) = z;
-  p.t = eye;
-  return p;
-}
 
 struct Box {
   float cx, cy, sx, sy, sz;

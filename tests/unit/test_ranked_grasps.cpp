@@ -15,26 +15,14 @@
 
 namespace {
 
+using fg::test::look_at;
+
 using fg::PlanResult;
 using fg::Pose;
 using fg::RankedGrasp;
 using fg::SensorRole;
 using fg::Status;
 using fg::Vec3;
-
-// The optical frame of a sensor at `eye` looking at `target`.
-Pose look_at(const Vec3& eye, const Vec3& target) {
-  const Vec3 z = (target - eye).normalized();
-  Vec3 x = z.cross(Vec3::UnitZ());
-  if (x.norm() < 1e-6f) x = Vec3::UnitX();
-  x.normalize();
-  Pose p;
-  p.R.col(0) = x;
-  p.R.col(1) = z.cross(x);
-  p.R.col(2) = z;
-  p.t = eye;
-  return p;
-}
 
 // A 5 x 7 x 12 cm box on the table at (0.5, 0), seen by a head sensor in front and
 // above and a wrist sensor from the side: enough sides for grasps from several

@@ -16,11 +16,13 @@
 #include "synthetic_scene.hpp"
 
 namespace {
+
 using fg::PlanResult;
 using fg::Pose;
 using fg::SensorRole;
 using fg::Status;
 using fg::Vec3;
+using fg::test::look_at;
 
 const char* const kMm = "likely in millimetres";
 
@@ -49,18 +51,6 @@ TEST(UnitsMistake, NamesTheUnitsTheDepthsFit) {
   // Too few to say: a handful of stray points.
   const std::vector<float> few(fg::kUnitSamplesNeeded - 1, 800.f);
   EXPECT_EQ(fg::units_mistake(few.data(), static_cast<uint32_t>(few.size()), 0.3f, 1.5f, 1.f), nullptr);
-}
-
-Pose look_at(const Vec3& eye, const Vec3& target) {
-  const Vec3 z = (target - eye).normalized();
-  Vec3 x = z.cross(Vec3::UnitZ());
-  x.normalize();
-  Pose p;
-  p.R.col(0) = x;
-  p.R.col(1) = z.cross(x);
-  p.R.col(2) = z;
-  p.t = eye;
-  return p;
 }
 
 // A box on a table as a head sensor sees it, in its optical frame, times `scale`.
