@@ -74,10 +74,8 @@ Status Planner::report_search(PlanResult& out, const PlanTally& tally, uint32_t 
 }
 
 const char* Planner::target_outside_workspace() const {
-  const Vec3 lo(cfg_.workspace_centre_x_m - cfg_.crop_half_x_m, cfg_.workspace_centre_y_m - cfg_.crop_half_y_m,
-                cfg_.crop_min_z_m);
-  const Vec3 hi(cfg_.workspace_centre_x_m + cfg_.crop_half_x_m, cfg_.workspace_centre_y_m + cfg_.crop_half_y_m,
-                cfg_.crop_max_z_m);
+  Vec3 lo, hi;
+  configured_crop(lo, hi);
   if (target_.kind == TargetKind::nearest_point &&
       !((target_.point.array() >= lo.array()).all() && (target_.point.array() <= hi.array()).all()))
     return "the target point lies outside the workspace crop box";

@@ -20,15 +20,20 @@ Status Planner::configure(const PlannerConfig& cfg, const char** field) {
   return Status::ok;
 }
 
+void Planner::configured_crop(Vec3& lo, Vec3& hi) const {
+  lo = Vec3(cfg_.workspace_centre_x_m - cfg_.crop_half_x_m, cfg_.workspace_centre_y_m - cfg_.crop_half_y_m,
+            cfg_.crop_min_z_m);
+  hi = Vec3(cfg_.workspace_centre_x_m + cfg_.crop_half_x_m, cfg_.workspace_centre_y_m + cfg_.crop_half_y_m,
+            cfg_.crop_max_z_m);
+}
+
 void Planner::reset() {
   sensors_.clear();
   counts_ = PointCounts{};
   ingest_us_ = 0;
   overflow_ = false;
-  const Vec3 crop_min(cfg_.workspace_centre_x_m - cfg_.crop_half_x_m, cfg_.workspace_centre_y_m - cfg_.crop_half_y_m,
-                      cfg_.crop_min_z_m);
-  const Vec3 crop_max(cfg_.workspace_centre_x_m + cfg_.crop_half_x_m, cfg_.workspace_centre_y_m + cfg_.crop_half_y_m,
-                      cfg_.crop_max_z_m);
+  Vec3 crop_min, crop_max;
+  configured_crop(crop_min, crop_max);
   // 2.5 cells of margin below the crop box: every accepted point has a key with room
   // for the +-2 cell neighbour offsets of the clustering (voxel_grid.hpp).
   grid_.reset(crop_min - Vec3::Constant(2.5f * cfg_.voxel_leaf_m), cfg_.voxel_leaf_m);

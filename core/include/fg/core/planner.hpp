@@ -299,6 +299,8 @@ class Planner {
   // The end of plan() and plan_object(), after the search: the grasp of candidate
   // `found` (ok), or no_grasp for `reason` when found is kMaxCandidates.
   Status report_search(PlanResult& out, const PlanTally& tally, uint32_t found, NoGraspReason reason, const char* why);
+  // The crop box as configured (world; before any shrink).
+  void configured_crop(Vec3& lo, Vec3& hi) const;
   // A target outside the configured crop box: the message, or null.
   const char* target_outside_workspace() const;
   // The target's voxels (object_voxel_[0, size)) become the object points, and the
