@@ -1,0 +1,42 @@
+# install.debian_package: `cpack -G DEB` of the build into a fresh folder, then the
+# package's file list holds the program, the libraries, the headers, both package files
+# and (when built) the Python module, all under /usr.
+#   cmake -DFG_BUILD_DIR=... -DFG_WORK_DIR=... -DFG_WITH_PYTHON=ON|OFF -P run_cpack.cmake
+cmake_minimum_required(VERSION 3.22)
+foreach(var FG_BUILD_DIR FG_WORK_DIR)
+  if(NOT DEFINED ${var})
+    message(FATAL_ERROR "run_cpack.cmake: ${var} is not set")
+  endif()
+endforeach()
+file(REMOVE_RECURSE ${FG_WORK_DIR})
+get_filename_component(cmake_bin ${CMAKE_COMMAND} DIRECTORY)
+find_program(CPACK cpack HINTS ${cmake_bin} REQUIRED)
+find_program(DPKG_DEB dpkg-deb REQUIRED)
+execute_process(COMMAND ${CPACK} -G DEB -B ${FG_WORK_DIR} --config ${FG_BUILD_DIR}/CPackConfig.cmake
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "cpack failed (${rc}):\n${out}\n${err}")
+endif()
+file(GLOB debs ${FG_WORK_DIR}/*.deb)
+list(LENGTH debs n)
+if(NOT n EQUAL 1)
+  message(FATAL_ERROR "expected one .deb, found: ${debs}")
+endif()
+execute_process(COMMAND ${DPKG_DEB} -c ${debs} OUTPUT_VARIABLE files RESULT_VARIABLE rc)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "dpkg-deb -c ${debs} failed")
+endif()
+set(want /usr/bin/forcegrasp /usr/include/forcegrasp/forcegrasp.h /usr/include/fg/core/planner.hpp
+         /usr/include/fg_limits.h /libfg_core.a /libfg_firmware_api.a /pkgconfig/forcegrasp.pc
+         /cmake/forcegrasp/forcegraspConfig.cmake)
+if(FG_WITH_PYTHON)
+  list(APPEND want "dist-packages/forcegrasp.cpython")
+endif()
+foreach(w ${want})
+  string(FIND "${files}" "${w}" at)
+  if(at EQUAL -1)
+    message(FATAL_ERROR "the package lacks ${w}:\n${files}")
+  endif()
+endforeach()
+execute_process(COMMAND ${DPKG_DEB} -f ${debs} Depends OUTPUT_VARIABLE depends)
+message(STATUS "${debs}: Depends: ${depends}")
