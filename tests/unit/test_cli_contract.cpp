@@ -973,9 +973,10 @@ TEST_F(CliContract, CloudsInMillimetres) {
     fg::host::PointCloud c;
     ASSERT_TRUE(fg::host::read_pcd(s["cloud"].get<std::string>(), c).ok);
     std::string bytes = xyz_header(c.size(), 1, c.size(), "binary");
-    for (float v : c.xyz) {
-      v *= 1000.f;
-      bytes.append(reinterpret_cast<const char*>(&v), sizeof v);
+    for (const float v : c.xyz) {  // DATA binary is little-endian whatever the host's order
+      uint8_t le[4];
+      fg::store_le(v * 1000.f, le);
+      bytes.append(reinterpret_cast<const char*>(le), sizeof le);
     }
     const std::string name = "mm_" + s["name"].get<std::string>() + ".pcd";
     write_file(path(name), bytes);
