@@ -10,11 +10,14 @@
 #include <vector>
 
 #include "fg/core/pipeline/grasp_checks.hpp"
+#include "synthetic_scene.hpp"
 
 namespace {
+
 using fg::CheckId;
 using fg::CheckVerdict;
 using fg::Vec3;
+using fg::test::look_at;
 
 constexpr float kLeaf = 0.005f;
 constexpr double kRadToDeg = 57.29577951308232;
@@ -252,18 +255,6 @@ TEST(Checks, UnderTargetAppliesToSteepClosingsOnly) {
 }
 
 // ---- Unknown space: the plausible body ------------------------------------------
-
-// A camera at `eye` looking at `at` (optical frame: z forward, x right, y down).
-fg::Pose look_at(const Vec3& eye, const Vec3& at) {
-  const Vec3 z = (at - eye).normalized();
-  const Vec3 x = z.cross(Vec3::UnitZ()).normalized();
-  fg::Pose p;
-  p.R.col(0) = x;
-  p.R.col(1) = z.cross(x);
-  p.R.col(2) = z;
-  p.t = eye;
-  return p;
-}
 
 // A sensor's sight map as its depth image would fill it: per direction bin the nearest
 // of the world's surface points (sampled densely), as SensorViews documents its bins.

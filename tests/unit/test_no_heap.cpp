@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "fg/core/planner.hpp"
+#include "synthetic_scene.hpp"
 
 #if defined(__SANITIZE_ADDRESS__)
 #define FG_TEST_UNDER_ASAN 1
@@ -40,6 +41,8 @@
 #endif
 
 namespace {
+
+using fg::test::look_at;
 
 // Single-threaded test: plain volatile counters are enough (and allocate nothing).
 volatile bool g_armed = false;
@@ -256,20 +259,6 @@ struct Camera {
   fg::PinholeIntrinsics k;
   uint32_t w = 640, h = 480;
 };
-
-Pose look_at(const Vec3& eye, const Vec3& target) {
-  const Vec3 z = (target - eye).normalized();
-  Vec3 x = z.cross(Vec3::UnitZ());
-  if (x.norm() < 1e-6f) x = Vec3::UnitX();
-  x.normalize();
-  const Vec3 y = z.cross(x);
-  Pose p;
-  p.R.col(0) = x;
-  p.R.col(1) = y;
-  p.R.col(2) = z;
-  p.t = eye;
-  return p;
-}
 
 // Sensor-frame depth (z) of pixel (u, v), or a negative value for a miss. Table top:
 // z = 0 over [0.1, 0.9] x [-0.4, 0.4]; box: [0.465, 0.535] x [-0.025, 0.025] x [0, 0.12].
