@@ -9,6 +9,7 @@
 #include <cstdint>
 
 #include "fg/core/limits.hpp"
+#include "fg/core/pipeline/registration.hpp"
 #include "fg/core/pipeline/units.hpp"
 #include "fg/core/vec4.hpp"
 #include "fg/core/voxel_grid.hpp"
@@ -27,6 +28,11 @@ struct State {
   uint32_t offered = 0, nonfinite = 0, kept = 0;
   uint32_t parity = 0;  // valid-depth points so far, mod 2 (the direction bins' share)
   uint32_t lanes = 4;   // the vector width (lanes(requested), once per cloud)
+  // A cloud read twice for the registration (Planner, A.4b): the first pass only
+  // gathers depth moments (kMomentBins^2, zeroed before), the second is the ingest.
+  bool moments_only = false;
+  DepthMoments* moments = nullptr;
+  uint32_t moment_count = 0;  // points with a depth met by the first pass
   // A block's kept points wait here before they reach the grid: the arithmetic of a
   // block runs without waiting on memory, then its grid look-ups and sums issue back
   // to back. 64 points per block (about 1.3 KiB) on the host; small builds keep the

@@ -108,6 +108,7 @@ Status Planner::plan(PlanResult& out) {
   tally.earlier_us = ingest_us_;
   begin_report(out);
   out.stage_us[static_cast<uint32_t>(Stage::ingest)] = ingest_us_;
+  out.registration = registration_;  // A.4b ran in the ingest
   objects_ready_ = false;
 
   if (!sensors_.any())

@@ -52,6 +52,7 @@ void Planner::reset() {
   chosen_view_ = -1;
   chosen_candidate_ = kMaxCandidates;
   n_alternates_ = 0;
+  registration_ = RegistrationResult{};
   message_ = "";
 }
 
@@ -170,6 +171,9 @@ Status Planner::ingest_begin(SensorRole role, const Pose& world_T_sensor, ingest
   }
   const Status s = check_pose(world_T_sensor);
   if (s != Status::ok) return s;
+  if (registration_mode_ == RegistrationMode::on && role == SensorRole::head &&
+      sensors_.added[static_cast<uint32_t>(SensorRole::hand)])
+    registration_.outcome = RegistrationOutcome::hand_added_first;
   sensors_.begin(r, world_T_sensor);
   make_ingest(in, world_T_sensor, cfg_, grid_, crop_lo_cells_, crop_hi_cells_, sensors_.sight_mm[r], ingest_lanes_,
               in_sensor_units ? units_.m[r] : 1.f);
@@ -272,6 +276,51 @@ void Planner::shrink_crop(ingest::State& in) {
   }
 }
 
+// A.4b: the hand's cloud after the head's is read twice. The first pass (State::
+// moments_only) gathers its depths per direction; this registers them to the head's
+// voxels and makes `in` the second pass: the ingest with the corrected pose.
+bool Planner::registers(SensorRole role) const {
+  return registration_mode_ == RegistrationMode::on && role == SensorRole::hand &&
+         sensors_.added[static_cast<uint32_t>(SensorRole::head)];
+}
+
+// The per-view memory, idle until plan(), holds the first pass's depth moments and the
+// registration's samples.
+namespace {
+constexpr size_t kMomentFloats = 3u * kMomentBins * kMomentBins;
+}  // namespace
+
+void Planner::begin_hand_pass(ingest::State& in) {
+  static_assert(sizeof(DepthMoments) == 3 * sizeof(float), "moments are three floats");
+  static_assert((kMomentFloats + 6u * kRegistrationSamples) * sizeof(float) <= sizeof(ViewWork),
+                "the registration borrows the per-view memory, idle until plan(), without growing it");
+  float* const mem = reinterpret_cast<float*>(view_words_);
+  for (size_t i = 0; i < kMomentFloats; ++i) mem[i] = 0.f;
+  in.moments = reinterpret_cast<DepthMoments*>(mem);
+  in.moments_only = true;
+}
+
+void Planner::register_hand(ingest::State& in, bool in_sensor_units) {
+  const uint64_t t0 = platform::monotonic_us();
+  constexpr uint32_t kHand = static_cast<uint32_t>(SensorRole::hand);
+  RegistrationParams params;
+  params.max_samples = kRegistrationSamples;
+  float* const mem = reinterpret_cast<float*>(view_words_);
+  Pose& hand = sensors_.pose[kHand];
+  registration_ =
+      fg::register_hand(grid_, sensors_, reinterpret_cast<const DepthMoments*>(mem), params, mem + kMomentFloats);
+  if (registration_.outcome == RegistrationOutcome::corrected) {
+    const Pose& c = registration_.correction;
+    hand.t = c.R * hand.t + c.t;
+    hand.R = c.R * hand.R;
+    sensors_.origin[kHand] = hand.t;
+  }
+  in = ingest::State{};
+  make_ingest(in, hand, cfg_, grid_, crop_lo_cells_, crop_hi_cells_, sensors_.sight_mm[kHand], ingest_lanes_,
+              in_sensor_units ? units_.m[kHand] : 1.f);
+  registration_.us = static_cast<uint32_t>(platform::monotonic_us() - t0);
+}
+
 Status Planner::add_points(SensorRole role, const float* xyz, uint32_t count, uint32_t stride_bytes,
                            const Pose& world_T_sensor) {
   if (xyz == nullptr && count > 0) {
@@ -316,7 +365,7 @@ bool Planner::ingest_piece(ingest::State& in, const uint8_t* const base[3], uint
       const uint8_t* const b[3] = {bx + off, by + off, bz + off};
       gather(blk, b, stride_bytes, n, i + n < count ? n : n - 1);
     }
-    make_room(in, n);
+    if (!in.moments_only) make_room(in, n);
     if (!ingest::add_block(in, grid_, x, y, z, n)) return false;
   }
   return true;
@@ -328,8 +377,40 @@ Status Planner::add_coordinates(SensorRole role, const uint8_t* const base[3], u
   const Status s = ingest_begin(role, world_T_sensor, in);
   if (s != Status::ok) return s;
   const uint64_t t0 = platform::monotonic_us();
+  if (registers(role)) {
+    begin_hand_pass(in);
+    (void)ingest_piece(in, base, count, stride_bytes);  // adds no voxel: cannot fail
+    register_hand(in, true);
+  }
   const Status st = ingest_piece(in, base, count, stride_bytes) ? Status::ok : Status::capacity_exceeded;
   return end_ingest(count, in.offered - in.nonfinite, in.kept, t0, check_units(in, role, st));
+}
+
+// One pass over a point source; `offered` counts its points.
+Status Planner::read_source(ingest::State& in, PointSource& source, uint32_t& offered) {
+  // Points of one sensor, so its offered count stays within 32 bits as one call's would.
+  offered = 0;
+  // Bounded by the source's points: each piece adds at least one, and at most 2^32 - 1
+  // are taken (a source that never ends is refused there).
+  for (;;) {
+    PointPiece piece;
+    if (!source.next(piece)) {
+      message_ = "the point source failed";
+      return Status::invalid_argument;
+    }
+    if (piece.count == 0) return Status::ok;
+    if (piece.x == nullptr || piece.y == nullptr || piece.z == nullptr || piece.stride < sizeof(float)) {
+      message_ = "a piece of the point source has a null coordinate array or a stride under 4 bytes";
+      return Status::invalid_argument;
+    }
+    if (piece.count > 0xFFFFFFFFu - offered) {
+      message_ = "a point source offered more than 2^32 - 1 points";
+      return Status::invalid_argument;
+    }
+    offered += piece.count;
+    const uint8_t* const base[3] = {piece.x, piece.y, piece.z};
+    if (!ingest_piece(in, base, piece.count, piece.stride)) return Status::capacity_exceeded;
+  }
 }
 
 Status Planner::add_point_source(SensorRole role, PointSource& source, const Pose& world_T_sensor) {
@@ -337,32 +418,51 @@ Status Planner::add_point_source(SensorRole role, PointSource& source, const Pos
   const Status s = ingest_begin(role, world_T_sensor, in);
   if (s != Status::ok) return s;
   const uint64_t t0 = platform::monotonic_us();
-  // Points of one sensor, so its offered count stays within 32 bits as one call's would.
   uint32_t offered = 0;
-  // Bounded by the source's points: each piece adds at least one, and at most 2^32 - 1
-  // are taken (a source that never ends is refused there).
-  for (;;) {
-    PointPiece piece;
-    if (!source.next(piece)) {
-      message_ = "the point source failed";
-      return end_ingest(offered, in.offered - in.nonfinite, in.kept, t0, Status::invalid_argument);
+  if (registers(role) && source.can_rewind()) {
+    begin_hand_pass(in);
+    const Status first = read_source(in, source, offered);
+    if (first != Status::ok) return end_ingest(offered, 0, 0, t0, first);
+    if (!source.rewind()) {
+      message_ = "the point source failed to rewind";
+      return end_ingest(offered, 0, 0, t0, Status::invalid_argument);
     }
-    if (piece.count == 0) break;
-    if (piece.x == nullptr || piece.y == nullptr || piece.z == nullptr || piece.stride < sizeof(float)) {
-      message_ = "a piece of the point source has a null coordinate array or a stride under 4 bytes";
-      return end_ingest(offered, in.offered - in.nonfinite, in.kept, t0, Status::invalid_argument);
-    }
-    if (piece.count > 0xFFFFFFFFu - offered) {
-      message_ = "a point source offered more than 2^32 - 1 points";
-      return end_ingest(offered, in.offered - in.nonfinite, in.kept, t0, Status::invalid_argument);
-    }
-    offered += piece.count;
-    const uint8_t* const base[3] = {piece.x, piece.y, piece.z};
-    if (!ingest_piece(in, base, piece.count, piece.stride)) {
-      return end_ingest(offered, in.offered - in.nonfinite, in.kept, t0, Status::capacity_exceeded);
+    register_hand(in, true);
+  }
+  const Status st = read_source(in, source, offered);
+  return end_ingest(offered, in.offered - in.nonfinite, in.kept, t0, st == Status::ok ? check_units(in, role, st) : st);
+}
+
+// One pass over a depth image's returns.
+Status Planner::depth_pass(ingest::State& in, const uint16_t* depth_mm, uint16_t width, uint16_t height,
+                           const PinholeIntrinsics& k) {
+  Status st = Status::ok;
+  const float ifx = 1.f / k.fx, ify = 1.f / k.fy;
+  Block blk;
+  for (uint32_t v = 0; v < height && st == Status::ok; ++v) {
+    const float yf = (static_cast<float>(v) - k.cy) * ify;
+    const uint16_t* row = depth_mm + static_cast<size_t>(v) * width;
+    for (uint32_t u = 0; u < width; ++u) {
+      if (row[u] == 0) continue;  // no return: not a point
+      const float z = static_cast<float>(row[u]) * 0.001f;
+      blk.x[blk.n] = (static_cast<float>(u) - k.cx) * ifx * z;
+      blk.y[blk.n] = yf * z;
+      blk.z[blk.n] = z;
+      if (++blk.n == ingest::State::kBatch) {
+        blk.n = 0;
+        if (!in.moments_only) make_room(in, ingest::State::kBatch);
+        if (!ingest::add_block(in, grid_, blk.x, blk.y, blk.z, ingest::State::kBatch)) {
+          st = Status::capacity_exceeded;
+          break;
+        }
+      }
     }
   }
-  return end_ingest(offered, in.offered - in.nonfinite, in.kept, t0, check_units(in, role, Status::ok));
+  if (st == Status::ok) {
+    if (!in.moments_only) make_room(in, blk.n);
+    if (!ingest::add_block(in, grid_, blk.x, blk.y, blk.z, blk.n)) st = Status::capacity_exceeded;
+  }
+  return st;
 }
 
 Status Planner::add_depth_image(SensorRole role, const uint16_t* depth_mm, uint16_t width, uint16_t height,
@@ -383,32 +483,12 @@ Status Planner::add_depth_image(SensorRole role, const uint16_t* depth_mm, uint1
   const Status s = ingest_begin(role, world_T_sensor, in, false);  // metres from its millimetres
   if (s != Status::ok) return s;
   const uint64_t t0 = platform::monotonic_us();
-  Status st = Status::ok;
-  const float ifx = 1.f / k.fx, ify = 1.f / k.fy;
-  Block blk;
-  for (uint32_t v = 0; v < height && st == Status::ok; ++v) {
-    const float yf = (static_cast<float>(v) - k.cy) * ify;
-    const uint16_t* row = depth_mm + static_cast<size_t>(v) * width;
-    for (uint32_t u = 0; u < width; ++u) {
-      if (row[u] == 0) continue;  // no return: not a point
-      const float z = static_cast<float>(row[u]) * 0.001f;
-      blk.x[blk.n] = (static_cast<float>(u) - k.cx) * ifx * z;
-      blk.y[blk.n] = yf * z;
-      blk.z[blk.n] = z;
-      if (++blk.n == ingest::State::kBatch) {
-        blk.n = 0;
-        make_room(in, ingest::State::kBatch);
-        if (!ingest::add_block(in, grid_, blk.x, blk.y, blk.z, ingest::State::kBatch)) {
-          st = Status::capacity_exceeded;
-          break;
-        }
-      }
-    }
+  if (registers(role)) {
+    begin_hand_pass(in);
+    (void)depth_pass(in, depth_mm, width, height, k);  // adds no voxel: cannot fail
+    register_hand(in, false);
   }
-  if (st == Status::ok) {
-    make_room(in, blk.n);
-    if (!ingest::add_block(in, grid_, blk.x, blk.y, blk.z, blk.n)) st = Status::capacity_exceeded;
-  }
+  const Status st = depth_pass(in, depth_mm, width, height, k);
   return end_ingest(static_cast<uint32_t>(width) * height, in.offered - in.nonfinite, in.kept, t0, st);
 }
 

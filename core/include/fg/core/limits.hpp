@@ -47,6 +47,9 @@
 #ifndef FG_SIGHT_BINS
 #define FG_SIGHT_BINS 256u
 #endif
+#ifndef FG_REGISTRATION_SAMPLES
+#define FG_REGISTRATION_SAMPLES 1024u
+#endif
 #ifndef FG_VOXEL_CACHE_BITS
 #define FG_VOXEL_CACHE_BITS 12u
 #endif
@@ -67,6 +70,7 @@ inline constexpr uint32_t kRansacMaxIters = FG_RANSAC_MAX_ITERS;
 inline constexpr uint32_t kMaxSensors = FG_MAX_SENSORS;
 inline constexpr uint32_t kSightBins = FG_SIGHT_BINS;             //!< per axis, per sensor
 inline constexpr uint32_t kVoxelCacheBits = FG_VOXEL_CACHE_BITS;  //!< ingest's cell cache
+inline constexpr uint32_t kRegistrationSamples = FG_REGISTRATION_SAMPLES;  //!< head samples the registration pairs
 
 static_assert(kMaxVoxels > 0 && kMaxObjectPoints > 0, "capacities must be positive");
 static_assert((kVoxelHashSlots & (kVoxelHashSlots - 1)) == 0, "hash slots must be a power of two");

@@ -13,6 +13,7 @@
 #include "fg/core/pipeline/candidates.hpp"
 #include "fg/core/pipeline/grasp_checks.hpp"
 #include "fg/core/pipeline/object_frame.hpp"
+#include "fg/core/pipeline/registration.hpp"
 #include "fg/core/pipeline/selection.hpp"
 #include "fg/core/pipeline/sensor_views.hpp"
 #include "fg/core/pipeline/stage_timer.hpp"
@@ -59,6 +60,11 @@ class PointSource {
  public:
   //! The next piece (count 0 at the end); false when the source failed (it knows why).
   [[nodiscard]] virtual bool next(PointPiece& piece) = 0;
+  //! A source that can start again from its first piece says so: the planner then
+  //! reads a hand sensor's cloud twice, to register it first (A.4b). rewind() is
+  //! called only when can_rewind() is true; false when it failed.
+  virtual bool can_rewind() const { return false; }
+  [[nodiscard]] virtual bool rewind() { return false; }
 
  protected:
   PointSource() = default;
@@ -110,6 +116,9 @@ struct PlanResult {
   uint32_t viewpoints = 0;  //!< viewpoints analysed
   uint32_t candidates = 0;  //!< candidates ranked
   uint32_t stage_us[static_cast<uint32_t>(Stage::count)] = {};
+  //! A.4b: how the hand sensor was registered to the head (not_run with one sensor).
+  //! Its time is in stage_us's total (and its own `us`), not in another stage's.
+  RegistrationResult registration;
 };
 
 //! A stage-by-stage picture of one viewpoint, recomputed on demand (host pictures).
@@ -182,6 +191,16 @@ class Planner {
   [[nodiscard]] Status set_sensor_units(SensorRole role, float metres_per_unit);
   float sensor_units(SensorRole role) const { return units_.m[static_cast<uint32_t>(role) % kMaxSensors]; }
 
+  //! Whether the hand sensor is registered to the head before its points join the grid
+  //! (registration.hpp; on by default). That happens when the hand is added after the
+  //! head: its cloud is then read twice (its sight map, the registration, its points
+  //! with the corrected pose); a point source must be able to rewind. Kept across
+  //! reset() and configure().
+  void set_registration(RegistrationMode mode) { registration_mode_ = mode; }
+  RegistrationMode registration_mode() const { return registration_mode_; }
+  //! The registration since reset() (also in plan()'s result).
+  const RegistrationResult& registration() const { return registration_; }
+
   //! This planner's ingest vector width: 0 (the default) the widest this CPU runs (8
   //! lanes on x86-64 with AVX2, else 4), 4 the path of every target. Every width gives
   //! the same grid, bit for bit; tests and benchmarks compare them. Kept across reset().
@@ -247,6 +266,8 @@ class Planner {
   //! A sensor's nearest returns (mm, 0xFFFF = none) in kSightBins x kSightBins direction
   //! bins over x / z and y / z in [-1, 1), row by row (bin v * kSightBins + u): the
   //! visibility the checks ask about. Fed by every other point with a positive depth.
+  //! A sensor's pose as the planner uses it: as given, or the hand's as registered.
+  const Pose& sensor_pose(SensorRole role) const { return sensors_.pose[static_cast<uint32_t>(role) % kMaxSensors]; }
   const uint16_t* sight_map(SensorRole role) const {
     return sensors_.sight_mm[static_cast<uint32_t>(role) % kMaxSensors];
   }
@@ -360,6 +381,15 @@ class Planner {
   } units_;
   VoxelGrid grid_;
   uint8_t state_[kMaxVoxels];  // per voxel (cluster.hpp's VoxelState)
+  // A.4b registration of the hand sensor to the head.
+  RegistrationMode registration_mode_ = RegistrationMode::on;
+  RegistrationResult registration_;
+  bool registers(SensorRole role) const;
+  void begin_hand_pass(ingest::State& in);
+  void register_hand(ingest::State& in, bool in_sensor_units);
+  Status read_source(ingest::State& in, PointSource& source, uint32_t& offered);
+  Status depth_pass(ingest::State& in, const uint16_t* depth_mm, uint16_t width, uint16_t height,
+                    const PinholeIntrinsics& k);
 
   // A.5 support plane, A.6 target, B object frame, C viewpoints.
   SupportPlane support_;

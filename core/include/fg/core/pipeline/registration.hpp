@@ -1,0 +1,87 @@
+// Stage A.4b, registration: the hand sensor's pose comes from the arm's kinematics and a
+// hand-eye calibration, both a few millimetres and a degree off on a real robot, so its
+// surfaces land beside the head sensor's and the merged object looks thicker and
+// rougher than it is. When the hand's cloud arrives after the head's, its first pass
+// fills only its maps of depths per direction (in its own frame); this stage then
+// aligns that surface to the head's voxels, and the second pass adds the hand's points with
+// the corrected pose. The alignment is point-to-plane ICP from a sample of the head's
+// voxel centroids (means, so unbiased by noise) to the hand's surface, found by
+// projecting each into the hand's map of mean depths, with the normal from that map's
+// neighbouring bins (O(1) per pair, no search structure). A Tukey kernel whose gate
+// shrinks over the iterations keeps mismatched pairs (edges, occlusions) out; directions
+// the pairs do not constrain (a bare table leaves slide and spin in its plane free) are
+// not moved. docs/method.md, "A.4b registration".
+#pragma once
+#include <cstdint>
+
+#include "fg/core/pipeline/sensor_views.hpp"
+#include "fg/core/types.hpp"
+#include "fg/core/voxel_grid.hpp"
+
+namespace fg {
+
+//! The hand's depths per direction bin (the sight map's bins, two by two: x/z, y/z in
+//! [-1, 1), kMomentBins per axis), gathered by the first pass over its cloud: their sum,
+//! sum of squares and count, so a bin's mean is its surface's depth, unbiased by noise
+//! (the sight map keeps the nearest return, which noise pulls toward the sensor).
+inline constexpr uint32_t kMomentBins = kSightBins / 2;
+struct DepthMoments {
+  float sum, sq, n;
+};
+
+//! What the registration did with the hand sensor's pose.
+enum class RegistrationOutcome : uint8_t {
+  not_run = 0,         //!< one sensor, registration off, or no plan yet
+  corrected,           //!< the hand's points were moved by `correction`
+  calibration_kept,    //!< the calibration agreed: the correction found was below the noise
+  too_little_overlap,  //!< too few surfaces both sensors saw: fused as calibrated
+  implausible,         //!< the best alignment lies beyond the capture range: fused as calibrated
+  hand_added_first,    //!< the hand's points joined the grid before the head's: fused as calibrated
+};
+const char* to_string(RegistrationOutcome o);
+
+//! How the planner treats the two sensors (Planner::set_registration).
+enum class RegistrationMode : uint8_t {
+  off = 0,  //!< fuse with the poses as given
+  on,       //!< register the hand to the head before fusing (the default)
+};
+
+struct RegistrationResult {
+  RegistrationOutcome outcome = RegistrationOutcome::not_run;
+  //! World-frame rigid map from the hand's points as calibrated to where they belong:
+  //! the corrected hand pose is correction * world_T_hand. Identity unless corrected.
+  Pose correction;
+  float translation_mm = 0.f;      //!< of the hand sensor's origin under `correction`
+  float rotation_deg = 0.f;        //!< angle of correction.R
+  float residual_before_mm = 0.f;  //!< RMS point-to-plane distance of the pairs, as calibrated
+  float residual_mm = 0.f;         //!< the same after the correction (= before unless corrected)
+  float overlap = 0.f;             //!< share of the head's samples the hand saw within the final gate
+  uint32_t pairs = 0;              //!< those pairs
+  uint32_t samples = 0;            //!< head samples tried (in the hand's view or not)
+  uint32_t iterations = 0;
+  uint32_t us = 0;  //!< the stage's time (platform clock)
+};
+
+//! Bounds and thresholds of the stage, with their physical meaning.
+struct RegistrationParams {
+  uint32_t max_samples = 1024;        //!< head voxel centroids taken, spread over the cloud
+  uint32_t max_iterations = 24;       //!< each a pass over the samples and a 6x6 solve
+  float gate_start_m = 0.04f;         //!< pairs farther apart are not pairs: the capture range
+  float gate_end_m = 0.008f;          //!< the final gate: a few times the sensors' noise
+  float min_correction_m = 0.0015f;   //!< a smaller move (at the samples' extent) is noise
+  float max_translation_m = 0.05f;    //!< beyond these the alignment is not believed
+  float max_rotation_rad = 0.10472f;  //!< 6 deg
+  uint32_t min_pairs = 64;            //!< fewer final pairs: not enough overlap
+  float min_overlap = 0.05f;          //!< nor when under this share of the samples
+};
+
+//! The registration of the hand's surface, `moments` (kMomentBins^2 bins) seen from
+//! views.pose[hand] (world_T_sensor as given), to the head's points, which `grid`
+//! (before finalize()) holds alone, their normals from the head's sight map in `views`.
+//! `scratch` holds 6 x params.max_samples floats. Changes nothing: the caller ingests
+//! the hand's points with the corrected pose. Deterministic; at most max_iterations
+//! passes over at most max_samples samples.
+RegistrationResult register_hand(const VoxelGrid& grid, const SensorViews& views, const DepthMoments* moments,
+                                 const RegistrationParams& params, float* scratch);
+
+}  // namespace fg

@@ -1,0 +1,379 @@
+// Stage A.4b: the hand sensor registered to the head sensor (registration.hpp).
+#include "fg/core/pipeline/registration.hpp"
+
+#include <cmath>
+
+namespace fg {
+
+const char* to_string(RegistrationOutcome o) {
+  switch (o) {
+    case RegistrationOutcome::not_run:
+      return "not_run";
+    case RegistrationOutcome::corrected:
+      return "corrected";
+    case RegistrationOutcome::calibration_kept:
+      return "calibration_kept";
+    case RegistrationOutcome::too_little_overlap:
+      return "too_little_overlap";
+    case RegistrationOutcome::implausible:
+      return "implausible";
+    case RegistrationOutcome::hand_added_first:
+      return "hand_added_first";
+  }
+  return "unknown";
+}
+
+namespace {
+
+// A bin's mean needs a few returns; a bin holds about 20 of a 640x480 sensor's pixels
+// on the host's map.
+constexpr float kMinReturns = 3.f;
+constexpr float kEdgeShare = 0.05f;
+// A bin's depths may spread 2x (in variance) beyond a plane's, plus 1.5 mm of noise.
+constexpr float kSpreadSlack = 2.f, kNoiseFloor = 0.0015f;
+// Pairs' worth of constraint a direction needs before the registration moves along it.
+constexpr float kMinInformation = 16.f;
+// Normals within 30 degrees: the same surface.
+constexpr float kSameSurfaceCos = 0.866f;
+// Surfaces seen within 80 degrees of their normal.
+constexpr float kGrazingCos = 0.17f;
+
+// Rodrigues: the rotation by the vector w (its length in radians).
+Mat3 rotation_of(const Vec3& w) {
+  const float a = w.norm();
+  if (a < 1e-12f) return Mat3::Identity();
+  const Vec3 k = w / a;
+  Mat3 K;
+  K << 0.f, -k.z(), k.y(), k.z(), 0.f, -k.x(), -k.y(), k.x(), 0.f;
+  return Mat3::Identity() + std::sin(a) * K + (1.f - std::cos(a)) * (K * K);
+}
+
+float angle_of(const Mat3& R) {
+  const float c = 0.5f * (R.trace() - 1.f);
+  return std::acos(c > 1.f ? 1.f : (c < -1.f ? -1.f : c));
+}
+
+// The hand's surface where the head sample h projects in the hand's map of mean
+// depths, seen from the hand pose (Rs, ts): a point w on it (the bin's) and its outward
+// normal nw (world). False when the hand saw too little there, or the bin straddles an
+// edge (its depths spread, or a neighbour's mean jumps).
+bool hand_surface(const DepthMoments* map, const Mat3& Rs, const Vec3& ts, const Vec3& h, Vec3& w, Vec3& nw) {
+  constexpr float half = 0.5f * static_cast<float>(kMomentBins);
+  const Vec3 p = Rs.transpose() * (h - ts);
+  if (!(p.z() > 0.05f)) return false;
+  const float bu = (p.x() / p.z() + 1.f) * half, bv = (p.y() / p.z() + 1.f) * half;
+  constexpr float lo = 1.f, hi = static_cast<float>(kMomentBins - 1);
+  if (!(bu >= lo && bv >= lo && bu < hi && bv < hi)) return false;
+  const int u = static_cast<int>(bu), v = static_cast<int>(bv);
+  float d[5];  // the bin, then +u, -u, +v, -v
+  const int du[5] = {0, 1, -1, 0, 0}, dv[5] = {0, 0, 0, 1, -1};
+  float var0 = 0.f;
+  for (int k = 0; k < 5; ++k) {
+    const DepthMoments& m = map[(v + dv[k]) * static_cast<int>(kMomentBins) + (u + du[k])];
+    if (!(m.n >= kMinReturns)) return false;
+    d[k] = m.sum / m.n;
+    if (k == 0) var0 = m.sq / m.n - d[0] * d[0];
+  }
+  // A neighbour more than 5% of the range away in depth lies across an edge (the slope
+  // that would need, over a bin of 1/64, is beyond 73 degrees).
+  for (int k = 1; k < 5; ++k)
+    if (std::fabs(d[k] - d[0]) > kEdgeShare * d[0]) return false;
+  // One plane spreads a bin's depths by its slope across the bin (a uniform spread over
+  // one bin of the neighbours' mean step: variance step^2 / 12 per axis) plus the
+  // sensor's noise; a bin spread wider holds two surfaces (an edge), and its mean lies on
+  // neither.
+  const float gu = 0.5f * (d[1] - d[2]), gv = 0.5f * (d[3] - d[4]);
+  if (var0 > kSpreadSlack * (gu * gu + gv * gv) / 12.f + kNoiseFloor * kNoiseFloor) return false;
+  const auto bin_point = [&](int k) {
+    return Vec3(((static_cast<float>(u + du[k]) + 0.5f) / half - 1.f) * d[k],
+                ((static_cast<float>(v + dv[k]) + 0.5f) / half - 1.f) * d[k], d[k]);
+  };
+  Vec3 n = (bin_point(1) - bin_point(2)).cross(bin_point(3) - bin_point(4));
+  const float len = n.norm();
+  if (!(len > 0.f)) return false;
+  n /= len;
+  // The bin's mean is its surface at the bin's centre ray; the normal faces the sensor.
+  const Vec3 s = bin_point(0);
+  if (n.dot(s) > 0.f) n = -n;
+  // Grazing views give depths along the surface, not across it: not a pair.
+  if (-n.dot(s.normalized()) < kGrazingCos) return false;
+  w = Rs * s + ts;
+  nw = Rs * n;
+  return true;
+}
+
+// The head's surface normal at its sample h, from its map of nearest returns (the
+// returns one bin to each side, 8 mm apart at 1 m on the host's map: the nearest return
+// of a bin is biased toward the sensor, alike in neighbouring bins, so their slope is
+// not). False on a depth edge or where the head saw nothing.
+bool head_normal(const SensorViews& views, const Vec3& h, Vec3& nw) {
+  constexpr uint32_t kHeadRole = static_cast<uint32_t>(SensorRole::head);
+  constexpr float half = 0.5f * static_cast<float>(kSightBins);
+  const Pose& head = views.pose[kHeadRole];
+  const Vec3 p = head.R.transpose() * (h - head.t);
+  if (!(p.z() > 0.05f)) return false;
+  const float bu = (p.x() / p.z() + 1.f) * half, bv = (p.y() / p.z() + 1.f) * half;
+  if (!(bu >= 1.f && bv >= 1.f && bu < static_cast<float>(kSightBins - 1) && bv < static_cast<float>(kSightBins - 1)))
+    return false;
+  const int u = static_cast<int>(bu), v = static_cast<int>(bv);
+  const int du[5] = {0, 1, -1, 0, 0}, dv[5] = {0, 0, 0, 1, -1};
+  float d[5];
+  for (int k = 0; k < 5; ++k) {
+    const uint16_t mm = views.sight_mm[kHeadRole][(v + dv[k]) * static_cast<int>(kSightBins) + (u + du[k])];
+    if (mm == 0xFFFFu) return false;
+    d[k] = 0.001f * static_cast<float>(mm);
+  }
+  for (int k = 1; k < 5; ++k)
+    if (std::fabs(d[k] - d[0]) > kEdgeShare * d[0]) return false;
+  const auto bin_point = [&](int k) {
+    return Vec3(((static_cast<float>(u + du[k]) + 0.5f) / half - 1.f) * d[k],
+                ((static_cast<float>(v + dv[k]) + 0.5f) / half - 1.f) * d[k], d[k]);
+  };
+  Vec3 n = (bin_point(1) - bin_point(2)).cross(bin_point(3) - bin_point(4));
+  const float len = n.norm();
+  if (!(len > 0.f)) return false;
+  n /= len;
+  if (n.dot(p) > 0.f) n = -n;
+  if (-n.dot(p.normalized()) < kGrazingCos) return false;
+  nw = head.R * n;
+  return true;
+}
+
+// Eigen-decomposition of a symmetric 6x6 matrix by cyclic Jacobi rotations (bounded
+// sweeps): A = V diag(d) V^T.
+void jacobi6(float A[6][6], float V[6][6], float d[6]) {
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j < 6; ++j) V[i][j] = i == j ? 1.f : 0.f;
+  for (int sweep = 0; sweep < 12; ++sweep) {
+    float off = 0.f;
+    for (int p = 0; p < 6; ++p)
+      for (int q = p + 1; q < 6; ++q) off += A[p][q] * A[p][q];
+    if (off < 1e-24f) break;
+    for (int p = 0; p < 6; ++p)
+      for (int q = p + 1; q < 6; ++q) {
+        if (std::fabs(A[p][q]) < 1e-30f) continue;
+        const float theta = 0.5f * (A[q][q] - A[p][p]) / A[p][q];
+        const float t = (theta >= 0.f ? 1.f : -1.f) / (std::fabs(theta) + std::sqrt(theta * theta + 1.f));
+        const float c = 1.f / std::sqrt(t * t + 1.f), s = t * c;
+        for (int k = 0; k < 6; ++k) {  // columns p, q
+          const float akp = A[k][p], akq = A[k][q];
+          A[k][p] = c * akp - s * akq;
+          A[k][q] = s * akp + c * akq;
+        }
+        for (int k = 0; k < 6; ++k) {  // rows p, q
+          const float apk = A[p][k], aqk = A[q][k];
+          A[p][k] = c * apk - s * aqk;
+          A[q][k] = s * apk + c * aqk;
+        }
+        for (int k = 0; k < 6; ++k) {
+          const float vkp = V[k][p], vkq = V[k][q];
+          V[k][p] = c * vkp - s * vkq;
+          V[k][q] = s * vkp + c * vkq;
+        }
+      }
+  }
+  for (int i = 0; i < 6; ++i) d[i] = A[i][i];
+}
+
+// Samples are taken evenly over the directions of the head's normals where they lie,
+// six classes (the dominant axis of the world normal, either sign): a table fills the
+// view, and samples spread evenly over it would leave few on an object's sides, which
+// alone fix the slide and the turn in the table's plane.
+constexpr uint32_t kNormalClasses = 6;
+uint32_t normal_class(const Vec3& n) {
+  const Vec3 a = n.cwiseAbs();
+  const uint32_t axis = a.x() >= a.y() && a.x() >= a.z() ? 0u : (a.y() >= a.z() ? 1u : 2u);
+  return 2u * axis + (n[static_cast<int>(axis)] < 0.f ? 1u : 0u);
+}
+
+struct Sample {
+  Vec3 p, n;  // the head's voxel centroid and its surface's normal
+};
+
+struct Sums {
+  float H[6][6] = {};
+  float g[6] = {};
+  float cost = 0.f;  // Tukey's, saturated pairs and missing ones excluded
+  float sq = 0.f;    // squared residuals of the pairs
+  uint32_t pairs = 0;
+  uint32_t per_class[kNormalClasses] = {};
+};
+
+// One pass over the samples with the hand moved by (R, t): the Tukey-weighted normal
+// equations of the increment (rotation about `pivot` scaled by `lever`, translation).
+Sums accumulate(const DepthMoments* map, const Pose& hand, const Sample* samples, uint32_t n, const Mat3& R,
+                const Vec3& t, const Vec3& pivot, float lever, float gate) {
+  Sums s;
+  const Mat3 Rs = R * hand.R;
+  const Vec3 ts = R * hand.t + t;
+  const float inv_gate2 = 1.f / (gate * gate);
+  for (uint32_t i = 0; i < n; ++i) {
+    Vec3 w, nw;
+    if (!hand_surface(map, Rs, ts, samples[i].p, w, nw)) continue;
+    // The two sensors' normals agree on a surface both saw; a sample beside an edge
+    // lands on the other face of it.
+    if (!(nw.dot(samples[i].n) >= kSameSurfaceCos)) continue;
+    const float e = nw.dot(w - samples[i].p);
+    const float r2 = e * e * inv_gate2;
+    if (!(r2 < 1.f)) continue;
+    ++s.per_class[normal_class(nw)];
+    const float wt = (1.f - r2) * (1.f - r2);
+    // The hand's local plane turns with it: d e / d omega = (h - pivot) x n.
+    const Vec3 a = (samples[i].p - pivot).cross(nw) / lever;
+    const float J[6] = {a.x(), a.y(), a.z(), nw.x(), nw.y(), nw.z()};
+    for (int p = 0; p < 6; ++p) {
+      s.g[p] += wt * J[p] * e;
+      for (int q = p; q < 6; ++q) s.H[p][q] += wt * J[p] * J[q];
+    }
+    s.cost += 1.f - (1.f - r2) * (1.f - r2) * (1.f - r2);
+    s.sq += e * e;
+    ++s.pairs;
+  }
+  for (int p = 0; p < 6; ++p)
+    for (int q = 0; q < p; ++q) s.H[p][q] = s.H[q][p];
+  return s;
+}
+
+}  // namespace
+
+RegistrationResult register_hand(const VoxelGrid& grid, const SensorViews& views, const DepthMoments* moments,
+                                 const RegistrationParams& params, float* scratch) {
+  RegistrationResult out;
+  if (grid.finalized()) return out;
+  // The head's samples: voxels that project where the hand saw a surface (as
+  // calibrated), so that none is wasted on what only the head saw, taken evenly over
+  // the classes of the head's normals there (normal_class): at most cap / 6 of each,
+  // every stride-th of the class in the grid's order. At most 16 x cap voxels are
+  // looked at (every pre-th).
+  const uint32_t cap = params.max_samples;
+  const uint32_t size = grid.size();
+  const uint32_t pre = cap == 0 ? 1u : (size + 16u * cap - 1u) / (16u * cap);
+  const uint32_t quota = cap / kNormalClasses > 0u ? cap / kNormalClasses : 1u;
+  const Pose& hand = views.pose[static_cast<uint32_t>(SensorRole::hand)];
+  const auto class_in_view = [&](uint32_t i, Sample& c) {
+    c.p = grid.centroid(i);
+    Vec3 w, nw;
+    if (!hand_surface(moments, hand.R, hand.t, c.p, w, nw) || !head_normal(views, c.p, c.n)) return kNormalClasses;
+    return normal_class(c.n);
+  };
+  // The classes' shares are counted on every 4th of those voxels.
+  uint32_t seen[kNormalClasses + 1] = {};
+  Sample c;
+  for (uint32_t i = 0; i < size; i += 4u * pre) ++seen[class_in_view(i, c)];
+  uint32_t stride[kNormalClasses], taken[kNormalClasses] = {};
+  for (uint32_t k = 0; k < kNormalClasses; ++k)
+    stride[k] = 4u * seen[k] > quota ? (4u * seen[k] + quota - 1u) / quota : 1u;
+  uint32_t met[kNormalClasses] = {};
+  Sample* samples = reinterpret_cast<Sample*>(scratch);
+  uint32_t n = 0;
+  Vec3 pivot = Vec3::Zero();
+  for (uint32_t i = 0; i < size && n < cap; i += pre) {
+    const uint32_t k = class_in_view(i, c);
+    if (k == kNormalClasses || met[k]++ % stride[k] != 0u || taken[k] == quota) continue;
+    ++taken[k];
+    samples[n++] = c;
+    pivot += c.p;
+  }
+  out.samples = n;
+  if (n == 0) {
+    out.outcome = RegistrationOutcome::too_little_overlap;
+    return out;
+  }
+  pivot /= static_cast<float>(n);
+  float spread = 0.f;
+  for (uint32_t i = 0; i < n; ++i) spread += (samples[i].p - pivot).squaredNorm();
+  // The lever turns rotations into millimetres at the samples: their RMS distance from
+  // the pivot (at least 5 cm, the size of a small object).
+  const float lever = std::fmax(std::sqrt(spread / static_cast<float>(n)), 0.05f);
+
+  Mat3 R = Mat3::Identity();
+  Vec3 t = Vec3::Zero();
+  float gate = params.gate_start_m;
+  const uint32_t iterations = params.max_iterations;
+  uint32_t it = 0;
+  for (; it < iterations; ++it) {
+    Sums s = accumulate(moments, hand, samples, n, R, t, pivot, lever, gate);
+    if (s.pairs < 6u) break;
+    // The increment: H x = -g over the directions the pairs constrain, none along the
+    // others. A pair adds at most 1 to H along its own direction (unit normal; the turn
+    // scaled by the lever), so an eigenvalue counts the pairs behind that direction:
+    // fewer than kMinInformation, and a few stray pairs would decide it.
+    // While the gate is wide (the first steps), only the translation moves: the pairs
+    // then still include mismatches, which a turn, weakly held by a few centimetres of
+    // object sides, would follow far; a turn's own error is mostly a shift locally.
+    const bool coarse = gate > 2.f * params.gate_end_m;
+    if (coarse)
+      for (int p = 0; p < 3; ++p) {
+        s.g[p] = 0.f;
+        for (int q = 0; q < 6; ++q) s.H[p][q] = s.H[q][p] = p == q ? 1.f : 0.f;
+      }
+    float V[6][6], d[6];
+    jacobi6(s.H, V, d);
+    float dmax = 0.f;
+    for (float di : d) dmax = std::fmax(dmax, di);
+    float x[6] = {};
+    for (int k = 0; k < 6; ++k) {
+      if (!(d[k] >= kMinInformation) || !(d[k] > 1e-3f * dmax)) continue;
+      float proj = 0.f;
+      for (int p = 0; p < 6; ++p) proj += V[p][k] * s.g[p];
+      for (int p = 0; p < 6; ++p) x[p] -= V[p][k] * proj / d[k];
+    }
+    const Vec3 w = Vec3(x[0], x[1], x[2]) / lever, tau(x[3], x[4], x[5]);
+    const Mat3 dR = rotation_of(w);
+    // The increment turns the hand's points about the pivot, then moves them by tau.
+    const Vec3 dt = pivot - dR * pivot + tau;
+    R = dR * R;
+    t = dR * t + dt;
+    const float step = tau.norm() + w.norm() * lever;
+    // The gate shrinks to the final one as the alignment settles: wide first, to
+    // capture surfaces centimetres apart, narrow last, to keep edges out.
+    gate = std::fmax(params.gate_end_m, std::fmin(gate, 0.5f * gate + 2.f * step));
+    if (step < 1e-4f && gate <= params.gate_end_m) {
+      ++it;
+      break;
+    }
+  }
+  out.iterations = it;
+
+  // The verdict, on the final gate: as calibrated and as corrected.
+  const Sums before =
+      accumulate(moments, hand, samples, n, Mat3::Identity(), Vec3::Zero(), pivot, lever, params.gate_end_m);
+  const Sums after = accumulate(moments, hand, samples, n, R, t, pivot, lever, params.gate_end_m);
+  out.residual_before_mm = before.pairs > 0 ? 1000.f * std::sqrt(before.sq / static_cast<float>(before.pairs)) : 0.f;
+  const Vec3 origin = hand.t;
+  const float moved_origin = (R * origin + t - origin).norm();
+  const float angle = angle_of(R);
+  // The largest move over the samples' extent: the pivot's plus the turn at the lever.
+  const float move = (R * pivot + t - pivot).norm() + angle * lever;
+  const bool enough =
+      after.pairs >= params.min_pairs && static_cast<float>(after.pairs) >= params.min_overlap * static_cast<float>(n);
+  out.pairs = enough ? after.pairs : before.pairs;
+  out.overlap = static_cast<float>(out.pairs) / static_cast<float>(n);
+  out.residual_mm = out.residual_before_mm;
+  if (!enough && before.pairs < params.min_pairs) {
+    out.outcome = RegistrationOutcome::too_little_overlap;
+    return out;
+  }
+  if (moved_origin > params.max_translation_m || angle > params.max_rotation_rad) {
+    out.outcome = RegistrationOutcome::implausible;
+    return out;
+  }
+  // Kept unless the correction moves the hand's surfaces by more than the noise and
+  // fits them better: more pairs agree, at a lower cost (the missing pairs counted at
+  // the kernel's saturated value).
+  const float cost_before = before.cost + static_cast<float>(n - before.pairs);
+  const float cost_after = after.cost + static_cast<float>(n - after.pairs);
+  if (!enough || move < params.min_correction_m || !(cost_after < cost_before)) {
+    out.outcome = RegistrationOutcome::calibration_kept;
+    return out;
+  }
+  out.outcome = RegistrationOutcome::corrected;
+  out.correction.R = R;
+  out.correction.t = t;
+  out.translation_mm = 1000.f * moved_origin;
+  out.rotation_deg = angle * 57.2957795f;
+  out.residual_mm = after.pairs > 0 ? 1000.f * std::sqrt(after.sq / static_cast<float>(after.pairs)) : 0.f;
+  return out;
+}
+
+}  // namespace fg
