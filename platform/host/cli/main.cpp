@@ -74,6 +74,12 @@ void add_plan_command(CLI::App& app, PlanArgs& a) {
   a.cmd->add_option("--units", a.po.units,
                     "SENSOR=UNIT: the units of a sensor's cloud, m (the default), cm or mm, over the scene's "
                     "\"units\" (repeatable)");
+  a.cmd
+      ->add_option_function<std::string>(
+          "--registration", [&a](const std::string& v) { a.po.registration = v == "on"; },
+          "on (the default): register the hand sensor's cloud to the head's before fusing them; off: fuse them as "
+          "calibrated")
+      ->check(CLI::IsMember({"on", "off"}));
 }
 
 void add_sim_command(CLI::App& app, SimArgs& a) {

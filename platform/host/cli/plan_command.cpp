@@ -177,7 +177,13 @@ SensorRole role_of(const SceneSensor& s) { return s.name == "head" ? SensorRole:
     }
   } join_all{reads};
   std::string add_error;
-  for (size_t i = 0; i < n_sensors; ++i) {
+  // The head first, whatever the scene's order: the hand's cloud is then registered
+  // to it before it joins the grid (docs/method.md A.4b).
+  std::vector<size_t> order(n_sensors);
+  for (size_t i = 0; i < n_sensors; ++i) order[i] = i;
+  std::stable_partition(order.begin(), order.end(),
+                        [&scene](size_t i) { return role_of(scene.sensors[i]) == SensorRole::head; });
+  for (const size_t i : order) {
     const SceneSensor& s = scene.sensors[i];
     if (!streamed[i]) {
       if (ReadResult r = reads[i].get(); !r.ok) {
@@ -241,6 +247,7 @@ PlanOutcome plan_scene(const PlanOptions& opts) {
   if (!read_and_configure(opts, scene, cfg, err)) return invalid(err);
   Planner& planner = planner_instance();
   if (planner.set_target(target) != Status::ok) return invalid(planner.last_message());
+  planner.set_registration(opts.registration ? RegistrationMode::on : RegistrationMode::off);
   uint64_t t_plan = t_process;
   if (!read_and_add_clouds(opts, scene, planner, t_process, t_plan, err)) return invalid(err);
   robot::GraspCheckConfig check_cfg;

@@ -284,6 +284,20 @@ SimTrial run_sim_trial(const std::string& kind_name, uint64_t seed, const SimOpt
   if (grasp_task.state() == task::TaskState::failed)
     out.task_state += std::string(":") + task::to_string(grasp_task.failure());
   if (pr.status == Status::no_grasp) out.plan_reason = to_string(pr.reason);
+  out.registration = to_string(pr.registration.outcome);
+  if (out.wrist_view) {
+    // A target point seen by the hand: the truth maps it to the sensor frame, the
+    // pose the planner used (and the one given: the correction undone) back to world.
+    const Pose truth = scene.hand.world_T_sensor.to_pose();
+    const Pose& used = planner.sensor_pose(SensorRole::hand);
+    const Pose& c = pr.registration.correction;
+    const Vec3 p = scene.truth.target_centre.cast<float>();
+    const Vec3 in_sensor = truth.R.transpose() * (p - truth.t);
+    const Vec3 at_used = used.apply(in_sensor);
+    const Vec3 at_given = c.R.transpose() * (at_used - c.t);
+    out.hand_error_used_mm = 1000.0 * static_cast<double>((at_used - p).norm());
+    out.hand_error_given_mm = 1000.0 * static_cast<double>((at_given - p).norm());
+  }
   give_verdict(out, pr, scene, cfg, opt, run, grasp_task.state());
   write_trial_files(kind_name + "-" + std::to_string(seed), opt, planner, pr, scene, hw);
   return out;
@@ -389,6 +403,30 @@ json results_table(const std::vector<SimTrial>& trials, const SimOptions& opt) {
 json vec_json(const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
 
 //! One trial's record: its outcome and, with a grasp, the grasp and what the judge measured.
+//! The registration's outcomes, and the hand pose's error at the target as given and
+//! as used (median and 90th percentile over the trials whose wrist looked from the
+//! scene's viewpoint).
+void print_registration(const std::vector<SimTrial>& trials) {
+  std::map<std::string, uint32_t> outcomes;
+  std::vector<double> given, used;
+  for (const SimTrial& t : trials) {
+    ++outcomes[t.registration];
+    if (t.hand_error_given_mm < 0.0) continue;
+    given.push_back(t.hand_error_given_mm);
+    used.push_back(t.hand_error_used_mm);
+  }
+  std::string line;
+  for (const auto& [k, c] : outcomes) line += (line.empty() ? "" : ", ") + k + " " + std::to_string(c);
+  const auto pct = [](std::vector<double> v, double q) {
+    if (v.empty()) return 0.0;
+    std::sort(v.begin(), v.end());
+    return v[static_cast<size_t>(q * static_cast<double>(v.size() - 1))];
+  };
+  std::printf("registration: %s\n", line.c_str());
+  std::printf("hand pose error at the target (mm), median / 90%%: given %.1f / %.1f, used %.1f / %.1f\n",
+              pct(given, 0.5), pct(given, 0.9), pct(used, 0.5), pct(used, 0.9));
+}
+
 json trial_json(const SimTrial& t) {
   json r{{"kind", t.kind},
          {"seed", t.seed},
@@ -401,7 +439,10 @@ json trial_json(const SimTrial& t) {
          {"width_error_m", t.width_error_m},
          {"wrist_view", t.wrist_view},
          {"task_s", t.task_s},
-         {"ticks", t.ticks}};
+         {"ticks", t.ticks},
+         {"registration", t.registration}};
+  if (t.hand_error_given_mm >= 0.0)
+    r["hand_error_mm"] = json{{"given", t.hand_error_given_mm}, {"used", t.hand_error_used_mm}};
   if (t.has_grasp) {
     r["grasp"] = json{{"position", vec_json(t.grasp.position)},
                       {"approach", vec_json(t.grasp.approach)},
@@ -424,6 +465,7 @@ json trial_json(const SimTrial& t) {
 nlohmann::json run_sim(const SimOptions& opt, const PlannerConfig& cfg, Planner& planner) {
   const std::vector<SimTrial> trials = run_trials(opt, cfg, planner);
   json table = results_table(trials, opt);
+  print_registration(trials);
   json records = json::array();
   for (const SimTrial& t : trials) records.push_back(trial_json(t));
   return json{{"distribution", sim::distribution_name(opt.distribution)},

@@ -56,6 +56,12 @@ struct SimTrial {
   float angle_left = -1.f, angle_right = -1.f;  //!< friction angles at the contacts (rad), -1 unknown
   float true_width = -1.f;                      //!< pad-to-pad width on the true geometry (m), -1 unknown
   Vec3 contact_left = Vec3::Zero(), contact_right = Vec3::Zero();  //!< first contacts (world), when true_width >= 0
+  // The hand sensor's registration (A.4b), and how far its pose was off at the target
+  // (mm: where a point of the target seen by the hand lands, against the truth) as
+  // given and as the planner used it; -1 when the wrist did not look from the
+  // scene's viewpoint.
+  std::string registration;
+  double hand_error_given_mm = -1.0, hand_error_used_mm = -1.0;
 };
 
 //! Runs one trial with the planner configuration `cfg`. `planner` is reused between

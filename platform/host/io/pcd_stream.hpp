@@ -32,6 +32,13 @@ class PcdStream final : public PointSource {
   //! was read or a read failed: error() names the file and the problem.
   [[nodiscard]] bool next(PointPiece& piece) override;
 
+  //! From the first point again (PointSource): the planner reads a hand cloud twice.
+  bool can_rewind() const override { return fd_ >= 0; }
+  [[nodiscard]] bool rewind() override {
+    next_point_ = 0;
+    return fd_ >= 0;
+  }
+
   const std::string& error() const { return error_; }
   uint64_t points() const { return layout_.points; }
 

@@ -64,6 +64,23 @@ void report_figures(json& j, const PlanResult& res) {
   json timing = json::object();
   timing["total"] = res.stage_us[static_cast<int>(Stage::total)];
   for (int s = 0; s < static_cast<int>(Stage::total); ++s) timing[to_string(static_cast<Stage>(s))] = res.stage_us[s];
+  // With two sensors: how the hand was registered to the head (docs/method.md A.4b).
+  const RegistrationResult& reg = res.registration;
+  if (reg.outcome != RegistrationOutcome::not_run) {
+    const Pose& c = reg.correction;
+    json rows = json::array();
+    for (int r = 0; r < 3; ++r) rows.push_back(json::array({c.R(r, 0), c.R(r, 1), c.R(r, 2)}));
+    j["registration"] = json{{"outcome", to_string(reg.outcome)},
+                             {"translation_mm", reg.translation_mm},
+                             {"rotation_deg", reg.rotation_deg},
+                             {"residual_before_mm", reg.residual_before_mm},
+                             {"residual_mm", reg.residual_mm},
+                             {"overlap", reg.overlap},
+                             {"pairs", reg.pairs},
+                             {"iterations", reg.iterations},
+                             {"correction", json{{"R", rows}, {"t", json::array({c.t.x(), c.t.y(), c.t.z()})}}}};
+    timing["registration"] = reg.us;
+  }
   j["timing_us"] = timing;
   j["search"] = json{{"viewpoints", res.viewpoints},
                      {"candidates", res.candidates},

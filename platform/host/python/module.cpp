@@ -3,6 +3,7 @@
 // Host-only: it allocates and throws, and releases the GIL while the planner works.
 #include <pybind11/pybind11.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <memory>
 #include <mutex>
@@ -118,8 +119,13 @@ class PyPlanner {
     }
     for (const SensorRole role : {SensorRole::head, SensorRole::hand})  // metres unless a sensor says otherwise
       if (st == Status::ok) st = p.set_sensor_units(role, 1.f);
-    for (size_t i = 0; i < sensors.size() && st == Status::ok; ++i) {
-      const SensorInput& s = sensors[i];
+    // The head first: the hand's cloud is then registered to it (docs/method.md A.4b).
+    std::vector<size_t> order(sensors.size());
+    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::stable_partition(order.begin(), order.end(),
+                          [&sensors](size_t i) { return sensors[i].role == SensorRole::head; });
+    for (size_t k = 0; k < order.size() && st == Status::ok; ++k) {
+      const SensorInput& s = sensors[order[k]];
       st = p.set_sensor_units(s.role, s.units_m);
       if (st == Status::ok)
         st = s.depth ? p.add_depth_image(s.role, s.depth, s.width, s.height, s.intrinsics, s.pose)
