@@ -142,6 +142,12 @@ FG_SAME(FG_REASON_DEGENERATE, fg::NoGraspReason::degenerate);
 FG_SAME(FG_REASON_OCCLUDED, fg::NoGraspReason::occluded);
 FG_SAME(FG_STAGE_INGEST, fg::Stage::ingest);
 FG_SAME(FG_STAGE_TOTAL, fg::Stage::total);
+FG_SAME(FG_REGISTRATION_NOT_RUN, fg::RegistrationOutcome::not_run);
+FG_SAME(FG_REGISTRATION_CORRECTED, fg::RegistrationOutcome::corrected);
+FG_SAME(FG_REGISTRATION_CALIBRATION_KEPT, fg::RegistrationOutcome::calibration_kept);
+FG_SAME(FG_REGISTRATION_TOO_LITTLE_OVERLAP, fg::RegistrationOutcome::too_little_overlap);
+FG_SAME(FG_REGISTRATION_IMPLAUSIBLE, fg::RegistrationOutcome::implausible);
+FG_SAME(FG_REGISTRATION_HAND_ADDED_FIRST, fg::RegistrationOutcome::hand_added_first);
 FG_SAME(FG_STAGE_COUNT, fg::Stage::count);
 FG_SAME(FG_TASK_IDLE, fg::task::TaskState::idle);
 FG_SAME(FG_TASK_CAPTURING, fg::task::TaskState::capturing);
@@ -491,6 +497,34 @@ fg_status fg_set_sensor_units(fg_workspace* ws, int32_t role, float metres_per_u
   const fg::Status s = ws->planner.set_sensor_units(static_cast<fg::SensorRole>(role), metres_per_unit);
   ws->message = s == fg::Status::ok ? "" : ws->planner.last_message();
   return to_c(s);
+}
+
+fg_status fg_set_registration(fg_workspace* ws, int32_t on) {
+  if (!valid(ws)) return FG_ERR_NOT_A_WORKSPACE;
+  ws->planner.set_registration(on != 0 ? fg::RegistrationMode::on : fg::RegistrationMode::off);
+  ws->message = "";
+  return FG_OK;
+}
+
+fg_status fg_registration(fg_workspace* ws, fg_registration_result* out) {
+  if (!valid(ws)) return FG_ERR_NOT_A_WORKSPACE;
+  if (out == nullptr) return fail(ws, FG_ERR_INVALID_ARGUMENT, "registration output pointer is null");
+  const fg::RegistrationResult& r = ws->planner.registration();
+  *out = fg_registration_result{};
+  out->outcome = static_cast<int32_t>(r.outcome);
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) out->correction.r[3 * i + j] = r.correction.R(i, j);
+    out->correction.t[i] = r.correction.t[i];
+  }
+  out->translation_mm = r.translation_mm;
+  out->rotation_deg = r.rotation_deg;
+  out->residual_before_mm = r.residual_before_mm;
+  out->residual_mm = r.residual_mm;
+  out->overlap = r.overlap;
+  out->pairs = r.pairs;
+  out->iterations = r.iterations;
+  out->us = r.us;
+  return FG_OK;
 }
 
 fg_status fg_add_points_planar(fg_workspace* ws, int32_t role, const float* x, const float* y, const float* z,

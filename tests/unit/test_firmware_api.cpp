@@ -5,6 +5,7 @@
 // point or a box answer as the Planner does, and on the right box.
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -179,6 +180,63 @@ INSTANTIATE_TEST_SUITE_P(Shipped, FirmwareApiScenes,
                          ::testing::Values(FG_SOURCE_DIR "/examples/two-sensor-box/scene.json",
                                            FG_SHARED_DIR "/data/scenes/learn3-obj3/scene.json",
                                            FG_SHARED_DIR "/data/scenes/learn42-obj3/scene.json"));
+
+// The example with its hand pose 8 mm and half a degree off: fg_registration reports
+// what Planner::registration() does, field for field; off, it reports not_run.
+TEST(FirmwareApiRegistration, ReportsThePlannersRegistration) {
+  SceneData d;
+  ASSERT_TRUE(load(FG_SOURCE_DIR "/examples/two-sensor-box/scene.json", d));
+  for (size_t i = 0; i < d.poses.size(); ++i) {
+    if (d.roles[i] != fg::SensorRole::hand) continue;
+    d.poses[i].t += d.poses[i].R * fg::Vec3(0.008f, 0.f, 0.f);
+    d.poses[i].R = d.poses[i].R * Eigen::AngleAxisf(0.0087f, fg::Vec3::UnitY()).toRotationMatrix();
+  }
+  auto oracle = std::make_unique<fg::Planner>();
+  ASSERT_EQ(oracle->configure(fg::PlannerConfig{}), fg::Status::ok);
+  auto mem = std::make_unique<Memory>();
+  fg_config cfg;
+  ASSERT_EQ(fg_config_default(&cfg), FG_OK);
+  fg_workspace* ws = nullptr;
+  ASSERT_EQ(fg_init(mem->bytes, sizeof mem->bytes, &cfg, &ws), FG_OK);
+  fg_registration_result got;
+  ASSERT_EQ(fg_registration(ws, &got), FG_OK);
+  EXPECT_EQ(got.outcome, FG_REGISTRATION_NOT_RUN);
+  EXPECT_EQ(fg_registration(ws, nullptr), FG_ERR_INVALID_ARGUMENT);
+  for (size_t i = 0; i < d.clouds.size(); ++i) {  // the head first in the example
+    ASSERT_EQ(oracle->add_points(d.roles[i], d.clouds[i].xyz.data(), static_cast<uint32_t>(d.clouds[i].size()), 12,
+                                 d.poses[i]),
+              fg::Status::ok);
+    const fg_pose pose = to_c(d.poses[i]);
+    ASSERT_EQ(
+        fg_add_points(ws, static_cast<int32_t>(d.roles[i]), d.clouds[i].xyz.data(), d.clouds[i].size(), 12, &pose),
+        FG_OK);
+  }
+  const fg::RegistrationResult& want = oracle->registration();
+  ASSERT_EQ(fg_registration(ws, &got), FG_OK);
+  EXPECT_EQ(got.outcome, static_cast<int32_t>(want.outcome));
+  EXPECT_NE(got.outcome, FG_REGISTRATION_NOT_RUN);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_EQ(got.correction.t[i], want.correction.t[i]);
+    for (int j = 0; j < 3; ++j) EXPECT_EQ(got.correction.r[3 * i + j], want.correction.R(i, j));
+  }
+  EXPECT_EQ(got.translation_mm, want.translation_mm);
+  EXPECT_EQ(got.rotation_deg, want.rotation_deg);
+  EXPECT_EQ(got.residual_mm, want.residual_mm);
+  EXPECT_EQ(got.pairs, want.pairs);
+  EXPECT_EQ(got.iterations, want.iterations);
+
+  ASSERT_EQ(fg_reset(ws), FG_OK);
+  ASSERT_EQ(fg_set_registration(ws, 0), FG_OK);
+  for (size_t i = 0; i < d.clouds.size(); ++i) {
+    const fg_pose pose = to_c(d.poses[i]);
+    ASSERT_EQ(
+        fg_add_points(ws, static_cast<int32_t>(d.roles[i]), d.clouds[i].xyz.data(), d.clouds[i].size(), 12, &pose),
+        FG_OK);
+  }
+  ASSERT_EQ(fg_registration(ws, &got), FG_OK);
+  EXPECT_EQ(got.outcome, FG_REGISTRATION_NOT_RUN);
+  EXPECT_EQ(fg_set_registration(nullptr, 1), FG_ERR_NOT_A_WORKSPACE);
+}
 
 // The example's clouds in millimetres: refused naming the units, then with the sensors'
 // units set planned as the planner plans them with the same units.

@@ -236,6 +236,43 @@ FG_NODISCARD fg_status fg_add_depth_image(fg_workspace *ws, int32_t role, const 
  *  message naming those units. */
 FG_NODISCARD fg_status fg_set_sensor_units(fg_workspace *ws, int32_t role, float metres_per_unit);
 
+/** What the registration did with the hand sensor's pose (fg_registration). */
+typedef enum fg_registration_outcome {
+  FG_REGISTRATION_NOT_RUN = 0,          /**< one sensor, registration off, or nothing added yet */
+  FG_REGISTRATION_CORRECTED = 1,        /**< the hand's points were moved by the correction */
+  FG_REGISTRATION_CALIBRATION_KEPT = 2, /**< the calibration agreed: the correction found was noise */
+  FG_REGISTRATION_TOO_LITTLE_OVERLAP = 3, /**< too few surfaces both sensors saw: fused as calibrated */
+  FG_REGISTRATION_IMPLAUSIBLE = 4,      /**< the alignment found lies beyond the capture range (5 cm,
+                                             6 deg): fused as calibrated */
+  FG_REGISTRATION_HAND_ADDED_FIRST = 5  /**< the hand's points came before the head's: fused as calibrated */
+} fg_registration_outcome;
+
+/** The hand sensor's registration to the head (docs/method.md A.4b). */
+typedef struct fg_registration_result {
+  int32_t outcome;          /**< an fg_registration_outcome */
+  fg_pose correction;       /**< world frame: corrected world_T_hand = correction * world_T_hand as given;
+                                 identity unless corrected. Firmware may fold it into its hand-eye
+                                 calibration. */
+  float translation_mm;     /**< how far the correction moves the hand sensor's origin */
+  float rotation_deg;       /**< the correction's angle */
+  float residual_before_mm; /**< RMS point-to-plane distance of the pairs, as calibrated */
+  float residual_mm;        /**< the same after the correction */
+  float overlap;            /**< share of the head's samples the hand saw within the final gate */
+  uint32_t pairs;           /**< those pairs */
+  uint32_t iterations;
+  uint32_t us; /**< the stage's time (inside the hand's fg_add_* call) */
+} fg_registration_result;
+
+/** Whether the hand sensor's cloud is registered to the head's before it joins the
+ *  capture (on: nonzero, the default; off: 0). It runs when the hand is added after the
+ *  head: its points are then read twice. Kept across fg_reset. */
+FG_NODISCARD fg_status fg_set_registration(fg_workspace *ws, int32_t on);
+
+/** The registration of the capture since the last fg_reset (outcome
+ *  FG_REGISTRATION_NOT_RUN until the hand is added after the head). A null out:
+ *  FG_ERR_INVALID_ARGUMENT. */
+FG_NODISCARD fg_status fg_registration(fg_workspace *ws, fg_registration_result *out);
+
 /** Adds one sensor's points: count xyz triples of float (sensor frame, metres), the
  *  first float of point i at xyz + i * stride_bytes (stride >= 12; any alignment).
  *  NaN points are skipped. role: an fg_sensor_role, each at most once per capture. */
