@@ -506,6 +506,17 @@ def make_plan():
     out("plan", "units_mm_declared.bin", plan_input([mm], units=bytes([0]) + f32(0.001)))
     out("plan", "units_nan.bin", plan_input([mm], units=bytes([1]) + f32(NAN)))
     out("plan", "units_role_invalid.bin", plan_input([mm], units=bytes([3]) + f32(0.001)))
+    # registration (A.4b): the hand after the head, its pose (look-at) 8 mm off, a
+    # rewindable point source (pieces of 2), 30 cm off, and the hand before the head
+    head_pts = points_block(0, HEAD_EYE, TARGET, step=2)
+    def hand_off(d, kind_extra=0):
+        eye = tuple(e + d for e in HAND_EYE)
+        tgt = tuple(t + d for t in TARGET)
+        return points_block(1, HAND_EYE, TARGET, pose=f32(*eye, *tgt), kind_extra=(2 << 1) | kind_extra)
+    out("plan", "registration_off_8mm.bin", plan_input([head_pts, hand_off(0.008)], flags_extra=8))
+    out("plan", "registration_pieces.bin", plan_input([head_pts, hand_off(0.008, 16 | (1 << 5))]))
+    out("plan", "registration_far.bin", plan_input([head_pts, hand_off(0.3)]))
+    out("plan", "registration_hand_first.bin", plan_input([hand_off(0.008), head_pts]))
     out("plan", "target_point_far_box.bin",
         plan_input([two], config=5, target=target_block(1, point=(0.45, -0.1, 0.05)), objects=every))
     out("plan", "target_box_around.bin",

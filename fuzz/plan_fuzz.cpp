@@ -287,10 +287,17 @@ void object_calls(Reader& r, fg::Status* st, uint32_t& ns) {
 }
 
 // A call's points handed over in pieces of a few points each (the last may be shorter),
-// each piece's coordinates in place in the payload; a null payload is a null piece.
+// each piece's coordinates in place in the payload; a null payload is a null piece. A
+// source of an even number of points per piece can rewind (the hand's registration reads
+// it twice), one of an odd number cannot.
 class Pieces final : public fg::PointSource {
  public:
   explicit Pieces(const Call& c) : c_(c) {}
+  bool can_rewind() const override { return c_.piece_points % 2u == 0u; }
+  bool rewind() override {
+    at_ = 0;
+    return true;
+  }
   bool next(fg::PointPiece& piece) override {
     piece = fg::PointPiece{};
     if (at_ >= c_.count) return true;
@@ -348,6 +355,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (g_planner.set_target(fg::TargetSpec{}) != fg::Status::ok) std::abort();
   for (const fg::SensorRole role : {fg::SensorRole::head, fg::SensorRole::hand})  // nor its units
     if (g_planner.set_sensor_units(role, 1.f) != fg::Status::ok) std::abort();
+  // The hand after the head is registered to it (A.4b), its cloud read twice.
+  g_planner.set_registration(fg::RegistrationMode::on);
   fg_fuzz::disarm();
   if ((flags & 16u) != 0) {
     const fg::TargetSpec target = read_target(r);

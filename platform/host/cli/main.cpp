@@ -106,6 +106,12 @@ void add_sim_command(CLI::App& app, SimArgs& a) {
       ->delimiter(',')
       ->expected(2)
       ->check(CLI::Range(0.0, 100.0));
+  sim_cmd
+      ->add_option_function<std::string>(
+          "--registration", [&so](const std::string& v) { so.registration = v == "on"; },
+          "on (the default): the planner registers the wrist sensor's cloud to the head's; off: fuses them as "
+          "calibrated")
+      ->check(CLI::IsMember({"on", "off"}));
   sim_cmd->add_option("--pictures", so.pictures_dir, "write SVG pictures of each trial's plan to DIR/<kind>-<seed>");
   sim_cmd->add_option("--export", so.export_dir,
                       "write each trial's scene (scene.json, PCD, truth.json) to DIR/<kind>-<seed>");
@@ -207,6 +213,7 @@ int run_sim_command(SimArgs& a) {
     std::cerr << "forcegrasp sim: configuration value out of range: " << (field ? field : "?") << "\n";
     return kExitInvalid;
   }
+  planner.set_registration(so.registration ? fg::RegistrationMode::on : fg::RegistrationMode::off);
   const nlohmann::json report = run_sim(so, cfg, planner);
   if (!so.json_path.empty()) {
     std::ofstream f(so.json_path);
