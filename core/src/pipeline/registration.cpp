@@ -359,11 +359,12 @@ RegistrationResult register_hand(const VoxelGrid& grid, const SensorViews& views
     return out;
   }
   // Kept unless the correction moves the hand's surfaces by more than the noise and
-  // fits them better: more pairs agree, at a lower cost (the missing pairs counted at
-  // the kernel's saturated value).
+  // explains a share of their disagreement: the cost (the missing pairs counted at the
+  // kernel's saturated value) falls by min_cost_drop at least. Noise alone, fitted,
+  // lowers it by a few percent.
   const float cost_before = before.cost + static_cast<float>(n - before.pairs);
   const float cost_after = after.cost + static_cast<float>(n - after.pairs);
-  if (!enough || move < params.min_correction_m || !(cost_after < cost_before)) {
+  if (!enough || move < params.min_correction_m || !(cost_after < (1.f - params.min_cost_drop) * cost_before)) {
     out.outcome = RegistrationOutcome::calibration_kept;
     return out;
   }

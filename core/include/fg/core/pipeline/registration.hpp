@@ -69,6 +69,7 @@ struct RegistrationParams {
   float gate_start_m = 0.04f;         //!< pairs farther apart are not pairs: the capture range
   float gate_end_m = 0.008f;          //!< the final gate: a few times the sensors' noise
   float min_correction_m = 0.0015f;   //!< a smaller move (at the samples' extent) is noise
+  float min_cost_drop = 0.05f;        //!< a correction lowers the robust cost by this share at least
   float max_translation_m = 0.05f;    //!< beyond these the alignment is not believed
   float max_rotation_rad = 0.10472f;  //!< 6 deg
   uint32_t min_pairs = 64;            //!< fewer final pairs: not enough overlap
