@@ -238,13 +238,13 @@ FG_NODISCARD fg_status fg_set_sensor_units(fg_workspace *ws, int32_t role, float
 
 /** What the registration did with the hand sensor's pose (fg_registration). */
 typedef enum fg_registration_outcome {
-  FG_REGISTRATION_NOT_RUN = 0,          /**< one sensor, registration off, or nothing added yet */
-  FG_REGISTRATION_CORRECTED = 1,        /**< the hand's points were moved by the correction */
-  FG_REGISTRATION_CALIBRATION_KEPT = 2, /**< the calibration agreed: the correction found was noise */
+  FG_REGISTRATION_NOT_RUN = 0,            /**< one sensor, registration off, or nothing added yet */
+  FG_REGISTRATION_CORRECTED = 1,          /**< the hand's points were moved by the correction */
+  FG_REGISTRATION_CALIBRATION_KEPT = 2,   /**< the calibration agreed: the correction found was noise */
   FG_REGISTRATION_TOO_LITTLE_OVERLAP = 3, /**< too few surfaces both sensors saw: fused as calibrated */
-  FG_REGISTRATION_IMPLAUSIBLE = 4,      /**< the alignment found lies beyond the capture range (5 cm,
-                                             6 deg): fused as calibrated */
-  FG_REGISTRATION_HAND_ADDED_FIRST = 5  /**< the hand's points came before the head's: fused as calibrated */
+  FG_REGISTRATION_IMPLAUSIBLE = 4,        /**< the alignment found lies beyond the capture range (5 cm,
+                                               6 deg): fused as calibrated */
+  FG_REGISTRATION_HAND_ADDED_FIRST = 5    /**< the hand's points came before the head's: fused as calibrated */
 } fg_registration_outcome;
 
 /** The hand sensor's registration to the head (docs/method.md A.4b). */

@@ -68,8 +68,8 @@ inline constexpr uint32_t kMaxRankedGrasps = FG_MAX_RANKED_GRASPS;            //
 inline constexpr uint32_t kMaxObjects = FG_MAX_OBJECTS;  //!< objects a plan lists (the nearest the centre)
 inline constexpr uint32_t kRansacMaxIters = FG_RANSAC_MAX_ITERS;
 inline constexpr uint32_t kMaxSensors = FG_MAX_SENSORS;
-inline constexpr uint32_t kSightBins = FG_SIGHT_BINS;             //!< per axis, per sensor
-inline constexpr uint32_t kVoxelCacheBits = FG_VOXEL_CACHE_BITS;  //!< ingest's cell cache
+inline constexpr uint32_t kSightBins = FG_SIGHT_BINS;                      //!< per axis, per sensor
+inline constexpr uint32_t kVoxelCacheBits = FG_VOXEL_CACHE_BITS;           //!< ingest's cell cache
 inline constexpr uint32_t kRegistrationSamples = FG_REGISTRATION_SAMPLES;  //!< head samples the registration pairs
 
 static_assert(kMaxVoxels > 0 && kMaxObjectPoints > 0, "capacities must be positive");
