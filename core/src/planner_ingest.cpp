@@ -287,12 +287,12 @@ bool Planner::registers(SensorRole role) const {
 // The per-view memory, idle until plan(), holds the first pass's depth moments and the
 // registration's samples.
 namespace {
-constexpr size_t kMomentFloats = 3u * kMomentBins * kMomentBins;
+constexpr size_t kMomentFloats = size_t{3} * kMomentBins * kMomentBins;
 }  // namespace
 
 void Planner::begin_hand_pass(ingest::State& in) {
   static_assert(sizeof(DepthMoments) == 3 * sizeof(float), "moments are three floats");
-  static_assert((kMomentFloats + 6u * kRegistrationSamples) * sizeof(float) <= sizeof(ViewWork),
+  static_assert((kMomentFloats + size_t{6} * kRegistrationSamples) * sizeof(float) <= sizeof(ViewWork),
                 "the registration borrows the per-view memory, idle until plan(), without growing it");
   float* const mem = reinterpret_cast<float*>(view_words_);
   for (size_t i = 0; i < kMomentFloats; ++i) mem[i] = 0.f;

@@ -234,18 +234,13 @@ Sums accumulate(const DepthMoments* map, const Pose& hand, const Sample* samples
   return s;
 }
 
-}  // namespace
-
-RegistrationResult register_hand(const VoxelGrid& grid, const SensorViews& views, const DepthMoments* moments,
-                                 const RegistrationParams& params, float* scratch) {
-  RegistrationResult out;
-  if (grid.finalized()) return out;
-  // The head's samples: voxels that project where the hand saw a surface (as
-  // calibrated), so that none is wasted on what only the head saw, taken evenly over
-  // the classes of the head's normals there (normal_class): at most cap / 6 of each,
-  // every stride-th of the class in the grid's order. At most 16 x cap voxels are
-  // looked at (every pre-th).
-  const uint32_t cap = params.max_samples;
+// The head's samples: voxels that project where the hand saw a surface (as calibrated),
+// so that none is wasted on what only the head saw, taken evenly over the classes of
+// the head's normals there (normal_class): at most cap / 6 of each, every stride-th of
+// the class in the grid's order. At most 16 x cap voxels are looked at (every pre-th).
+// Returns how many were taken into `samples`.
+uint32_t select_samples(const VoxelGrid& grid, const SensorViews& views, const DepthMoments* moments, uint32_t cap,
+                        Sample* samples) {
   const uint32_t size = grid.size();
   const uint32_t pre = cap == 0 ? 1u : (size + 16u * cap - 1u) / (16u * cap);
   const uint32_t quota = cap / kNormalClasses > 0u ? cap / kNormalClasses : 1u;
@@ -260,71 +255,85 @@ RegistrationResult register_hand(const VoxelGrid& grid, const SensorViews& views
   uint32_t seen[kNormalClasses + 1] = {};
   Sample c;
   for (uint32_t i = 0; i < size; i += 4u * pre) ++seen[class_in_view(i, c)];
-  uint32_t stride[kNormalClasses], taken[kNormalClasses] = {};
+  uint32_t stride[kNormalClasses], taken[kNormalClasses] = {}, met[kNormalClasses] = {};
   for (uint32_t k = 0; k < kNormalClasses; ++k)
     stride[k] = 4u * seen[k] > quota ? (4u * seen[k] + quota - 1u) / quota : 1u;
-  uint32_t met[kNormalClasses] = {};
-  Sample* samples = reinterpret_cast<Sample*>(scratch);
   uint32_t n = 0;
-  Vec3 pivot = Vec3::Zero();
   for (uint32_t i = 0; i < size && n < cap; i += pre) {
     const uint32_t k = class_in_view(i, c);
     if (k == kNormalClasses || met[k]++ % stride[k] != 0u || taken[k] == quota) continue;
     ++taken[k];
     samples[n++] = c;
-    pivot += c.p;
   }
+  return n;
+}
+
+// One Gauss-Newton step from the normal equations `s`: the increment (a turn about the
+// pivot, scaled by the lever, then a move) folded into (R, t); its size at the samples.
+float step_once(Sums& s, bool coarse, float lever, const Vec3& pivot, Mat3& R, Vec3& t) {
+  // H x = -g over the directions the pairs constrain, none along the others. A pair
+  // adds at most 1 to H along its own direction (unit normal; the turn scaled by the
+  // lever), so an eigenvalue counts the pairs behind that direction: fewer than
+  // kMinInformation, and a few stray pairs would decide it.
+  // While the gate is wide (coarse: the first steps), only the translation moves: the
+  // pairs then still include mismatches, which a turn, weakly held by a few centimetres
+  // of object sides, would follow far; a turn's own error is mostly a shift locally.
+  if (coarse)
+    for (int p = 0; p < 3; ++p) {
+      s.g[p] = 0.f;
+      for (int q = 0; q < 6; ++q) s.H[p][q] = s.H[q][p] = p == q ? 1.f : 0.f;
+    }
+  float V[6][6], d[6];
+  jacobi6(s.H, V, d);
+  float dmax = 0.f;
+  for (float di : d) dmax = std::fmax(dmax, di);
+  float x[6] = {};
+  for (int k = 0; k < 6; ++k) {
+    if (!(d[k] >= kMinInformation) || !(d[k] > 1e-3f * dmax)) continue;
+    float proj = 0.f;
+    for (int p = 0; p < 6; ++p) proj += V[p][k] * s.g[p];
+    for (int p = 0; p < 6; ++p) x[p] -= V[p][k] * proj / d[k];
+  }
+  const Vec3 w = Vec3(x[0], x[1], x[2]) / lever, tau(x[3], x[4], x[5]);
+  const Mat3 dR = rotation_of(w);
+  // The increment turns the hand's points about the pivot, then moves them by tau.
+  const Vec3 dt = pivot - dR * pivot + tau;
+  R = dR * R;
+  t = dR * t + dt;
+  return tau.norm() + w.norm() * lever;
+}
+
+}  // namespace
+
+RegistrationResult register_hand(const VoxelGrid& grid, const SensorViews& views, const DepthMoments* moments,
+                                 const RegistrationParams& params, float* scratch) {
+  RegistrationResult out;
+  if (grid.finalized()) return out;
+  Sample* samples = reinterpret_cast<Sample*>(scratch);
+  const uint32_t n = select_samples(grid, views, moments, params.max_samples, samples);
   out.samples = n;
   if (n == 0) {
     out.outcome = RegistrationOutcome::too_little_overlap;
     return out;
   }
+  Vec3 pivot = Vec3::Zero();
+  for (uint32_t i = 0; i < n; ++i) pivot += samples[i].p;
   pivot /= static_cast<float>(n);
   float spread = 0.f;
   for (uint32_t i = 0; i < n; ++i) spread += (samples[i].p - pivot).squaredNorm();
   // The lever turns rotations into millimetres at the samples: their RMS distance from
   // the pivot (at least 5 cm, the size of a small object).
   const float lever = std::fmax(std::sqrt(spread / static_cast<float>(n)), 0.05f);
+  const Pose& hand = views.pose[static_cast<uint32_t>(SensorRole::hand)];
 
   Mat3 R = Mat3::Identity();
   Vec3 t = Vec3::Zero();
   float gate = params.gate_start_m;
-  const uint32_t iterations = params.max_iterations;
   uint32_t it = 0;
-  for (; it < iterations; ++it) {
+  for (; it < params.max_iterations; ++it) {
     Sums s = accumulate(moments, hand, samples, n, R, t, pivot, lever, gate);
     if (s.pairs < 6u) break;
-    // The increment: H x = -g over the directions the pairs constrain, none along the
-    // others. A pair adds at most 1 to H along its own direction (unit normal; the turn
-    // scaled by the lever), so an eigenvalue counts the pairs behind that direction:
-    // fewer than kMinInformation, and a few stray pairs would decide it.
-    // While the gate is wide (the first steps), only the translation moves: the pairs
-    // then still include mismatches, which a turn, weakly held by a few centimetres of
-    // object sides, would follow far; a turn's own error is mostly a shift locally.
-    const bool coarse = gate > 2.f * params.gate_end_m;
-    if (coarse)
-      for (int p = 0; p < 3; ++p) {
-        s.g[p] = 0.f;
-        for (int q = 0; q < 6; ++q) s.H[p][q] = s.H[q][p] = p == q ? 1.f : 0.f;
-      }
-    float V[6][6], d[6];
-    jacobi6(s.H, V, d);
-    float dmax = 0.f;
-    for (float di : d) dmax = std::fmax(dmax, di);
-    float x[6] = {};
-    for (int k = 0; k < 6; ++k) {
-      if (!(d[k] >= kMinInformation) || !(d[k] > 1e-3f * dmax)) continue;
-      float proj = 0.f;
-      for (int p = 0; p < 6; ++p) proj += V[p][k] * s.g[p];
-      for (int p = 0; p < 6; ++p) x[p] -= V[p][k] * proj / d[k];
-    }
-    const Vec3 w = Vec3(x[0], x[1], x[2]) / lever, tau(x[3], x[4], x[5]);
-    const Mat3 dR = rotation_of(w);
-    // The increment turns the hand's points about the pivot, then moves them by tau.
-    const Vec3 dt = pivot - dR * pivot + tau;
-    R = dR * R;
-    t = dR * t + dt;
-    const float step = tau.norm() + w.norm() * lever;
+    const float step = step_once(s, gate > 2.f * params.gate_end_m, lever, pivot, R, t);
     // The gate shrinks to the final one as the alignment settles: wide first, to
     // capture surfaces centimetres apart, narrow last, to keep edges out.
     gate = std::fmax(params.gate_end_m, std::fmin(gate, 0.5f * gate + 2.f * step));
@@ -340,8 +349,7 @@ RegistrationResult register_hand(const VoxelGrid& grid, const SensorViews& views
       accumulate(moments, hand, samples, n, Mat3::Identity(), Vec3::Zero(), pivot, lever, params.gate_end_m);
   const Sums after = accumulate(moments, hand, samples, n, R, t, pivot, lever, params.gate_end_m);
   out.residual_before_mm = before.pairs > 0 ? 1000.f * std::sqrt(before.sq / static_cast<float>(before.pairs)) : 0.f;
-  const Vec3 origin = hand.t;
-  const float moved_origin = (R * origin + t - origin).norm();
+  const float moved_origin = (R * hand.t + t - hand.t).norm();
   const float angle = angle_of(R);
   // The largest move over the samples' extent: the pivot's plus the turn at the lever.
   const float move = (R * pivot + t - pivot).norm() + angle * lever;
