@@ -5,6 +5,7 @@
 // changes are listed in CaseInput::overrides (all within their validated ranges).
 #include "wcet_cases.hpp"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -747,6 +748,8 @@ const std::vector<CaseInfo>& case_list() {
       {"fallback_views_max", "cluster, frame, xoy",
        "views_max's sphere under a fragment target: the fall-back searches both", false, false},
       {"hash_collide", "ingest, reset", "kMaxVoxels cells colliding in the voxel hash (pathological)", false, false},
+      {"registration_max", "ingest (registration)",
+       "the reference typical input, the hand's pose 20 mm and 2 deg off: the registration corrects it", false, true},
       // The reference typical input planned with the options an adversarial case
       // changes: the ratio of that case at the same configuration.
       {"typical_at_ransac_max", "(reference)", "the reference typical input with ransac_max's options", true, false},
@@ -784,6 +787,20 @@ bool make_case(const std::string& name, uint32_t points, CaseInput& out, std::st
   }
   out = CaseInput{};
   out.name = name;
+  if (name == "registration_max") {
+    // The hand's points as captured, its pose off in its own frame: the registration
+    // (A.4b) samples, iterates and corrects, where an exact pose ends after a few steps.
+    if (!make_case(reference_typical_case(), points, out, error, hash_cells)) return false;
+    out.name = name;
+    for (SensorInput& s : out.sensors) {
+      if (s.role != SensorRole::hand) continue;
+      const Mat3 turn = Eigen::AngleAxisf(0.0349066f, Vec3(0.3f, -0.5f, 0.8f).normalized()).toRotationMatrix();
+      s.pose.t += s.pose.R * Vec3(0.012f, -0.010f, 0.012f);  // 20 mm
+      s.pose.R = s.pose.R * turn;
+    }
+    out.note += "; the hand's pose 20 mm and 2 deg off";
+    return true;
+  }
   if (name == "typical_example") return load_example(out, error);
   if (name == "typical_box") return sim_box(out, error);
   if (name == "own_voxel") return own_voxel(out, points, kMaxVoxels, error);
