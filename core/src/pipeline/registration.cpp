@@ -53,6 +53,28 @@ float angle_of(const Mat3& R) {
   return std::acos(c > 1.f ? 1.f : (c < -1.f ? -1.f : c));
 }
 
+// A surface from the depths d of a direction bin (u, v) and its four neighbours (+u, -u,
+// +v, -v) in a map of 2 half bins per axis over x/z, y/z in [-1, 1): the bin's point on
+// its centre ray (s) and its normal (n), facing the sensor along `ray`. False when a
+// neighbour lies more than 5% of the range away (across an edge: the slope that would
+// need, over one of the host's moment bins, is beyond 73 degrees), the normal is
+// undefined, or the surface is seen grazing, beyond 80 degrees (its depths run along it).
+bool surface_of(const float d[5], int u, int v, float half, const Vec3& ray, Vec3& s, Vec3& n) {
+  for (int k = 1; k < 5; ++k)
+    if (std::fabs(d[k] - d[0]) > kEdgeShare * d[0]) return false;
+  const auto bin_point = [&](int du, int dv, float depth) {
+    return Vec3(((static_cast<float>(u + du) + 0.5f) / half - 1.f) * depth,
+                ((static_cast<float>(v + dv) + 0.5f) / half - 1.f) * depth, depth);
+  };
+  n = (bin_point(1, 0, d[1]) - bin_point(-1, 0, d[2])).cross(bin_point(0, 1, d[3]) - bin_point(0, -1, d[4]));
+  const float len = n.norm();
+  if (!(len > 0.f)) return false;
+  n /= len;
+  s = bin_point(0, 0, d[0]);
+  if (n.dot(ray) > 0.f) n = -n;
+  return -n.dot(ray.normalized()) >= kGrazingCos;
+}
+
 // The hand's surface where the head sample h projects in the hand's map of mean
 // depths, seen from the hand pose (Rs, ts): a point w on it (the bin's) and its outward
 // normal nw (world). False when the hand saw too little there, or the bin straddles an
@@ -74,29 +96,17 @@ bool hand_surface(const DepthMoments* map, const Mat3& Rs, const Vec3& ts, const
     d[k] = m.sum / m.n;
     if (k == 0) var0 = m.sq / m.n - d[0] * d[0];
   }
-  // A neighbour more than 5% of the range away in depth lies across an edge (the slope
-  // that would need, over a bin of 1/64, is beyond 73 degrees).
-  for (int k = 1; k < 5; ++k)
-    if (std::fabs(d[k] - d[0]) > kEdgeShare * d[0]) return false;
   // One plane spreads a bin's depths by its slope across the bin (a uniform spread over
   // one bin of the neighbours' mean step: variance step^2 / 12 per axis) plus the
   // sensor's noise; a bin spread wider holds two surfaces (an edge), and its mean lies on
-  // neither.
+  // neither. (A neighbour across an edge: surface_of.)
   const float gu = 0.5f * (d[1] - d[2]), gv = 0.5f * (d[3] - d[4]);
   if (var0 > kSpreadSlack * (gu * gu + gv * gv) / 12.f + kNoiseFloor * kNoiseFloor) return false;
-  const auto bin_point = [&](int k) {
-    return Vec3(((static_cast<float>(u + du[k]) + 0.5f) / half - 1.f) * d[k],
-                ((static_cast<float>(v + dv[k]) + 0.5f) / half - 1.f) * d[k], d[k]);
-  };
-  Vec3 n = (bin_point(1) - bin_point(2)).cross(bin_point(3) - bin_point(4));
-  const float len = n.norm();
-  if (!(len > 0.f)) return false;
-  n /= len;
-  // The bin's mean is its surface at the bin's centre ray; the normal faces the sensor.
-  const Vec3 s = bin_point(0);
-  if (n.dot(s) > 0.f) n = -n;
-  // Grazing views give depths along the surface, not across it: not a pair.
-  if (-n.dot(s.normalized()) < kGrazingCos) return false;
+  // The bin's mean is its surface at the bin's centre ray, which the normal faces.
+  const Vec3 centre(((static_cast<float>(u) + 0.5f) / half - 1.f) * d[0],
+                    ((static_cast<float>(v) + 0.5f) / half - 1.f) * d[0], d[0]);
+  Vec3 s, n;
+  if (!surface_of(d, u, v, half, centre, s, n)) return false;
   w = Rs * s + ts;
   nw = Rs * n;
   return true;
@@ -123,18 +133,8 @@ bool head_normal(const SensorViews& views, const Vec3& h, Vec3& nw) {
     if (mm == 0xFFFFu) return false;
     d[k] = 0.001f * static_cast<float>(mm);
   }
-  for (int k = 1; k < 5; ++k)
-    if (std::fabs(d[k] - d[0]) > kEdgeShare * d[0]) return false;
-  const auto bin_point = [&](int k) {
-    return Vec3(((static_cast<float>(u + du[k]) + 0.5f) / half - 1.f) * d[k],
-                ((static_cast<float>(v + dv[k]) + 0.5f) / half - 1.f) * d[k], d[k]);
-  };
-  Vec3 n = (bin_point(1) - bin_point(2)).cross(bin_point(3) - bin_point(4));
-  const float len = n.norm();
-  if (!(len > 0.f)) return false;
-  n /= len;
-  if (n.dot(p) > 0.f) n = -n;
-  if (-n.dot(p.normalized()) < kGrazingCos) return false;
+  Vec3 s, n;
+  if (!surface_of(d, u, v, half, p, s, n)) return false;
   nw = head.R * n;
   return true;
 }
