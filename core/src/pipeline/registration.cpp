@@ -196,7 +196,6 @@ struct Sums {
   float cost = 0.f;  // Tukey's, saturated pairs and missing ones excluded
   float sq = 0.f;    // squared residuals of the pairs
   uint32_t pairs = 0;
-  uint32_t per_class[kNormalClasses] = {};
 };
 
 // One pass over the samples with the hand moved by (R, t): the Tukey-weighted normal
@@ -216,7 +215,6 @@ Sums accumulate(const DepthMoments* map, const Pose& hand, const Sample* samples
     const float e = nw.dot(w - samples[i].p);
     const float r2 = e * e * inv_gate2;
     if (!(r2 < 1.f)) continue;
-    ++s.per_class[normal_class(nw)];
     const float wt = (1.f - r2) * (1.f - r2);
     // The hand's local plane turns with it: d e / d omega = (h - pivot) x n.
     const Vec3 a = (samples[i].p - pivot).cross(nw) / lever;

@@ -177,13 +177,9 @@ SensorRole role_of(const SceneSensor& s) { return s.name == "head" ? SensorRole:
     }
   } join_all{reads};
   std::string add_error;
-  // The head first, whatever the scene's order: the hand's cloud is then registered
-  // to it before it joins the grid (docs/method.md A.4b).
-  std::vector<size_t> order(n_sensors);
-  for (size_t i = 0; i < n_sensors; ++i) order[i] = i;
-  std::stable_partition(order.begin(), order.end(),
-                        [&scene](size_t i) { return role_of(scene.sensors[i]) == SensorRole::head; });
-  for (const size_t i : order) {
+  // The head first, whatever the scene's order (head_first).
+  for (const size_t i :
+       head_first(n_sensors, [&scene](size_t k) { return role_of(scene.sensors[k]) == SensorRole::head; })) {
     const SceneSensor& s = scene.sensors[i];
     if (!streamed[i]) {
       if (ReadResult r = reads[i].get(); !r.ok) {

@@ -2,6 +2,7 @@
 // and the Python module: the robot's check set up for the scene, and the contract's
 // report (spec/scene-and-cli.md) of a plan's outcome as JSON.
 #pragma once
+#include <algorithm>
 #include <nlohmann/json.hpp>
 #include <vector>
 
@@ -10,6 +11,17 @@
 #include "fg/robot/ur5_grasp_check.hpp"
 
 namespace fg::host {
+
+//! The order to add n sensors in: the head's first, the others in theirs, so that the
+//! hand's cloud is registered to the head's before it joins the grid (docs/method.md
+//! A.4b). is_head(i): sensor i is the head.
+template <class IsHead>
+std::vector<size_t> head_first(size_t n, IsHead is_head) {
+  std::vector<size_t> order(n);
+  for (size_t i = 0; i < n; ++i) order[i] = i;
+  std::stable_partition(order.begin(), order.end(), is_head);
+  return order;
+}
 
 //! Sets up the robot's check (robot/ur5_grasp_check.hpp) for a plan: the whole tool
 //! against the plane and the target always; inverse kinematics too when the arm's

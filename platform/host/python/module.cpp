@@ -119,11 +119,9 @@ class PyPlanner {
     }
     for (const SensorRole role : {SensorRole::head, SensorRole::hand})  // metres unless a sensor says otherwise
       if (st == Status::ok) st = p.set_sensor_units(role, 1.f);
-    // The head first: the hand's cloud is then registered to it (docs/method.md A.4b).
-    std::vector<size_t> order(sensors.size());
-    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
-    std::stable_partition(order.begin(), order.end(),
-                          [&sensors](size_t i) { return sensors[i].role == SensorRole::head; });
+    // The head first (head_first).
+    const std::vector<size_t> order =
+        host::head_first(sensors.size(), [&sensors](size_t i) { return sensors[i].role == SensorRole::head; });
     for (size_t k = 0; k < order.size() && st == Status::ok; ++k) {
       const SensorInput& s = sensors[order[k]];
       st = p.set_sensor_units(s.role, s.units_m);
