@@ -119,31 +119,38 @@ FG_LANES_TARGET inline void offsets_of(VF ox, VF oy, VF oz, V4f* out) {
 // The registration's first pass (State::moments): the depths, in metres, of every
 // fourth point with a depth in front of the sensor (counted across the calls, so the
 // same points whatever pieces a cloud comes in, and whether or not its points without
-// a return are given), per bin of half the sight map's resolution; nothing else. Apart
-// from the ingest's loop, which it would slow down.
-void add_moments(State& s, const float* x, const float* y, const float* z, uint32_t n) {
+// a return are given), per bin of half the sight map's resolution; nothing else. Only
+// the depth of the others is read. Apart from the ingest's loop, which it would slow
+// down.
+void add_moment(State& s, float x, float y, float z) {
   constexpr float half = 0.5f * static_cast<float>(kSightBins);
-  const float metres = s.depth_mm * 0.001f;
-  for (uint32_t i = 0; i < n; ++i) {
-    if (!(z[i] > 0.f && z[i] <= 3.0e38f)) continue;  // NaN fails too
+  if (!(z > 0.f && z <= 3.0e38f)) return;  // NaN fails too
+  const float inv = 1.f / z;
+  const float bu = (x * inv + 1.f) * half, bv = (y * inv + 1.f) * half;
+  if (!(bu >= 0.f && bv >= 0.f && bu < 2.f * half && bv < 2.f * half)) return;
+  const uint32_t bin = (static_cast<uint32_t>(bv) / 2u) * (kSightBins / 2u) + static_cast<uint32_t>(bu) / 2u;
+  const float zm = z * (s.depth_mm * 0.001f);
+  DepthMoments& mo = s.moments[bin];
+  mo.sum += zm;
+  mo.sq += zm * zm;
+  mo.n += 1.f;
+}
+
+void add_moments(State& s, const uint8_t* const base[3], uint32_t count, uint32_t stride_bytes) {
+  for (uint32_t i = 0; i < count; ++i) {
+    const size_t off = static_cast<size_t>(i) * stride_bytes;
+    float z;
+    std::memcpy(&z, base[2] + off, sizeof z);
+    if (!(z > 0.f && z <= 3.0e38f)) continue;  // NaN fails too
     if ((s.moment_count++ & 3u) != 0u) continue;
-    const float inv = 1.f / z[i];
-    const float bu = (x[i] * inv + 1.f) * half, bv = (y[i] * inv + 1.f) * half;
-    if (!(bu >= 0.f && bv >= 0.f && bu < 2.f * half && bv < 2.f * half)) continue;
-    const uint32_t bin = (static_cast<uint32_t>(bv) / 2u) * (kSightBins / 2u) + static_cast<uint32_t>(bu) / 2u;
-    const float zm = z[i] * metres;
-    DepthMoments& mo = s.moments[bin];
-    mo.sum += zm;
-    mo.sq += zm * zm;
-    mo.n += 1.f;
+    float x, y;
+    std::memcpy(&x, base[0] + off, sizeof x);
+    std::memcpy(&y, base[1] + off, sizeof y);
+    add_moment(s, x, y, z);
   }
 }
 
 bool add_block(State& s, VoxelGrid& grid, const float* x, const float* y, const float* z, uint32_t n) {
-  if (s.moments_only) {
-    add_moments(s, x, y, z, n);
-    return true;
-  }
 #if FG_INGEST_AVX2
   if (s.lanes == 8u) return lanes8::add_block(s, grid, x, y, z, n);
 #endif

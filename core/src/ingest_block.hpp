@@ -67,6 +67,12 @@ inline void sample_depth(State& s, float z) {
 //! offered, nonfinite and kept count exactly the points read up to the refused one.
 [[nodiscard]] bool add_block(State& s, VoxelGrid& grid, const float* x, const float* y, const float* z, uint32_t n);
 
+//! Adds one point (sensor frame, the cloud's units, a depth in front) to State::moments.
+void add_moment(State& s, float x, float y, float z);
+//! The first pass over `count` points at base[k] + i * stride_bytes (x, y, z): adds every
+//! fourth with a depth in front, counting on from the calls before.
+void add_moments(State& s, const uint8_t* const base[3], uint32_t count, uint32_t stride_bytes);
+
 //! The vector width add_block uses (4 or 8) for the width a caller asks for: 4 forces
 //! the four-lane path of every target, anything else (0 by convention) picks the widest
 //! this CPU runs. The caller keeps its choice (Planner::set_ingest_lanes) and passes it

@@ -292,8 +292,9 @@ constexpr size_t kMomentFloats = size_t{3} * kMomentBins * kMomentBins;
 
 void Planner::begin_hand_pass(ingest::State& in) {
   static_assert(sizeof(DepthMoments) == 3 * sizeof(float), "moments are three floats");
-  static_assert((kMomentFloats + size_t{6} * kRegistrationSamples) * sizeof(float) <= sizeof(ViewWork),
-                "the registration borrows the per-view memory, idle until plan(), without growing it");
+  static_assert(
+      (kMomentFloats + size_t{kRegistrationSampleFloats} * kRegistrationSamples) * sizeof(float) <= sizeof(ViewWork),
+      "the registration borrows the per-view memory, idle until plan(), without growing it");
   float* const mem = reinterpret_cast<float*>(view_words_);
   for (size_t i = 0; i < kMomentFloats; ++i) mem[i] = 0.f;
   in.moments = reinterpret_cast<DepthMoments*>(mem);
@@ -349,6 +350,10 @@ Status Planner::add_points_planar(SensorRole role, const float* x, const float* 
 }
 
 bool Planner::ingest_piece(ingest::State& in, const uint8_t* const base[3], uint32_t count, uint32_t stride_bytes) {
+  if (in.moments_only) {  // the registration's first pass adds no voxel
+    ingest::add_moments(in, base, count, stride_bytes);
+    return true;
+  }
   const uint8_t *bx = base[0], *by = base[1], *bz = base[2];
   // x, y and z arrays are read in place; other strides are gathered into a block.
   const bool planar = stride_bytes == sizeof(float);
@@ -365,7 +370,7 @@ bool Planner::ingest_piece(ingest::State& in, const uint8_t* const base[3], uint
       const uint8_t* const b[3] = {bx + off, by + off, bz + off};
       gather(blk, b, stride_bytes, n, i + n < count ? n : n - 1);
     }
-    if (!in.moments_only) make_room(in, n);
+    make_room(in, n);
     if (!ingest::add_block(in, grid_, x, y, z, n)) return false;
   }
   return true;
@@ -436,8 +441,18 @@ Status Planner::add_point_source(SensorRole role, PointSource& source, const Pos
 // One pass over a depth image's returns.
 Status Planner::depth_pass(ingest::State& in, const uint16_t* depth_mm, uint16_t width, uint16_t height,
                            const PinholeIntrinsics& k) {
-  Status st = Status::ok;
   const float ifx = 1.f / k.fx, ify = 1.f / k.fy;
+  if (in.moments_only) {  // the registration's first pass: every fourth return
+    const uint64_t pixels = static_cast<uint64_t>(width) * height;
+    for (uint64_t i = 0; i < pixels; ++i) {
+      if (depth_mm[i] == 0 || (in.moment_count++ & 3u) != 0u) continue;
+      const uint32_t v = static_cast<uint32_t>(i / width), u = static_cast<uint32_t>(i % width);
+      const float z = static_cast<float>(depth_mm[i]) * 0.001f;
+      ingest::add_moment(in, (static_cast<float>(u) - k.cx) * ifx * z, (static_cast<float>(v) - k.cy) * ify * z, z);
+    }
+    return Status::ok;
+  }
+  Status st = Status::ok;
   Block blk;
   for (uint32_t v = 0; v < height && st == Status::ok; ++v) {
     const float yf = (static_cast<float>(v) - k.cy) * ify;
@@ -450,7 +465,7 @@ Status Planner::depth_pass(ingest::State& in, const uint16_t* depth_mm, uint16_t
       blk.z[blk.n] = z;
       if (++blk.n == ingest::State::kBatch) {
         blk.n = 0;
-        if (!in.moments_only) make_room(in, ingest::State::kBatch);
+        make_room(in, ingest::State::kBatch);
         if (!ingest::add_block(in, grid_, blk.x, blk.y, blk.z, ingest::State::kBatch)) {
           st = Status::capacity_exceeded;
           break;
@@ -459,7 +474,7 @@ Status Planner::depth_pass(ingest::State& in, const uint16_t* depth_mm, uint16_t
     }
   }
   if (st == Status::ok) {
-    if (!in.moments_only) make_room(in, blk.n);
+    make_room(in, blk.n);
     if (!ingest::add_block(in, grid_, blk.x, blk.y, blk.z, blk.n)) st = Status::capacity_exceeded;
   }
   return st;

@@ -75,23 +75,30 @@ bool surface_of(const float d[5], int u, int v, float half, const Vec3& ray, Vec
   return -n.dot(ray.normalized()) >= kGrazingCos;
 }
 
-// The hand's surface where the head sample h projects in the hand's map of mean
-// depths, seen from the hand pose (Rs, ts): a point w on it (the bin's) and its outward
-// normal nw (world). False when the hand saw too little there, or the bin straddles an
-// edge (its depths spread, or a neighbour's mean jumps).
-bool hand_surface(const DepthMoments* map, const Mat3& Rs, const Vec3& ts, const Vec3& h, Vec3& w, Vec3& nw) {
+// The hand's map bin (v * kMomentBins + u) where the world point h projects from the
+// hand pose (Rs, ts), one bin inside the map's border; -1 outside.
+int32_t hand_bin(const Mat3& Rs, const Vec3& ts, const Vec3& h) {
   constexpr float half = 0.5f * static_cast<float>(kMomentBins);
   const Vec3 p = Rs.transpose() * (h - ts);
-  if (!(p.z() > 0.05f)) return false;
+  if (!(p.z() > 0.05f)) return -1;
   const float bu = (p.x() / p.z() + 1.f) * half, bv = (p.y() / p.z() + 1.f) * half;
   constexpr float lo = 1.f, hi = static_cast<float>(kMomentBins - 1);
-  if (!(bu >= lo && bv >= lo && bu < hi && bv < hi)) return false;
-  const int u = static_cast<int>(bu), v = static_cast<int>(bv);
+  if (!(bu >= lo && bv >= lo && bu < hi && bv < hi)) return -1;
+  return static_cast<int32_t>(bv) * static_cast<int32_t>(kMomentBins) + static_cast<int32_t>(bu);
+}
+
+// The hand's surface in its map's bin: the point s on the bin's centre ray at the bin's
+// mean depth, and its normal n (the hand sensor's frame). False when the hand saw too
+// little there, or the bin straddles an edge (its depths spread, or a neighbour's mean
+// jumps).
+bool bin_surface(const DepthMoments* map, int32_t bin, Vec3& s, Vec3& n) {
+  constexpr float half = 0.5f * static_cast<float>(kMomentBins);
+  const int32_t u = bin % static_cast<int32_t>(kMomentBins), v = bin / static_cast<int32_t>(kMomentBins);
   float d[5];  // the bin, then +u, -u, +v, -v
-  const int du[5] = {0, 1, -1, 0, 0}, dv[5] = {0, 0, 0, 1, -1};
+  const int32_t step[5] = {0, 1, -1, static_cast<int32_t>(kMomentBins), -static_cast<int32_t>(kMomentBins)};
   float var0 = 0.f;
   for (int k = 0; k < 5; ++k) {
-    const DepthMoments& m = map[(v + dv[k]) * static_cast<int>(kMomentBins) + (u + du[k])];
+    const DepthMoments& m = map[bin + step[k]];
     if (!(m.n >= kMinReturns)) return false;
     d[k] = m.sum / m.n;
     if (k == 0) var0 = m.sq / m.n - d[0] * d[0];
@@ -105,11 +112,7 @@ bool hand_surface(const DepthMoments* map, const Mat3& Rs, const Vec3& ts, const
   // The bin's mean is its surface at the bin's centre ray, which the normal faces.
   const Vec3 centre(((static_cast<float>(u) + 0.5f) / half - 1.f) * d[0],
                     ((static_cast<float>(v) + 0.5f) / half - 1.f) * d[0], d[0]);
-  Vec3 s, n;
-  if (!surface_of(d, u, v, half, centre, s, n)) return false;
-  w = Rs * s + ts;
-  nw = Rs * n;
-  return true;
+  return surface_of(d, u, v, half, centre, s, n);
 }
 
 // The head's surface normal at its sample h, from its map of nearest returns (the
@@ -188,7 +191,30 @@ uint32_t normal_class(const Vec3& n) {
 
 struct Sample {
   Vec3 p, n;  // the head's voxel centroid and its surface's normal
+  // The hand's surface in the bin the sample last projected to (its frame): a bin's
+  // surface depends on the bin alone, and the samples keep their bins once the
+  // alignment settles, so most passes look up no map.
+  Vec3 hs, hn;
+  int32_t bin;  // -1: none yet
+  int32_t has_surface;
 };
+static_assert(sizeof(Sample) == kRegistrationSampleFloats * sizeof(float), "the scratch's size per sample");
+
+// The hand's surface at sample `smp` from the hand pose (Rs, ts), through its cache: a
+// world point w on it and its outward normal nw. False when the hand saw too little
+// there, or its bin straddles an edge.
+bool hand_surface(const DepthMoments* map, const Mat3& Rs, const Vec3& ts, Sample& smp, Vec3& w, Vec3& nw) {
+  const int32_t bin = hand_bin(Rs, ts, smp.p);
+  if (bin < 0) return false;
+  if (bin != smp.bin) {
+    smp.bin = bin;
+    smp.has_surface = bin_surface(map, bin, smp.hs, smp.hn) ? 1 : 0;
+  }
+  if (smp.has_surface == 0) return false;
+  w = Rs * smp.hs + ts;
+  nw = Rs * smp.hn;
+  return true;
+}
 
 struct Sums {
   float H[6][6] = {};
@@ -200,15 +226,15 @@ struct Sums {
 
 // One pass over the samples with the hand moved by (R, t): the Tukey-weighted normal
 // equations of the increment (rotation about `pivot` scaled by `lever`, translation).
-Sums accumulate(const DepthMoments* map, const Pose& hand, const Sample* samples, uint32_t n, const Mat3& R,
-                const Vec3& t, const Vec3& pivot, float lever, float gate) {
+Sums accumulate(const DepthMoments* map, const Pose& hand, Sample* samples, uint32_t n, const Mat3& R, const Vec3& t,
+                const Vec3& pivot, float lever, float gate) {
   Sums s;
   const Mat3 Rs = R * hand.R;
   const Vec3 ts = R * hand.t + t;
   const float inv_gate2 = 1.f / (gate * gate);
   for (uint32_t i = 0; i < n; ++i) {
     Vec3 w, nw;
-    if (!hand_surface(map, Rs, ts, samples[i].p, w, nw)) continue;
+    if (!hand_surface(map, Rs, ts, samples[i], w, nw)) continue;
     // The two sensors' normals agree on a surface both saw; a sample beside an edge
     // lands on the other face of it.
     if (!(nw.dot(samples[i].n) >= kSameSurfaceCos)) continue;
@@ -245,8 +271,9 @@ uint32_t select_samples(const VoxelGrid& grid, const SensorViews& views, const D
   const Pose& hand = views.pose[static_cast<uint32_t>(SensorRole::hand)];
   const auto class_in_view = [&](uint32_t i, Sample& c) {
     c.p = grid.centroid(i);
+    c.bin = -1;
     Vec3 w, nw;
-    if (!hand_surface(moments, hand.R, hand.t, c.p, w, nw) || !head_normal(views, c.p, c.n)) return kNormalClasses;
+    if (!hand_surface(moments, hand.R, hand.t, c, w, nw) || !head_normal(views, c.p, c.n)) return kNormalClasses;
     return normal_class(c.n);
   };
   // The classes' shares are counted on every 4th of those voxels.

@@ -29,6 +29,9 @@ struct DepthMoments {
   float sum, sq, n;
 };
 
+//! Scratch floats per head sample (register_hand's `scratch`).
+inline constexpr uint32_t kRegistrationSampleFloats = 14;
+
 //! What the registration did with the hand sensor's pose.
 enum class RegistrationOutcome : uint8_t {
   not_run = 0,         //!< one sensor, registration off, or no plan yet
@@ -79,7 +82,7 @@ struct RegistrationParams {
 //! The registration of the hand's surface, `moments` (kMomentBins^2 bins) seen from
 //! views.pose[hand] (world_T_sensor as given), to the head's points, which `grid`
 //! (before finalize()) holds alone, their normals from the head's sight map in `views`.
-//! `scratch` holds 6 x params.max_samples floats. Changes nothing: the caller ingests
+//! `scratch` holds kRegistrationSampleFloats x params.max_samples floats. Changes nothing: the caller ingests
 //! the hand's points with the corrected pose. Deterministic; at most max_iterations
 //! passes over at most max_samples samples.
 RegistrationResult register_hand(const VoxelGrid& grid, const SensorViews& views, const DepthMoments* moments,
