@@ -19,7 +19,7 @@
 #define FG_RANSAC_MAX_ITERS 256u      /* upper bound of the configured iteration count */
 #define FG_MAX_SENSORS 2u             /* head and hand */
 #define FG_SIGHT_BINS 64u             /* nearest-return direction bins per axis, per sensor */
-#define FG_REGISTRATION_SAMPLES 256u  /* head voxel centroids the hand sensor is registered to */
+#define FG_REGISTRATION_SAMPLES 160u  /* head voxel centroids the hand is registered to (56 B each, per-view memory) */
 #define FG_VOXEL_CACHE_BITS 8u        /* 2^bits recent cells cached by the ingest loop */
 
 /* The workspace budget: firmware_api's FG_WORKSPACE_SIZE, a compile-time upper bound of
