@@ -124,7 +124,6 @@ FG_LANES_TARGET inline void offsets_of(VF ox, VF oy, VF oz, V4f* out) {
 // down.
 void add_moment(State& s, float x, float y, float z) {
   constexpr float half = 0.5f * static_cast<float>(kSightBins);
-  if (!(z > 0.f && z <= 3.0e38f)) return;  // NaN fails too
   const float inv = 1.f / z;
   const float bu = (x * inv + 1.f) * half, bv = (y * inv + 1.f) * half;
   if (!(bu >= 0.f && bv >= 0.f && bu < 2.f * half && bv < 2.f * half)) return;

@@ -82,9 +82,9 @@ struct RegistrationParams {
 //! The registration of the hand's surface, `moments` (kMomentBins^2 bins) seen from
 //! views.pose[hand] (world_T_sensor as given), to the head's points, which `grid`
 //! (before finalize()) holds alone, their normals from the head's sight map in `views`.
-//! `scratch` holds kRegistrationSampleFloats x params.max_samples floats. Changes nothing: the caller ingests
-//! the hand's points with the corrected pose. Deterministic; at most max_iterations
-//! passes over at most max_samples samples.
+//! `scratch` holds kRegistrationSampleFloats x params.max_samples floats. Changes
+//! nothing: the caller ingests the hand's points with the corrected pose.
+//! Deterministic; at most max_iterations passes over at most max_samples samples.
 RegistrationResult register_hand(const VoxelGrid& grid, const SensorViews& views, const DepthMoments* moments,
                                  const RegistrationParams& params, float* scratch);
 
