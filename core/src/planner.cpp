@@ -113,6 +113,12 @@ Status Planner::plan(PlanResult& out) {
 
   if (!sensors_.any())
     return finish(out, tally, Status::no_input, NoGraspReason::none, "no sensor data was added before plan()");
+  if (registration_.outcome == RegistrationOutcome::sensor_disagreement &&
+      registration_mode_ == RegistrationMode::strict)
+    return finish(out, tally, Status::sensor_disagreement, NoGraspReason::none,
+                  "the hand sensor's cloud disagrees with the head's after the registration: the hand saw through "
+                  "surfaces the head saw (registration.see_through); check the hand's pose, its hand-eye calibration "
+                  "and the clouds' frames");
   if (overflow_)
     return finish(out, tally, Status::capacity_exceeded, NoGraspReason::none,
                   "more occupied voxels than the build's FG_MAX_VOXELS");

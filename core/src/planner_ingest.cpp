@@ -171,7 +171,11 @@ Status Planner::ingest_begin(SensorRole role, const Pose& world_T_sensor, ingest
   }
   const Status s = check_pose(world_T_sensor);
   if (s != Status::ok) return s;
-  if (registration_mode_ == RegistrationMode::on && role == SensorRole::head &&
+  if (role == SensorRole::hand && registration_.outcome == RegistrationOutcome::sensor_disagreement) {
+    message_ = "this sensor role was already added since reset() (and left out: sensor_disagreement)";
+    return Status::invalid_sensor;
+  }
+  if (registration_mode_ != RegistrationMode::off && role == SensorRole::head &&
       sensors_.added[static_cast<uint32_t>(SensorRole::hand)])
     registration_.outcome = RegistrationOutcome::hand_added_first;
   sensors_.begin(r, world_T_sensor);
@@ -280,7 +284,7 @@ void Planner::shrink_crop(ingest::State& in) {
 // moments_only) gathers its depths per direction; this registers them to the head's
 // voxels and makes `in` the second pass: the ingest with the corrected pose.
 bool Planner::registers(SensorRole role) const {
-  return registration_mode_ == RegistrationMode::on && role == SensorRole::hand &&
+  return registration_mode_ != RegistrationMode::off && role == SensorRole::hand &&
          sensors_.added[static_cast<uint32_t>(SensorRole::head)];
 }
 
@@ -301,7 +305,7 @@ void Planner::begin_hand_pass(ingest::State& in) {
   in.moments_only = true;
 }
 
-void Planner::register_hand(ingest::State& in, bool in_sensor_units) {
+bool Planner::register_hand(ingest::State& in, bool in_sensor_units) {
   const uint64_t t0 = platform::monotonic_us();
   constexpr uint32_t kHand = static_cast<uint32_t>(SensorRole::hand);
   RegistrationParams params;
@@ -310,6 +314,12 @@ void Planner::register_hand(ingest::State& in, bool in_sensor_units) {
   Pose& hand = sensors_.pose[kHand];
   registration_ =
       fg::register_hand(grid_, sensors_, reinterpret_cast<const DepthMoments*>(mem), params, mem + kMomentFloats);
+  registration_.us = static_cast<uint32_t>(platform::monotonic_us() - t0);
+  if (registration_.outcome == RegistrationOutcome::sensor_disagreement) {
+    // A.4c: the hand's points stay out; the plan is the head's alone.
+    sensors_.added[kHand] = false;
+    return false;
+  }
   if (registration_.outcome == RegistrationOutcome::corrected) {
     const Pose& c = registration_.correction;
     hand.t = c.R * hand.t + c.t;
@@ -320,6 +330,7 @@ void Planner::register_hand(ingest::State& in, bool in_sensor_units) {
   make_ingest(in, hand, cfg_, grid_, crop_lo_cells_, crop_hi_cells_, sensors_.sight_mm[kHand], ingest_lanes_,
               in_sensor_units ? units_.m[kHand] : 1.f);
   registration_.us = static_cast<uint32_t>(platform::monotonic_us() - t0);
+  return true;
 }
 
 Status Planner::add_points(SensorRole role, const float* xyz, uint32_t count, uint32_t stride_bytes,
@@ -385,7 +396,7 @@ Status Planner::add_coordinates(SensorRole role, const uint8_t* const base[3], u
   if (registers(role)) {
     begin_hand_pass(in);
     (void)ingest_piece(in, base, count, stride_bytes);  // adds no voxel: cannot fail
-    register_hand(in, true);
+    if (!register_hand(in, true)) return end_ingest(count, 0, 0, t0, Status::ok);
   }
   const Status st = ingest_piece(in, base, count, stride_bytes) ? Status::ok : Status::capacity_exceeded;
   return end_ingest(count, in.offered - in.nonfinite, in.kept, t0, check_units(in, role, st));
@@ -432,7 +443,7 @@ Status Planner::add_point_source(SensorRole role, PointSource& source, const Pos
       message_ = "the point source failed to rewind";
       return end_ingest(offered, 0, 0, t0, Status::invalid_argument);
     }
-    register_hand(in, true);
+    if (!register_hand(in, true)) return end_ingest(offered, 0, 0, t0, Status::ok);
   }
   const Status st = read_source(in, source, offered);
   return end_ingest(offered, in.offered - in.nonfinite, in.kept, t0, st == Status::ok ? check_units(in, role, st) : st);
@@ -501,7 +512,7 @@ Status Planner::add_depth_image(SensorRole role, const uint16_t* depth_mm, uint1
   if (registers(role)) {
     begin_hand_pass(in);
     (void)depth_pass(in, depth_mm, width, height, k);  // adds no voxel: cannot fail
-    register_hand(in, false);
+    if (!register_hand(in, false)) return end_ingest(static_cast<uint32_t>(width) * height, 0, 0, t0, Status::ok);
   }
   const Status st = depth_pass(in, depth_mm, width, height, k);
   return end_ingest(static_cast<uint32_t>(width) * height, in.offered - in.nonfinite, in.kept, t0, st);

@@ -22,6 +22,8 @@ const char* to_string(Status s) {
       return "invalid_sensor";
     case Status::invalid_sequence:
       return "invalid_sequence";
+    case Status::sensor_disagreement:
+      return "sensor_disagreement";
     case Status::capacity_exceeded:
       return "capacity_exceeded";
     case Status::numeric_failure:

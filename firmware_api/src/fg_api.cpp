@@ -125,6 +125,7 @@ FG_SAME(FG_ERR_INVALID_CONFIG, fg::Status::invalid_config);
 FG_SAME(FG_ERR_NO_INPUT, fg::Status::no_input);
 FG_SAME(FG_ERR_INVALID_SENSOR, fg::Status::invalid_sensor);
 FG_SAME(FG_ERR_INVALID_SEQUENCE, fg::Status::invalid_sequence);
+FG_SAME(FG_ERR_SENSOR_DISAGREEMENT, fg::Status::sensor_disagreement);
 FG_SAME(FG_ERR_CAPACITY_EXCEEDED, fg::Status::capacity_exceeded);
 FG_SAME(FG_ERR_NUMERIC_FAILURE, fg::Status::numeric_failure);
 FG_SAME(FG_ERR_INTERNAL, fg::Status::internal_error);
@@ -148,6 +149,10 @@ FG_SAME(FG_REGISTRATION_CALIBRATION_KEPT, fg::RegistrationOutcome::calibration_k
 FG_SAME(FG_REGISTRATION_TOO_LITTLE_OVERLAP, fg::RegistrationOutcome::too_little_overlap);
 FG_SAME(FG_REGISTRATION_IMPLAUSIBLE, fg::RegistrationOutcome::implausible);
 FG_SAME(FG_REGISTRATION_HAND_ADDED_FIRST, fg::RegistrationOutcome::hand_added_first);
+FG_SAME(FG_REGISTRATION_SENSOR_DISAGREEMENT, fg::RegistrationOutcome::sensor_disagreement);
+FG_SAME(FG_REGISTRATION_MODE_OFF, fg::RegistrationMode::off);
+FG_SAME(FG_REGISTRATION_MODE_ON, fg::RegistrationMode::on);
+FG_SAME(FG_REGISTRATION_MODE_STRICT, fg::RegistrationMode::strict);
 FG_SAME(FG_STAGE_COUNT, fg::Stage::count);
 FG_SAME(FG_TASK_IDLE, fg::task::TaskState::idle);
 FG_SAME(FG_TASK_CAPTURING, fg::task::TaskState::capturing);
@@ -382,6 +387,8 @@ const char* fg_status_str(int32_t status) {
       return "FG_ERR_INVALID_SENSOR";
     case FG_ERR_INVALID_SEQUENCE:
       return "FG_ERR_INVALID_SEQUENCE";
+    case FG_ERR_SENSOR_DISAGREEMENT:
+      return "FG_ERR_SENSOR_DISAGREEMENT";
     case FG_ERR_WORKSPACE_TOO_SMALL:
       return "FG_ERR_WORKSPACE_TOO_SMALL";
     case FG_ERR_WORKSPACE_MISALIGNED:
@@ -501,7 +508,9 @@ fg_status fg_set_sensor_units(fg_workspace* ws, int32_t role, float metres_per_u
 
 fg_status fg_set_registration(fg_workspace* ws, int32_t on) {
   if (!valid(ws)) return FG_ERR_NOT_A_WORKSPACE;
-  ws->planner.set_registration(on != 0 ? fg::RegistrationMode::on : fg::RegistrationMode::off);
+  ws->planner.set_registration(on == FG_REGISTRATION_MODE_OFF      ? fg::RegistrationMode::off
+                               : on == FG_REGISTRATION_MODE_STRICT ? fg::RegistrationMode::strict
+                                                                   : fg::RegistrationMode::on);
   ws->message = "";
   return FG_OK;
 }
@@ -524,6 +533,8 @@ fg_status fg_registration(fg_workspace* ws, fg_registration_result* out) {
   out->pairs = r.pairs;
   out->iterations = r.iterations;
   out->us = r.us;
+  out->see_through = r.see_through;
+  out->compared = r.compared;
   return FG_OK;
 }
 

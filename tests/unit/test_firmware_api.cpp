@@ -224,6 +224,9 @@ TEST(FirmwareApiRegistration, ReportsThePlannersRegistration) {
   EXPECT_EQ(got.residual_mm, want.residual_mm);
   EXPECT_EQ(got.pairs, want.pairs);
   EXPECT_EQ(got.iterations, want.iterations);
+  EXPECT_EQ(got.see_through, want.see_through);
+  EXPECT_EQ(got.compared, want.compared);
+  EXPECT_GT(got.compared, 0u);
 
   ASSERT_EQ(fg_reset(ws), FG_OK);
   ASSERT_EQ(fg_set_registration(ws, 0), FG_OK);
@@ -236,6 +239,44 @@ TEST(FirmwareApiRegistration, ReportsThePlannersRegistration) {
   ASSERT_EQ(fg_registration(ws, &got), FG_OK);
   EXPECT_EQ(got.outcome, FG_REGISTRATION_NOT_RUN);
   EXPECT_EQ(fg_set_registration(nullptr, 1), FG_ERR_NOT_A_WORKSPACE);
+}
+
+// The example's hand 12 cm and 8 degrees off, beyond the registration's reach: on, the
+// hand is left out (the plan is the head's); strict, fg_plan fails naming it.
+TEST(FirmwareApiRegistration, StrictModeRefusesCloudsThatDisagree) {
+  SceneData d;
+  ASSERT_TRUE(load(FG_SOURCE_DIR "/examples/two-sensor-box/scene.json", d));
+  for (size_t i = 0; i < d.poses.size(); ++i) {
+    if (d.roles[i] != fg::SensorRole::hand) continue;
+    d.poses[i].t += d.poses[i].R * fg::Vec3(0.085f, 0.085f, 0.f);
+    d.poses[i].R = d.poses[i].R * Eigen::AngleAxisf(0.14f, fg::Vec3::UnitZ()).toRotationMatrix();
+  }
+  auto mem = std::make_unique<Memory>();
+  fg_config cfg;
+  ASSERT_EQ(fg_config_default(&cfg), FG_OK);
+  fg_workspace* ws = nullptr;
+  ASSERT_EQ(fg_init(mem->bytes, sizeof mem->bytes, &cfg, &ws), FG_OK);
+  for (const int32_t mode : {FG_REGISTRATION_MODE_ON, FG_REGISTRATION_MODE_STRICT}) {
+    ASSERT_EQ(fg_reset(ws), FG_OK);
+    ASSERT_EQ(fg_set_registration(ws, mode), FG_OK);
+    for (size_t i = 0; i < d.clouds.size(); ++i) {  // the head first in the example
+      const fg_pose pose = to_c(d.poses[i]);
+      ASSERT_EQ(
+          fg_add_points(ws, static_cast<int32_t>(d.roles[i]), d.clouds[i].xyz.data(), d.clouds[i].size(), 12, &pose),
+          FG_OK);
+    }
+    fg_registration_result reg;
+    ASSERT_EQ(fg_registration(ws, &reg), FG_OK);
+    EXPECT_EQ(reg.outcome, FG_REGISTRATION_SENSOR_DISAGREEMENT) << mode << ": see-through " << reg.see_through;
+    fg_grasp g;
+    const fg_status s = fg_plan(ws, &g);
+    if (mode == FG_REGISTRATION_MODE_STRICT) {
+      EXPECT_EQ(s, FG_ERR_SENSOR_DISAGREEMENT);
+      EXPECT_NE(std::string(fg_last_message(ws)).find("disagrees"), std::string::npos) << fg_last_message(ws);
+    } else {
+      EXPECT_TRUE(s == FG_OK || s == FG_NO_GRASP) << fg_status_str(s);
+    }
+  }
 }
 
 // The example's clouds in millimetres: refused naming the units, then with the sensors'

@@ -8,6 +8,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "fg/core/planner.hpp"
@@ -163,6 +164,9 @@ TEST(Registration, KeepsAnExactCalibrationAndItsPlan) {
   EXPECT_EQ(off.result.registration.outcome, fg::RegistrationOutcome::not_run);
   EXPECT_EQ((on.hand_used.t - kHand.t).norm(), 0.f);
   EXPECT_EQ((on.hand_used.R - kHand.R).norm(), 0.f);
+  // Nothing seen through: the clouds agree.
+  EXPECT_GE(on.result.registration.compared, fg::RegistrationParams{}.min_pairs);
+  EXPECT_LT(on.result.registration.see_through, 0.05f);
   // The same grid, so the same plan, bit for bit.
   ASSERT_EQ(on.plan_status, off.plan_status);
   EXPECT_EQ(on.result.points.voxels, off.result.points.voxels);
@@ -198,22 +202,77 @@ TEST(Registration, RunsOnlyWithTheHeadFirstAndWhenOn) {
   EXPECT_EQ((off.hand_used.t - given.t).norm(), 0.f);
 }
 
-TEST(Registration, RefusesAnAlignmentBeyondItsRange) {
-  // 12 cm off: the surfaces the hand saw are nowhere near the head's.
+// The plan of the head's image alone.
+Outcome run_head_only(const World& w) {
+  auto planner = std::make_unique<fg::Planner>();
+  EXPECT_EQ(planner->configure(fg::PlannerConfig{}), fg::Status::ok);
+  const std::vector<uint16_t> head = render(w, kHead);
+  EXPECT_EQ(planner->add_depth_image(fg::SensorRole::head, head.data(), kW, kH, kK, kHead), fg::Status::ok);
+  Outcome r;
+  r.plan_status = planner->plan(r.result);
+  return r;
+}
+
+TEST(Registration, LeavesOutAHandThatSeesThroughTheHeadsSurfaces) {
+  // 12 cm and 8 degrees off, beyond the alignment's reach: the hand's surfaces lie
+  // where the head saw through, and the head's where the hand did. The plan is the
+  // head's alone, bit for bit.
   const World w = boxes_world();
   const Pose given = off_by(kHand, Vec3(1, 1, 0), 120.f, Vec3(0, 0, 1), 8.f);
   const Outcome r = run(w, given, fg::RegistrationMode::on);
-  const fg::RegistrationOutcome o = r.result.registration.outcome;
-  EXPECT_TRUE(o == fg::RegistrationOutcome::too_little_overlap || o == fg::RegistrationOutcome::implausible ||
-              o == fg::RegistrationOutcome::calibration_kept)
-      << fg::to_string(o);
+  const fg::RegistrationResult& reg = r.result.registration;
+  EXPECT_EQ(reg.outcome, fg::RegistrationOutcome::sensor_disagreement) << fg::to_string(reg.outcome);
+  EXPECT_GT(reg.see_through, fg::RegistrationParams{}.max_see_through);
+  EXPECT_GE(reg.compared, fg::RegistrationParams{}.min_pairs);
+  EXPECT_EQ(reg.correction.t.norm(), 0.f);
   EXPECT_EQ((r.hand_used.t - given.t).norm(), 0.f);
+  const Outcome head = run_head_only(w);
+  ASSERT_EQ(r.plan_status, head.plan_status);
+  EXPECT_EQ(r.result.points.voxels, head.result.points.voxels);
+  EXPECT_EQ(r.result.grasp.position, head.result.grasp.position);
+  EXPECT_EQ(r.result.grasp.closing, head.result.grasp.closing);
+}
+
+TEST(Registration, CatchesASeeThroughEitherWay) {
+  // The hand 8 cm off along its line of sight: pushed away, its surfaces lie behind the
+  // head's samples (the hand saw through them); pulled back, in front of them, where
+  // the head saw past.
+  const World w = boxes_world();
+  for (const float mm : {80.f, -80.f}) {
+    const Pose given = off_by(kHand, Vec3(0, 0, 1), mm, Vec3(0, 0, 1), 0.f);
+    const Outcome r = run(w, given, fg::RegistrationMode::on);
+    EXPECT_EQ(r.result.registration.outcome, fg::RegistrationOutcome::sensor_disagreement)
+        << mm << " mm: " << fg::to_string(r.result.registration.outcome) << ", see-through "
+        << r.result.registration.see_through;
+  }
+}
+
+TEST(Registration, StrictMakesADisagreementAnError) {
+  const World w = boxes_world();
+  const Pose given = off_by(kHand, Vec3(1, 1, 0), 120.f, Vec3(0, 0, 1), 8.f);
+  auto planner = std::make_unique<fg::Planner>();
+  ASSERT_EQ(planner->configure(fg::PlannerConfig{}), fg::Status::ok);
+  planner->set_registration(fg::RegistrationMode::strict);
+  const std::vector<uint16_t> head = render(w, kHead), hand = render(w, kHand);
+  ASSERT_EQ(planner->add_depth_image(fg::SensorRole::head, head.data(), kW, kH, kK, kHead), fg::Status::ok);
+  ASSERT_EQ(planner->add_depth_image(fg::SensorRole::hand, hand.data(), kW, kH, kK, given), fg::Status::ok);
+  // Left out, the hand is still added: a second hand is refused.
+  EXPECT_EQ(planner->add_depth_image(fg::SensorRole::hand, hand.data(), kW, kH, kK, kHand), fg::Status::invalid_sensor);
+  fg::PlanResult res;
+  EXPECT_EQ(planner->plan(res), fg::Status::sensor_disagreement);
+  EXPECT_NE(std::string(res.message).find("disagrees"), std::string::npos) << res.message;
+  EXPECT_EQ(res.registration.outcome, fg::RegistrationOutcome::sensor_disagreement);
+  // An exact calibration plans in strict mode as in the default one.
+  const Outcome exact = run(w, kHand, fg::RegistrationMode::strict), on = run(w, kHand, fg::RegistrationMode::on);
+  ASSERT_EQ(exact.plan_status, on.plan_status);
+  EXPECT_EQ(exact.result.grasp.position, on.result.grasp.position);
 }
 
 TEST(Registration, OutcomesHaveNames) {
-  for (auto o : {fg::RegistrationOutcome::not_run, fg::RegistrationOutcome::corrected,
-                 fg::RegistrationOutcome::calibration_kept, fg::RegistrationOutcome::too_little_overlap,
-                 fg::RegistrationOutcome::implausible, fg::RegistrationOutcome::hand_added_first})
+  for (auto o :
+       {fg::RegistrationOutcome::not_run, fg::RegistrationOutcome::corrected, fg::RegistrationOutcome::calibration_kept,
+        fg::RegistrationOutcome::too_little_overlap, fg::RegistrationOutcome::implausible,
+        fg::RegistrationOutcome::hand_added_first, fg::RegistrationOutcome::sensor_disagreement})
     EXPECT_STRNE(fg::to_string(o), "unknown");
 }
 

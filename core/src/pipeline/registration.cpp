@@ -19,6 +19,8 @@ const char* to_string(RegistrationOutcome o) {
       return "implausible";
     case RegistrationOutcome::hand_added_first:
       return "hand_added_first";
+    case RegistrationOutcome::sensor_disagreement:
+      return "sensor_disagreement";
   }
   return "unknown";
 }
@@ -328,19 +330,54 @@ float step_once(Sums& s, bool coarse, float lever, const Vec3& pivot, Mat3& R, V
   return tau.norm() + w.norm() * lever;
 }
 
-}  // namespace
+// Whether the head saw past the world point w along its ray by more than `margin`: its
+// nearest returns in w's direction bin and the eight around it all lie beyond w (its
+// sight map). The neighbours keep a silhouette, where a bin's nearest return may come
+// from the background beside w, and a single bin without returns (a dropout) out of it.
+bool head_saw_past(const SensorViews& views, const Vec3& w, float margin) {
+  constexpr uint32_t kHeadRole = static_cast<uint32_t>(SensorRole::head);
+  constexpr float half = 0.5f * static_cast<float>(kSightBins);
+  const Pose& head = views.pose[kHeadRole];
+  const Vec3 p = head.R.transpose() * (w - head.t);
+  if (!(p.z() > 0.05f)) return false;
+  const float bu = (p.x() / p.z() + 1.f) * half, bv = (p.y() / p.z() + 1.f) * half;
+  if (!(bu >= 1.f && bv >= 1.f && bu < 2.f * half - 1.f && bv < 2.f * half - 1.f)) return false;
+  const uint32_t centre = static_cast<uint32_t>(bv) * kSightBins + static_cast<uint32_t>(bu);
+  for (uint32_t dv = 0; dv < 3; ++dv)
+    for (uint32_t du = 0; du < 3; ++du) {
+      const uint16_t mm = views.sight_mm[kHeadRole][centre + dv * kSightBins + du - kSightBins - 1u];
+      if (mm == 0xFFFFu || !(0.001f * static_cast<float>(mm) > p.z() + margin)) return false;
+    }
+  return true;
+}
 
-RegistrationResult register_hand(const VoxelGrid& grid, const SensorViews& views, const DepthMoments* moments,
-                                 const RegistrationParams& params, float* scratch) {
-  RegistrationResult out;
-  if (grid.finalized()) return out;
-  Sample* samples = reinterpret_cast<Sample*>(scratch);
-  const uint32_t n = select_samples(grid, views, moments, params.max_samples, samples);
-  out.samples = n;
-  if (n == 0) {
-    out.outcome = RegistrationOutcome::too_little_overlap;
-    return out;
+// The two clouds against each other with the hand at `hand` (the pose the fusion will
+// use): of the head's samples where the hand saw a surface (`compared`), the share where
+// one sensor saw through the other's surface by more than `margin`. A surface is
+// solid: a ray cannot pass it and return from behind it. So the hand cannot see a
+// surface behind a head sample (the sample lies in front of it, toward the hand), nor
+// the head past the hand's surface. Either way the two clouds place the same surface
+// in different places; checked both ways, since an error that moves the hand's
+// surfaces toward the hand hides them from the first test.
+float see_through_share(const SensorViews& views, const DepthMoments* moments, const Pose& hand, Sample* samples,
+                        uint32_t n, float margin, uint32_t& compared) {
+  uint32_t through = 0;
+  compared = 0;
+  for (uint32_t i = 0; i < n; ++i) {
+    Vec3 w, nw;
+    if (!hand_surface(moments, hand.R, hand.t, samples[i], w, nw)) continue;
+    ++compared;
+    // nw faces the hand: a sample at w + a nw (a > 0) lies a in front of the surface.
+    if (nw.dot(w - samples[i].p) < -margin || head_saw_past(views, w, margin)) ++through;
   }
+  return compared > 0 ? static_cast<float>(through) / static_cast<float>(compared) : 0.f;
+}
+
+// The alignment of the samples (A.4b) and its verdict.
+RegistrationResult align(const DepthMoments* moments, const Pose& hand, Sample* samples, uint32_t n,
+                         const RegistrationParams& params) {
+  RegistrationResult out;
+  out.samples = n;
   Vec3 pivot = Vec3::Zero();
   for (uint32_t i = 0; i < n; ++i) pivot += samples[i].p;
   pivot /= static_cast<float>(n);
@@ -349,7 +386,6 @@ RegistrationResult register_hand(const VoxelGrid& grid, const SensorViews& views
   // The lever turns rotations into millimetres at the samples: their RMS distance from
   // the pivot (at least 5 cm, the size of a small object).
   const float lever = std::fmax(std::sqrt(spread / static_cast<float>(n)), 0.05f);
-  const Pose& hand = views.pose[static_cast<uint32_t>(SensorRole::hand)];
 
   Mat3 R = Mat3::Identity();
   Vec3 t = Vec3::Zero();
@@ -407,6 +443,36 @@ RegistrationResult register_hand(const VoxelGrid& grid, const SensorViews& views
   out.translation_mm = 1000.f * moved_origin;
   out.rotation_deg = angle * 57.2957795f;
   out.residual_mm = after.pairs > 0 ? 1000.f * std::sqrt(after.sq / static_cast<float>(after.pairs)) : 0.f;
+  return out;
+}
+
+}  // namespace
+
+RegistrationResult register_hand(const VoxelGrid& grid, const SensorViews& views, const DepthMoments* moments,
+                                 const RegistrationParams& params, float* scratch) {
+  RegistrationResult out;
+  if (grid.finalized()) return out;
+  Sample* samples = reinterpret_cast<Sample*>(scratch);
+  const uint32_t n = select_samples(grid, views, moments, params.max_samples, samples);
+  if (n == 0) {
+    out.outcome = RegistrationOutcome::too_little_overlap;
+    return out;
+  }
+  const Pose& given = views.pose[static_cast<uint32_t>(SensorRole::hand)];
+  out = align(moments, given, samples, n, params);
+  // A.4c: whatever the alignment's verdict, do the clouds agree as they will be fused?
+  Pose used = given;
+  if (out.outcome == RegistrationOutcome::corrected) {
+    used.R = out.correction.R * given.R;
+    used.t = out.correction.R * given.t + out.correction.t;
+  }
+  out.see_through = see_through_share(views, moments, used, samples, n, params.see_through_m, out.compared);
+  if (out.compared >= params.min_pairs && out.see_through > params.max_see_through) {
+    out.outcome = RegistrationOutcome::sensor_disagreement;
+    out.correction = Pose{};
+    out.translation_mm = out.rotation_deg = 0.f;
+    out.residual_mm = out.residual_before_mm;
+  }
   return out;
 }
 

@@ -68,13 +68,15 @@ typedef enum fg_status {
   FG_NO_GRASP = 1, /**< valid input, but no grasp fits: see fg_grasp.reason */
 
   /* -100..-109: the caller's data */
-  FG_ERR_INVALID_ARGUMENT = -100, /**< null pointer, zero size, bad stride, bad enum */
-  FG_ERR_NON_FINITE = -101,       /**< NaN or Inf where a finite number is required */
-  FG_ERR_INVALID_POSE = -102,     /**< rotation not orthonormal / right-handed, absurd translation */
-  FG_ERR_INVALID_CONFIG = -103,   /**< a configuration value out of its documented range */
-  FG_ERR_NO_INPUT = -104,         /**< fg_plan before any sensor data */
-  FG_ERR_INVALID_SENSOR = -105,   /**< unknown sensor role, or the same role twice per capture */
-  FG_ERR_INVALID_SEQUENCE = -106, /**< sensor data after fg_plan without fg_reset */
+  FG_ERR_INVALID_ARGUMENT = -100,    /**< null pointer, zero size, bad stride, bad enum */
+  FG_ERR_NON_FINITE = -101,          /**< NaN or Inf where a finite number is required */
+  FG_ERR_INVALID_POSE = -102,        /**< rotation not orthonormal / right-handed, absurd translation */
+  FG_ERR_INVALID_CONFIG = -103,      /**< a configuration value out of its documented range */
+  FG_ERR_NO_INPUT = -104,            /**< fg_plan before any sensor data */
+  FG_ERR_INVALID_SENSOR = -105,      /**< unknown sensor role, or the same role twice per capture */
+  FG_ERR_INVALID_SEQUENCE = -106,    /**< sensor data after fg_plan without fg_reset */
+  FG_ERR_SENSOR_DISAGREEMENT = -107, /**< the clouds disagree after the registration
+                                          (FG_REGISTRATION_MODE_STRICT) */
 
   /* -110..-119: the workspace and the API contract */
   FG_ERR_WORKSPACE_TOO_SMALL = -110,  /**< size < fg_workspace_size() */
@@ -244,7 +246,10 @@ typedef enum fg_registration_outcome {
   FG_REGISTRATION_TOO_LITTLE_OVERLAP = 3, /**< too few surfaces both sensors saw: fused as calibrated */
   FG_REGISTRATION_IMPLAUSIBLE = 4,        /**< the alignment found lies beyond the capture range (5 cm,
                                                6 deg): fused as calibrated */
-  FG_REGISTRATION_HAND_ADDED_FIRST = 5    /**< the hand's points came before the head's: fused as calibrated */
+  FG_REGISTRATION_HAND_ADDED_FIRST = 5,   /**< the hand's points came before the head's: fused as calibrated */
+  FG_REGISTRATION_SENSOR_DISAGREEMENT = 6 /**< as fused, the hand saw through the head's surfaces
+                                               (see_through): the hand's points are left out, the
+                                               plan is the head's alone (strict: an error) */
 } fg_registration_outcome;
 
 /** The hand sensor's registration to the head (docs/method.md A.4b). */
@@ -260,12 +265,24 @@ typedef struct fg_registration_result {
   float overlap;            /**< share of the head's samples the hand saw within the final gate */
   uint32_t pairs;           /**< those pairs */
   uint32_t iterations;
-  uint32_t us; /**< the stage's time (inside the hand's fg_add_* call) */
+  uint32_t us;       /**< the stage's time (inside the hand's fg_add_* call) */
+  float see_through; /**< of the head's samples where the hand saw a surface (compared), the share
+                          2 cm or more in front of it, as the clouds would be fused */
+  uint32_t compared;
 } fg_registration_result;
 
+/** How the hand sensor's cloud joins the head's (fg_set_registration). */
+typedef enum fg_registration_mode {
+  FG_REGISTRATION_MODE_OFF = 0,   /**< fused through the calibration alone */
+  FG_REGISTRATION_MODE_ON = 1,    /**< registered to the head first (the default) */
+  FG_REGISTRATION_MODE_STRICT = 2 /**< the same, and a disagreement fails fg_plan with
+                                       FG_ERR_SENSOR_DISAGREEMENT rather than planning from the head */
+} fg_registration_mode;
+
 /** Whether the hand sensor's cloud is registered to the head's before it joins the
- *  capture (on: nonzero, the default; off: 0). It runs when the hand is added after the
- *  head: its points are then read twice. Kept across fg_reset. */
+ *  capture: an fg_registration_mode (any other nonzero value: on, the default). It runs
+ *  when the hand is added after the head: its points are then read twice. Kept across
+ *  fg_reset. */
 FG_NODISCARD fg_status fg_set_registration(fg_workspace *ws, int32_t on);
 
 /** The registration of the capture since the last fg_reset (outcome

@@ -48,6 +48,13 @@ std::string kind_names() {
   return k;
 }
 
+//! --registration's value (checked to be on, off or strict).
+fg::RegistrationMode registration_mode(const std::string& v) {
+  return v == "off"      ? fg::RegistrationMode::off
+         : v == "strict" ? fg::RegistrationMode::strict
+                         : fg::RegistrationMode::on;
+}
+
 void add_plan_command(CLI::App& app, PlanArgs& a) {
   a.cmd = app.add_subcommand("plan", "plan a grasp on a scene manifest");
   a.cmd->add_option("scene", a.po.scene_path, "scene.json (spec/scene-and-cli.md)")->required();
@@ -76,10 +83,11 @@ void add_plan_command(CLI::App& app, PlanArgs& a) {
                     "\"units\" (repeatable)");
   a.cmd
       ->add_option_function<std::string>(
-          "--registration", [&a](const std::string& v) { a.po.registration = v == "on"; },
-          "on (the default): register the hand sensor's cloud to the head's before fusing them; off: fuse them as "
-          "calibrated")
-      ->check(CLI::IsMember({"on", "off"}));
+          "--registration", [&a](const std::string& v) { a.po.registration = registration_mode(v); },
+          "on (the default): register the hand sensor's cloud to the head's before fusing them, and plan from the "
+          "head alone when they still disagree; strict: the same, but a disagreement is an error; off: fuse them "
+          "as calibrated")
+      ->check(CLI::IsMember({"on", "off", "strict"}));
 }
 
 void add_sim_command(CLI::App& app, SimArgs& a) {
@@ -108,10 +116,10 @@ void add_sim_command(CLI::App& app, SimArgs& a) {
       ->check(CLI::Range(0.0, 100.0));
   sim_cmd
       ->add_option_function<std::string>(
-          "--registration", [&so](const std::string& v) { so.registration = v == "on"; },
-          "on (the default): the planner registers the wrist sensor's cloud to the head's; off: fuses them as "
-          "calibrated")
-      ->check(CLI::IsMember({"on", "off"}));
+          "--registration", [&so](const std::string& v) { so.registration = registration_mode(v); },
+          "on (the default): the planner registers the wrist sensor's cloud to the head's (the head's alone when "
+          "they disagree); strict: a disagreement is an error; off: fuses them as calibrated")
+      ->check(CLI::IsMember({"on", "off", "strict"}));
   sim_cmd->add_option("--pictures", so.pictures_dir, "write SVG pictures of each trial's plan to DIR/<kind>-<seed>");
   sim_cmd->add_option("--export", so.export_dir,
                       "write each trial's scene (scene.json, PCD, truth.json) to DIR/<kind>-<seed>");
@@ -213,7 +221,7 @@ int run_sim_command(SimArgs& a) {
     std::cerr << "forcegrasp sim: configuration value out of range: " << (field ? field : "?") << "\n";
     return kExitInvalid;
   }
-  planner.set_registration(so.registration ? fg::RegistrationMode::on : fg::RegistrationMode::off);
+  planner.set_registration(so.registration);
   const nlohmann::json report = run_sim(so, cfg, planner);
   if (!so.json_path.empty()) {
     std::ofstream f(so.json_path);

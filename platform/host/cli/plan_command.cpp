@@ -243,7 +243,7 @@ PlanOutcome plan_scene(const PlanOptions& opts) {
   if (!read_and_configure(opts, scene, cfg, err)) return invalid(err);
   Planner& planner = planner_instance();
   if (planner.set_target(target) != Status::ok) return invalid(planner.last_message());
-  planner.set_registration(opts.registration ? RegistrationMode::on : RegistrationMode::off);
+  planner.set_registration(opts.registration);
   uint64_t t_plan = t_process;
   if (!read_and_add_clouds(opts, scene, planner, t_process, t_plan, err)) return invalid(err);
   robot::GraspCheckConfig check_cfg;

@@ -19,7 +19,7 @@ struct PlanOptions {
   std::string target;              //!< --target x,y,z: the object nearest this world point
   std::string target_box;          //!< --target-box xmin,ymin,zmin,xmax,ymax,zmax: the object inside
   std::vector<std::string> units;  //!< --units SENSOR=UNIT (m, cm, mm), over the manifest's
-  bool registration = true;        //!< --registration off: fuse the hand as calibrated
+  RegistrationMode registration = RegistrationMode::on;  //!< --registration on|off|strict
 };
 
 //! The target of --target or --target-box (both empty: the configured rule); false

@@ -32,7 +32,7 @@ struct SimOptions {
   //! random direction and a turn of DEG about a random axis through the sensor, drawn
   //! from the trial's seed); the camera itself stays where the arm holds it.
   double calibration_error_mm = 0.0, calibration_error_deg = 0.0;
-  bool registration = true;  //!< --registration off: the planner fuses the sensors as calibrated
+  RegistrationMode registration = RegistrationMode::on;  //!< --registration on|off|strict
 };
 
 //! One trial's outcome.

@@ -78,6 +78,8 @@ void report_figures(json& j, const PlanResult& res) {
                              {"overlap", reg.overlap},
                              {"pairs", reg.pairs},
                              {"iterations", reg.iterations},
+                             {"see_through", reg.see_through},
+                             {"compared", reg.compared},
                              {"correction", json{{"R", rows}, {"t", json::array({c.t.x(), c.t.y(), c.t.z()})}}}};
     timing["registration"] = reg.us;
   }

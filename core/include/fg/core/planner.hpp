@@ -386,7 +386,8 @@ class Planner {
   RegistrationResult registration_;
   bool registers(SensorRole role) const;
   void begin_hand_pass(ingest::State& in);
-  void register_hand(ingest::State& in, bool in_sensor_units);
+  //! False when the hand's points are to stay out (sensor_disagreement).
+  [[nodiscard]] bool register_hand(ingest::State& in, bool in_sensor_units);
   Status read_source(ingest::State& in, PointSource& source, uint32_t& offered);
   Status depth_pass(ingest::State& in, const uint16_t* depth_mm, uint16_t width, uint16_t height,
                     const PinholeIntrinsics& k);

@@ -18,6 +18,8 @@ enum class Status : int32_t {
   no_input = -104,          //!< plan() called before any sensor data was added
   invalid_sensor = -105,    //!< unknown sensor role, or the same role added twice
   invalid_sequence = -106,  //!< a call out of order (sensor data added after plan() without reset())
+  //! the two sensors' clouds disagree after the registration (RegistrationMode::strict)
+  sensor_disagreement = -107,
 
   // -200..-299: capacity
   capacity_exceeded = -200,  //!< more data than the build configuration holds

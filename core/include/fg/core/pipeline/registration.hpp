@@ -40,6 +40,10 @@ enum class RegistrationOutcome : uint8_t {
   too_little_overlap,  //!< too few surfaces both sensors saw: fused as calibrated
   implausible,         //!< the best alignment lies beyond the capture range: fused as calibrated
   hand_added_first,    //!< the hand's points joined the grid before the head's: fused as calibrated
+  //! As they would be fused, the hand saw through surfaces the head saw (see_through):
+  //! the hand's points are left out and the plan is the head's alone (RegistrationMode::
+  //! strict: plan() refuses with Status::sensor_disagreement).
+  sensor_disagreement,
 };
 const char* to_string(RegistrationOutcome o);
 
@@ -47,6 +51,7 @@ const char* to_string(RegistrationOutcome o);
 enum class RegistrationMode : uint8_t {
   off = 0,  //!< fuse with the poses as given
   on,       //!< register the hand to the head before fusing (the default)
+  strict,   //!< the same, and a sensor_disagreement is an error rather than the head's plan
 };
 
 struct RegistrationResult {
@@ -62,6 +67,10 @@ struct RegistrationResult {
   uint32_t pairs = 0;              //!< those pairs
   uint32_t samples = 0;            //!< head samples tried (in the hand's view or not)
   uint32_t iterations = 0;
+  //! Of the head's samples where the hand, at the pose the fusion uses, saw a surface
+  //! (`compared`), the share more than see_through_m in front of that surface.
+  float see_through = 0.f;
+  uint32_t compared = 0;
   uint32_t us = 0;  //!< the stage's time (platform clock)
 };
 
@@ -77,6 +86,8 @@ struct RegistrationParams {
   float max_rotation_rad = 0.10472f;  //!< 6 deg
   uint32_t min_pairs = 64;            //!< fewer final pairs: not enough overlap
   float min_overlap = 0.05f;          //!< nor when under this share of the samples
+  float see_through_m = 0.02f;        //!< a head sample this far in front of the hand's surface is seen through
+  float max_see_through = 0.2f;       //!< a larger share of the compared samples: sensor_disagreement
 };
 
 //! The registration of the hand's surface, `moments` (kMomentBins^2 bins) seen from
