@@ -355,8 +355,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (g_planner.set_target(fg::TargetSpec{}) != fg::Status::ok) std::abort();
   for (const fg::SensorRole role : {fg::SensorRole::head, fg::SensorRole::hand})  // nor its units
     if (g_planner.set_sensor_units(role, 1.f) != fg::Status::ok) std::abort();
-  // The hand after the head is registered to it (A.4b), its cloud read twice.
-  g_planner.set_registration(fg::RegistrationMode::on);
+  // The hand after the head is registered to it (A.4b), its cloud read twice, and the
+  // clouds checked against each other (A.4c): the view byte's top bits choose the mode
+  // (on twice as often as strict and off).
+  const uint32_t mode = view_byte >> 6;
+  g_planner.set_registration(mode == 3u   ? fg::RegistrationMode::off
+                             : mode == 2u ? fg::RegistrationMode::strict
+                                          : fg::RegistrationMode::on);
   fg_fuzz::disarm();
   if ((flags & 16u) != 0) {
     const fg::TargetSpec target = read_target(r);
@@ -385,7 +390,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if ((flags & 4u) != 0) st[ns++] = g_planner.plan(g_result);
   if ((flags & 8u) != 0) {
     const uint32_t views = g_planner.view_count();
-    st[ns++] = g_planner.analyze_view(view_byte % (views + 2), g_detail);
+    st[ns++] = g_planner.analyze_view((view_byte & 63u) % (views + 2), g_detail);
   }
   fg_fuzz::disarm();
   if ((flags & 32u) != 0) object_calls(r, st, ns);
