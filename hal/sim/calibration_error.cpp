@@ -31,4 +31,19 @@ Rigid with_calibration_error(const Rigid& a_T_b, double mm, double deg, uint64_t
   return a_T_b * error;
 }
 
+fg::robot::Ur5Params with_kinematic_error(const fg::robot::Ur5Params& nominal, double mm, double deg, uint64_t seed) {
+  if (mm <= 0.0 && deg <= 0.0) return nominal;
+  Rng rng(seed ^ 0x4B1E3A7105EEDull);  // a stream of its own, like the hand-eye error's
+  fg::robot::Ur5Params p = nominal;
+  for (int i = 0; i < 6; ++i) {
+    const double dd = rng.uniform(-mm, mm) * 1e-3;
+    const double da = rng.uniform(-mm, mm) * 1e-3;
+    const double dtheta = rng.uniform(-deg, deg) * kPi / 180.0;
+    p.d[i] += static_cast<float>(dd);
+    p.a[i] += static_cast<float>(da);
+    p.theta_offset[i] += static_cast<float>(dtheta);
+  }
+  return p;
+}
+
 }  // namespace fg::sim

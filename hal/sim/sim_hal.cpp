@@ -27,11 +27,10 @@ SimArm::SimArm(const double q0_rad[6], const SimArmConfig& config, const SimCloc
 }
 
 Rigid SimArm::tool0() const {
-  static const fg::robot::Ur5Params kUr5 = fg::robot::ur5_nominal();
   fg::robot::PoseD base_T_tool0;
   Rigid r;
   // q_ is always finite (targets are checked), so the FK cannot fail here.
-  if (fg::robot::ur5_forward_d(kUr5, q_, base_T_tool0)) {
+  if (fg::robot::ur5_forward_d(config_.kinematics, q_, base_T_tool0)) {
     r.R = base_T_tool0.R;
     r.t = base_T_tool0.t;
   }

@@ -13,6 +13,7 @@
 #include "fg/hal/clock.hpp"
 #include "fg/hal/depth_sensor.hpp"
 #include "fg/hal/gripper.hpp"
+#include "fg/robot/ur5.hpp"
 #include "sim/depth_render.hpp"
 #include "sim/sim_world.hpp"
 
@@ -42,6 +43,9 @@ struct SimArmConfig {
                          6.283185307179586, 6.283185307179586, 6.283185307179586};
   //! A motion ends when every joint is this close to its target (rad).
   double arrive_tol_rad = 1e-9;
+  //! The arm's true kinematics (where tool0 really is for given joints): the nominal
+  //! UR5 unless a simulation perturbs it (with_kinematic_error).
+  fg::robot::Ur5Params kinematics = fg::robot::ur5_nominal();
 };
 
 //! The UR5 in joint space. A move is a straight line in joint space: every joint starts and
@@ -72,7 +76,7 @@ class SimArm final : public fg::hal::ArmLink {
   //! Where the arm's base stands in the world (default identity).
   void set_world_T_base(const Rigid& world_T_base) { world_T_base_ = world_T_base; }
   const Rigid& world_T_base() const { return world_T_base_; }
-  //! base_T_tool0 by the nominal UR5 FK (ur5_forward_d); base = URDF base_link.
+  //! base_T_tool0 by the FK (ur5_forward_d) of config().kinematics; base = URDF base_link.
   Rigid tool0() const;
   Rigid world_T_tool0() const { return world_T_base_ * tool0(); }
 

@@ -38,6 +38,7 @@ struct SimArgs {
   CLI::Option* seed_opt = nullptr;
   std::string distribution_arg = "cell";
   std::vector<double> calibration_error;  // --calibration-error MM,DEG
+  std::vector<double> kinematic_error;    // --kinematic-error MM,DEG
 };
 
 //! Every object kind's name, comma-separated (the --objects help).
@@ -111,6 +112,14 @@ void add_sim_command(CLI::App& app, SimArgs& a) {
       ->add_option("--calibration-error", a.calibration_error,
                    "MM,DEG: the wrist sensor's pose the task believes is off by MM millimetres and DEG degrees in each "
                    "trial (a hand-eye error in a direction drawn from the trial's seed)")
+      ->delimiter(',')
+      ->expected(2)
+      ->check(CLI::Range(0.0, 100.0));
+  sim_cmd
+      ->add_option("--kinematic-error", a.kinematic_error,
+                   "MM,DEG: the arm's true kinematics off the nominal UR5 the task computes with, in each trial: every "
+                   "DH length by up to MM millimetres and every joint's zero by up to DEG degrees (drawn from the "
+                   "trial's seed)")
       ->delimiter(',')
       ->expected(2)
       ->check(CLI::Range(0.0, 100.0));
@@ -208,6 +217,14 @@ int run_sim_command(SimArgs& a) {
     }
     so.calibration_error_mm = a.calibration_error[0];
     so.calibration_error_deg = a.calibration_error[1];
+  }
+  if (a.kinematic_error.size() == 2) {
+    if (!std::isfinite(a.kinematic_error[0]) || !std::isfinite(a.kinematic_error[1])) {
+      std::cerr << "forcegrasp sim: --kinematic-error: MM and DEG must be finite numbers (0..100)\n";
+      return kExitInvalid;
+    }
+    so.kinematic_error_mm = a.kinematic_error[0];
+    so.kinematic_error_deg = a.kinematic_error[1];
   }
   // The parser let only the distributions' names through (CLI::IsMember).
   if (!fg::sim::distribution_from_name(a.distribution_arg, so.distribution)) {

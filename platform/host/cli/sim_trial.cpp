@@ -114,8 +114,8 @@ sim::SimDepthSensorConfig camera_config(const sim::GeneratedScene& scene, const 
 //! true geometry. Built in place: its parts hold pointers to each other.
 struct TrialHardware {
   TrialHardware(const sim::GeneratedScene& scene, const double q0[6], float tcp_offset_m, const Rigid& tool0_T_camera,
-                const GripperGeometry& geometry)
-      : arm(q0, sim::SimArmConfig{}, &clock),
+                const GripperGeometry& geometry, const sim::SimArmConfig& arm_config)
+      : arm(q0, arm_config, &clock),
         contact(scene.world, sim::mounted_on_tool0(arm, Rigid::translation(V3(0, 0, tcp_offset_m))), geometry),
         gripper(gripper_config(geometry), &contact),
         head(
@@ -271,7 +271,10 @@ SimTrial run_sim_trial(const std::string& kind_name, uint64_t seed, const SimOpt
   // What the task believes of the wrist sensor's mount: off by the calibration error.
   tc.tool0_T_hand =
       sim::with_calibration_error(tool0_T_camera, opt.calibration_error_mm, opt.calibration_error_deg, seed).to_pose();
-  TrialHardware hw(scene, q0, tc.tcp_offset_m, tool0_T_camera, cfg.gripper);
+  sim::SimArmConfig arm_config;
+  arm_config.kinematics =
+      sim::with_kinematic_error(arm_config.kinematics, opt.kinematic_error_mm, opt.kinematic_error_deg, seed);
+  TrialHardware hw(scene, q0, tc.tcp_offset_m, tool0_T_camera, cfg.gripper, arm_config);
   task::GraspTask grasp_task;
   const TaskRun run = run_task(grasp_task, tc, hw, scene, planner, cfg.gripper);
 
@@ -288,7 +291,9 @@ SimTrial run_sim_trial(const std::string& kind_name, uint64_t seed, const SimOpt
   if (out.wrist_view) {
     // A target point seen by the hand: the truth maps it to the sensor frame, the
     // pose the planner used (and the one given: the correction undone) back to world.
-    const Pose truth = scene.hand.world_T_sensor.to_pose();
+    // Where the wrist camera was when it captured (the true arm's FK), or would be.
+    const Pose truth =
+        (hw.hand.captures() > 0 ? hw.hand.last_camera().world_T_sensor : scene.hand.world_T_sensor).to_pose();
     const Pose& used = planner.sensor_pose(SensorRole::hand);
     const Pose& c = pr.registration.correction;
     const Vec3 p = scene.truth.target_centre.cast<float>();
@@ -393,6 +398,9 @@ json results_table(const std::vector<SimTrial>& trials, const SimOptions& opt) {
   if (opt.calibration_error_mm > 0.0 || opt.calibration_error_deg > 0.0)
     std::printf("the wrist sensor's believed pose off by %g mm and %g deg in each trial\n", opt.calibration_error_mm,
                 opt.calibration_error_deg);
+  if (opt.kinematic_error_mm > 0.0 || opt.kinematic_error_deg > 0.0)
+    std::printf("the arm's DH lengths off by up to %g mm and its joint zeros by up to %g deg in each trial\n",
+                opt.kinematic_error_mm, opt.kinematic_error_deg);
   std::printf("%-22s %6s %5s %8s %9s %11s %9s  %s\n", "object", "trials", "fits", "success", "rate", "plan med ms",
               "max ms", "failures");
   for (const std::string& k : order) table.push_back(print_row(k, rows[k]));
@@ -471,6 +479,7 @@ nlohmann::json run_sim(const SimOptions& opt, const PlannerConfig& cfg, Planner&
   return json{{"distribution", sim::distribution_name(opt.distribution)},
               {"seed", opt.seed},
               {"calibration_error", json{{"mm", opt.calibration_error_mm}, {"deg", opt.calibration_error_deg}}},
+              {"kinematic_error", json{{"mm", opt.kinematic_error_mm}, {"deg", opt.kinematic_error_deg}}},
               {"trials", records},
               {"table", table}};
 }
