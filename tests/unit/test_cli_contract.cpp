@@ -1231,3 +1231,26 @@ TEST_F(CliContract, CloudPathRelativeToManifestFolder) {
 }  // namespace
 
 #endif  // FG_CLI_PATH
+
+// The example's hand 10 cm off along the table: beyond the registration's reach, the two
+// clouds disagree. By default the plan is the head's, and the report says why; with
+// --registration strict it is invalid input naming the hand's pose.
+TEST_F(CliContract, HandPoseFarOffPlansFromTheHeadOrRefusesWhenStrict) {
+  json m = example_manifest();
+  for (json& s : m["sensors"])
+    if (s["name"] == "hand") {
+      s["pose"]["position"][0] = s["pose"]["position"][0].get<double>() + 0.1;
+      s["pose"]["position"][1] = s["pose"]["position"][1].get<double>() + 0.1;
+    }
+  const std::string scene = manifest(m, "hand_off.json");
+  const json j = expect_ok(plan(scene));
+  ASSERT_TRUE(j.contains("registration")) << j.dump();
+  EXPECT_EQ(j["registration"].value("outcome", ""), "sensor_disagreement");
+  EXPECT_GT(j["registration"].value("see_through", 0.0), 0.2);
+  const std::string e = expect_invalid(plan(scene, {"--registration", "strict"}), "hand_off.json", {"disagrees"});
+  EXPECT_NE(e.find("sensor_disagreement"), std::string::npos) << e;
+  // The calibrated example plans in strict mode as by default.
+  EXPECT_EQ(expect_ok(plan(example_scene(), {"--registration", "strict"}))["grasp"],
+            expect_ok(plan(example_scene()))["grasp"]);
+  expect_invalid(plan(example_scene(), {"--registration", "maybe"}), "--registration", {"maybe", "registration"});
+}
