@@ -395,6 +395,19 @@ TEST(NoHeap, PlanningAllocatesNothing) {
   EXPECT_EQ(few, Status::ok);
   EXPECT_EQ(one_point, Status::no_grasp);
   EXPECT_EQ(failure_paths.total(), 0u);
+
+  // The hand's pose 12 cm off: the registration finds the clouds disagree (A.4c), leaves
+  // the hand out, and in strict mode the plan fails; neither allocates.
+  Camera far = hand;
+  far.pose.t += Vec3(0.12f, 0.05f, 0.f);
+  for (const fg::RegistrationMode mode : {fg::RegistrationMode::on, fg::RegistrationMode::strict}) {
+    pl->set_registration(mode);
+    const CycleResult off = armed_cycle(*pl, head, cloud, far, depth, out);
+    EXPECT_EQ(out.registration.outcome, fg::RegistrationOutcome::sensor_disagreement);
+    EXPECT_EQ(off.plan, mode == fg::RegistrationMode::strict ? Status::sensor_disagreement : Status::ok) << out.message;
+    EXPECT_EQ(off.counts.total(), 0u);
+  }
+  pl->set_registration(fg::RegistrationMode::on);
 }
 
 TEST(NoHeap, ConfigureAndConstructionDoNotAllocateEither) {
