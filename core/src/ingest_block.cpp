@@ -141,6 +141,7 @@ void add_moments(State& s, const uint8_t* const base[3], uint32_t count, uint32_
     float z;
     std::memcpy(&z, base[2] + off, sizeof z);
     if (!(z > 0.f && z <= 3.0e38f)) continue;  // NaN fails too
+    if (z >= s.zmin && z <= s.zmax) ++s.moment_in_range;
     if ((s.moment_count++ & 3u) != 0u) continue;
     float x, y;
     std::memcpy(&x, base[0] + off, sizeof x);

@@ -312,8 +312,13 @@ bool Planner::register_hand(ingest::State& in, bool in_sensor_units) {
   params.max_samples = kRegistrationSamples;
   float* const mem = reinterpret_cast<float*>(view_words_);
   Pose& hand = sensors_.pose[kHand];
-  registration_ =
-      fg::register_hand(grid_, sensors_, reinterpret_cast<const DepthMoments*>(mem), params, mem + kMomentFloats);
+  if (in.moment_in_range > 0u) {
+    registration_ =
+        fg::register_hand(grid_, sensors_, reinterpret_cast<const DepthMoments*>(mem), params, mem + kMomentFloats);
+  } else {  // no depth within the range: nothing to register, and the ingest's units check tells why
+    registration_ = RegistrationResult{};
+    registration_.outcome = RegistrationOutcome::too_little_overlap;
+  }
   registration_.us = static_cast<uint32_t>(platform::monotonic_us() - t0);
   if (registration_.outcome == RegistrationOutcome::sensor_disagreement) {
     // A.4c: the hand's points stay out; the plan is the head's alone.
@@ -456,9 +461,11 @@ Status Planner::depth_pass(ingest::State& in, const uint16_t* depth_mm, uint16_t
   if (in.moments_only) {  // the registration's first pass: every fourth return
     const uint64_t pixels = static_cast<uint64_t>(width) * height;
     for (uint64_t i = 0; i < pixels; ++i) {
-      if (depth_mm[i] == 0 || (in.moment_count++ & 3u) != 0u) continue;
-      const uint32_t v = static_cast<uint32_t>(i / width), u = static_cast<uint32_t>(i % width);
+      if (depth_mm[i] == 0) continue;
       const float z = static_cast<float>(depth_mm[i]) * 0.001f;
+      if (z >= in.zmin && z <= in.zmax) ++in.moment_in_range;
+      if ((in.moment_count++ & 3u) != 0u) continue;
+      const uint32_t v = static_cast<uint32_t>(i / width), u = static_cast<uint32_t>(i % width);
       ingest::add_moment(in, (static_cast<float>(u) - k.cx) * ifx * z, (static_cast<float>(v) - k.cy) * ify * z, z);
     }
     return Status::ok;

@@ -316,6 +316,26 @@ TEST(FirmwareApi, SensorUnits) {
   ASSERT_EQ(fg_plan(ws, &got), FG_OK);
   for (int i = 0; i < 3; ++i) EXPECT_EQ(got.position[i], want.grasp.position(i));
   EXPECT_EQ(got.width_m, want.grasp.width);
+
+  // Only the hand's cloud in millimetres, after the head's in metres: its units are
+  // named whatever the registration mode (its surfaces a thousand times too far would
+  // otherwise look like a sensor disagreement).
+  for (const int32_t mode : {FG_REGISTRATION_MODE_ON, FG_REGISTRATION_MODE_STRICT, FG_REGISTRATION_MODE_OFF}) {
+    ASSERT_EQ(fg_reset(ws), FG_OK);
+    ASSERT_EQ(fg_set_registration(ws, mode), FG_OK);
+    for (size_t i = 0; i < d.clouds.size(); ++i) {
+      ASSERT_EQ(fg_set_sensor_units(ws, static_cast<int32_t>(d.roles[i]), 1.f), FG_OK);
+      const fg_pose pose = to_c(d.poses[i]);
+      const bool hand = d.roles[i] == fg::SensorRole::hand;
+      const float* xyz = hand ? mm[i].data() : d.clouds[i].xyz.data();
+      const fg_status s = fg_add_points(ws, static_cast<int32_t>(d.roles[i]), xyz, d.clouds[i].size(), 12, &pose);
+      EXPECT_EQ(s, hand ? FG_ERR_INVALID_ARGUMENT : FG_OK) << mode;
+      if (hand) {
+        EXPECT_NE(std::string(fg_last_message(ws)).find("millimetres"), std::string::npos) << fg_last_message(ws);
+      }
+    }
+  }
+  ASSERT_EQ(fg_set_registration(ws, FG_REGISTRATION_MODE_ON), FG_OK);
 }
 
 // Every field of fg_config reaches the planner: default -> C -> check is ok, and a
