@@ -117,6 +117,21 @@ bool bin_surface(const DepthMoments* map, int32_t bin, Vec3& s, Vec3& n) {
   return surface_of(d, u, v, half, centre, s, n);
 }
 
+// The world point h in the head's frame (p) and its bin (u, v) in the head's sight map,
+// one bin inside the map's border; false outside it or behind the sensor.
+bool head_sight_bin(const SensorViews& views, const Vec3& h, Vec3& p, int& u, int& v) {
+  constexpr float half = 0.5f * static_cast<float>(kSightBins);
+  const Pose& head = views.pose[static_cast<uint32_t>(SensorRole::head)];
+  p = head.R.transpose() * (h - head.t);
+  if (!(p.z() > 0.05f)) return false;
+  const float bu = (p.x() / p.z() + 1.f) * half, bv = (p.y() / p.z() + 1.f) * half;
+  if (!(bu >= 1.f && bv >= 1.f && bu < static_cast<float>(kSightBins - 1) && bv < static_cast<float>(kSightBins - 1)))
+    return false;
+  u = static_cast<int>(bu);
+  v = static_cast<int>(bv);
+  return true;
+}
+
 // The head's surface normal at its sample h, from its map of nearest returns (the
 // returns one bin to each side, 8 mm apart at 1 m on the host's map: the nearest return
 // of a bin is biased toward the sensor, alike in neighbouring bins, so their slope is
@@ -124,13 +139,9 @@ bool bin_surface(const DepthMoments* map, int32_t bin, Vec3& s, Vec3& n) {
 bool head_normal(const SensorViews& views, const Vec3& h, Vec3& nw) {
   constexpr uint32_t kHeadRole = static_cast<uint32_t>(SensorRole::head);
   constexpr float half = 0.5f * static_cast<float>(kSightBins);
-  const Pose& head = views.pose[kHeadRole];
-  const Vec3 p = head.R.transpose() * (h - head.t);
-  if (!(p.z() > 0.05f)) return false;
-  const float bu = (p.x() / p.z() + 1.f) * half, bv = (p.y() / p.z() + 1.f) * half;
-  if (!(bu >= 1.f && bv >= 1.f && bu < static_cast<float>(kSightBins - 1) && bv < static_cast<float>(kSightBins - 1)))
-    return false;
-  const int u = static_cast<int>(bu), v = static_cast<int>(bv);
+  Vec3 p;
+  int u = 0, v = 0;
+  if (!head_sight_bin(views, h, p, u, v)) return false;
   const int du[5] = {0, 1, -1, 0, 0}, dv[5] = {0, 0, 0, 1, -1};
   float d[5];
   for (int k = 0; k < 5; ++k) {
@@ -140,7 +151,7 @@ bool head_normal(const SensorViews& views, const Vec3& h, Vec3& nw) {
   }
   Vec3 s, n;
   if (!surface_of(d, u, v, half, p, s, n)) return false;
-  nw = head.R * n;
+  nw = views.pose[kHeadRole].R * n;
   return true;
 }
 
@@ -336,16 +347,12 @@ float step_once(Sums& s, bool coarse, float lever, const Vec3& pivot, Mat3& R, V
 // from the background beside w, and a single bin without returns (a dropout) out of it.
 bool head_saw_past(const SensorViews& views, const Vec3& w, float margin) {
   constexpr uint32_t kHeadRole = static_cast<uint32_t>(SensorRole::head);
-  constexpr float half = 0.5f * static_cast<float>(kSightBins);
-  const Pose& head = views.pose[kHeadRole];
-  const Vec3 p = head.R.transpose() * (w - head.t);
-  if (!(p.z() > 0.05f)) return false;
-  const float bu = (p.x() / p.z() + 1.f) * half, bv = (p.y() / p.z() + 1.f) * half;
-  if (!(bu >= 1.f && bv >= 1.f && bu < 2.f * half - 1.f && bv < 2.f * half - 1.f)) return false;
-  const uint32_t centre = static_cast<uint32_t>(bv) * kSightBins + static_cast<uint32_t>(bu);
-  for (uint32_t dv = 0; dv < 3; ++dv)
-    for (uint32_t du = 0; du < 3; ++du) {
-      const uint16_t mm = views.sight_mm[kHeadRole][centre + dv * kSightBins + du - kSightBins - 1u];
+  Vec3 p;
+  int u = 0, v = 0;
+  if (!head_sight_bin(views, w, p, u, v)) return false;
+  for (int dv = -1; dv <= 1; ++dv)
+    for (int du = -1; du <= 1; ++du) {
+      const uint16_t mm = views.sight_mm[kHeadRole][(v + dv) * static_cast<int>(kSightBins) + (u + du)];
       if (mm == 0xFFFFu || !(0.001f * static_cast<float>(mm) > p.z() + margin)) return false;
     }
   return true;

@@ -210,22 +210,20 @@ int run_sim_command(SimArgs& a) {
     return kExitInvalid;
   }
   so.progress = !a.quiet;
-  if (a.calibration_error.size() == 2) {
-    if (!std::isfinite(a.calibration_error[0]) || !std::isfinite(a.calibration_error[1])) {
-      std::cerr << "forcegrasp sim: --calibration-error: MM and DEG must be finite numbers (0..100)\n";
-      return kExitInvalid;
+  // --calibration-error and --kinematic-error: MM,DEG, both finite.
+  const auto error_pair = [](const std::vector<double>& v, const char* option, double& mm, double& deg) {
+    if (v.size() != 2) return true;
+    if (!std::isfinite(v[0]) || !std::isfinite(v[1])) {
+      std::cerr << "forcegrasp sim: " << option << ": MM and DEG must be finite numbers (0..100)\n";
+      return false;
     }
-    so.calibration_error_mm = a.calibration_error[0];
-    so.calibration_error_deg = a.calibration_error[1];
-  }
-  if (a.kinematic_error.size() == 2) {
-    if (!std::isfinite(a.kinematic_error[0]) || !std::isfinite(a.kinematic_error[1])) {
-      std::cerr << "forcegrasp sim: --kinematic-error: MM and DEG must be finite numbers (0..100)\n";
-      return kExitInvalid;
-    }
-    so.kinematic_error_mm = a.kinematic_error[0];
-    so.kinematic_error_deg = a.kinematic_error[1];
-  }
+    mm = v[0];
+    deg = v[1];
+    return true;
+  };
+  if (!error_pair(a.calibration_error, "--calibration-error", so.calibration_error_mm, so.calibration_error_deg) ||
+      !error_pair(a.kinematic_error, "--kinematic-error", so.kinematic_error_mm, so.kinematic_error_deg))
+    return kExitInvalid;
   // The parser let only the distributions' names through (CLI::IsMember).
   if (!fg::sim::distribution_from_name(a.distribution_arg, so.distribution)) {
     std::cerr << "forcegrasp sim: unknown distribution \"" << a.distribution_arg << "\"\n";
