@@ -181,16 +181,22 @@ INSTANTIATE_TEST_SUITE_P(Shipped, FirmwareApiScenes,
                                            FG_SHARED_DIR "/data/scenes/learn3-obj3/scene.json",
                                            FG_SHARED_DIR "/data/scenes/learn42-obj3/scene.json"));
 
+// The example with its hand's pose off by `shift` (m, in the hand's frame) and turned by
+// `angle` (rad) about `axis` (the hand's frame).
+void move_hand(SceneData& d, const fg::Vec3& shift, float angle, const fg::Vec3& axis) {
+  for (size_t i = 0; i < d.poses.size(); ++i) {
+    if (d.roles[i] != fg::SensorRole::hand) continue;
+    d.poses[i].t += d.poses[i].R * shift;
+    d.poses[i].R = d.poses[i].R * Eigen::AngleAxisf(angle, axis).toRotationMatrix();
+  }
+}
+
 // The example with its hand pose 8 mm and half a degree off: fg_registration reports
 // what Planner::registration() does, field for field; off, it reports not_run.
 TEST(FirmwareApiRegistration, ReportsThePlannersRegistration) {
   SceneData d;
   ASSERT_TRUE(load(FG_SOURCE_DIR "/examples/two-sensor-box/scene.json", d));
-  for (size_t i = 0; i < d.poses.size(); ++i) {
-    if (d.roles[i] != fg::SensorRole::hand) continue;
-    d.poses[i].t += d.poses[i].R * fg::Vec3(0.008f, 0.f, 0.f);
-    d.poses[i].R = d.poses[i].R * Eigen::AngleAxisf(0.0087f, fg::Vec3::UnitY()).toRotationMatrix();
-  }
+  move_hand(d, fg::Vec3(0.008f, 0.f, 0.f), 0.0087f, fg::Vec3::UnitY());
   auto oracle = std::make_unique<fg::Planner>();
   ASSERT_EQ(oracle->configure(fg::PlannerConfig{}), fg::Status::ok);
   auto mem = std::make_unique<Memory>();
@@ -246,11 +252,7 @@ TEST(FirmwareApiRegistration, ReportsThePlannersRegistration) {
 TEST(FirmwareApiRegistration, StrictModeRefusesCloudsThatDisagree) {
   SceneData d;
   ASSERT_TRUE(load(FG_SOURCE_DIR "/examples/two-sensor-box/scene.json", d));
-  for (size_t i = 0; i < d.poses.size(); ++i) {
-    if (d.roles[i] != fg::SensorRole::hand) continue;
-    d.poses[i].t += d.poses[i].R * fg::Vec3(0.085f, 0.085f, 0.f);
-    d.poses[i].R = d.poses[i].R * Eigen::AngleAxisf(0.14f, fg::Vec3::UnitZ()).toRotationMatrix();
-  }
+  move_hand(d, fg::Vec3(0.085f, 0.085f, 0.f), 0.14f, fg::Vec3::UnitZ());
   auto mem = std::make_unique<Memory>();
   fg_config cfg;
   ASSERT_EQ(fg_config_default(&cfg), FG_OK);
