@@ -310,6 +310,7 @@ bool Planner::register_hand(ingest::State& in, bool in_sensor_units) {
   constexpr uint32_t kHand = static_cast<uint32_t>(SensorRole::hand);
   RegistrationParams params;
   params.max_samples = kRegistrationSamples;
+  params.min_pairs = kRegistrationSamples / 16u;  // the same share of the samples in every build (64 of 1,024)
   float* const mem = reinterpret_cast<float*>(view_words_);
   Pose& hand = sensors_.pose[kHand];
   if (in.moment_in_range > 0u) {

@@ -84,7 +84,7 @@ struct RegistrationParams {
   float min_cost_drop = 0.05f;        //!< a correction lowers the robust cost by this share at least
   float max_translation_m = 0.05f;    //!< beyond these the alignment is not believed
   float max_rotation_rad = 0.10472f;  //!< 6 deg
-  uint32_t min_pairs = 64;            //!< fewer final pairs: not enough overlap
+  uint32_t min_pairs = 64;            //!< fewer final pairs: not enough overlap (the planner: samples / 16)
   float min_overlap = 0.05f;          //!< nor when under this share of the samples
   float see_through_m = 0.02f;        //!< a head sample this far in front of the hand's surface is seen through
   float max_see_through = 0.2f;       //!< a larger share of the compared samples: sensor_disagreement
