@@ -320,18 +320,14 @@ bool Planner::register_hand(ingest::State& in, bool in_sensor_units) {
     registration_ = RegistrationResult{};
     registration_.outcome = RegistrationOutcome::too_little_overlap;
   }
-  registration_.us = static_cast<uint32_t>(platform::monotonic_us() - t0);
   if (registration_.outcome == RegistrationOutcome::sensor_disagreement) {
     // A.4c: the hand's points stay out; the plan is the head's alone.
     sensors_.added[kHand] = false;
+    registration_.us = static_cast<uint32_t>(platform::monotonic_us() - t0);
     return false;
   }
-  if (registration_.outcome == RegistrationOutcome::corrected) {
-    const Pose& c = registration_.correction;
-    hand.t = c.R * hand.t + c.t;
-    hand.R = c.R * hand.R;
-    sensors_.origin[kHand] = hand.t;
-  }
+  hand = registration_.hand_pose(hand);
+  sensors_.origin[kHand] = hand.t;
   in = ingest::State{};
   make_ingest(in, hand, cfg_, grid_, crop_lo_cells_, crop_hi_cells_, sensors_.sight_mm[kHand], ingest_lanes_,
               in_sensor_units ? units_.m[kHand] : 1.f);

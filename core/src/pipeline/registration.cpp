@@ -25,6 +25,14 @@ const char* to_string(RegistrationOutcome o) {
   return "unknown";
 }
 
+Pose RegistrationResult::hand_pose(const Pose& given) const {
+  if (outcome != RegistrationOutcome::corrected) return given;
+  Pose p;
+  p.R = correction.R * given.R;
+  p.t = correction.R * given.t + correction.t;
+  return p;
+}
+
 namespace {
 
 // A bin's mean needs a few returns; a bin holds about 20 of a 640x480 sensor's pixels
@@ -468,11 +476,7 @@ RegistrationResult register_hand(const VoxelGrid& grid, const SensorViews& views
   const Pose& given = views.pose[static_cast<uint32_t>(SensorRole::hand)];
   out = align(moments, given, samples, n, params);
   // A.4c: whatever the alignment's verdict, do the clouds agree as they will be fused?
-  Pose used = given;
-  if (out.outcome == RegistrationOutcome::corrected) {
-    used.R = out.correction.R * given.R;
-    used.t = out.correction.R * given.t + out.correction.t;
-  }
+  const Pose used = out.hand_pose(given);
   out.see_through = see_through_share(views, moments, used, samples, n, params.see_through_m, out.compared);
   if (out.compared >= params.min_pairs && out.see_through > params.max_see_through) {
     out.outcome = RegistrationOutcome::sensor_disagreement;

@@ -72,6 +72,9 @@ struct RegistrationResult {
   float see_through = 0.f;
   uint32_t compared = 0;
   uint32_t us = 0;  //!< the stage's time (platform clock)
+
+  //! The hand pose the fusion uses: correction * given when corrected, else given.
+  Pose hand_pose(const Pose& given) const;
 };
 
 //! Bounds and thresholds of the stage, with their physical meaning.
