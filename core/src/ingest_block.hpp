@@ -32,7 +32,7 @@ struct State {
   // gathers depth moments (kMomentBins^2, zeroed before), the second is the ingest.
   bool moments_only = false;
   DepthMoments* moments = nullptr;
-  uint32_t moment_count = 0;     // points with a depth met by the first pass
+  uint32_t moment_count = 0;     // points of the source met by the first pass (it reads every fourth)
   uint32_t moment_in_range = 0;  // those within the range filter's depths
   // A block's kept points wait here before they reach the grid: the arithmetic of a
   // block runs without waiting on memory, then its grid look-ups and sums issue back

@@ -455,15 +455,16 @@ Status Planner::add_point_source(SensorRole role, PointSource& source, const Pos
 Status Planner::depth_pass(ingest::State& in, const uint16_t* depth_mm, uint16_t width, uint16_t height,
                            const PinholeIntrinsics& k) {
   const float ifx = 1.f / k.fx, ify = 1.f / k.fy;
-  if (in.moments_only) {  // the registration's first pass: every fourth return
-    const uint64_t pixels = static_cast<uint64_t>(width) * height;
-    for (uint64_t i = 0; i < pixels; ++i) {
-      if (depth_mm[i] == 0) continue;
-      const float z = static_cast<float>(depth_mm[i]) * 0.001f;
-      if (z >= in.zmin && z <= in.zmax) ++in.moment_in_range;
-      if ((in.moment_count++ & 3u) != 0u) continue;
-      const uint32_t v = static_cast<uint32_t>(i / width), u = static_cast<uint32_t>(i % width);
-      ingest::add_moment(in, (static_cast<float>(u) - k.cx) * ifx * z, (static_cast<float>(v) - k.cy) * ify * z, z);
+  if (in.moments_only) {  // the registration's first pass: every fourth pixel
+    for (uint32_t v = 0; v < height; ++v) {
+      const uint16_t* row = depth_mm + static_cast<size_t>(v) * width;
+      const float yf = (static_cast<float>(v) - k.cy) * ify;
+      for (uint32_t u = v & 3u; u < width; u += 4u) {  // staggered from row to row
+        if (row[u] == 0) continue;
+        const float z = static_cast<float>(row[u]) * 0.001f;
+        if (z >= in.zmin && z <= in.zmax) ++in.moment_in_range;
+        ingest::add_moment(in, (static_cast<float>(u) - k.cx) * ifx * z, yf * z, z);
+      }
     }
     return Status::ok;
   }

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <string>
@@ -153,6 +154,82 @@ TEST(Registration, CorrectsAHandPoseOffByMillimetresAndADegree) {
     EXPECT_LT(reg.residual_mm, reg.residual_before_mm);
     EXPECT_GT(reg.pairs, 64u);
     EXPECT_LE(reg.iterations, fg::RegistrationParams{}.max_iterations);
+  }
+}
+
+// The hand's points of a depth image, in the sensor's frame, pixel by pixel.
+std::vector<float> points_of(const std::vector<uint16_t>& img) {
+  std::vector<float> xyz;
+  for (uint16_t v = 0; v < kH; ++v)
+    for (uint16_t u = 0; u < kW; ++u) {
+      const float z = static_cast<float>(img[size_t{v} * kW + u]) * 0.001f;
+      if (img[size_t{v} * kW + u] == 0) {  // no return: a NaN point, as an organized cloud has
+        for (int k = 0; k < 3; ++k) xyz.push_back(std::nanf(""));
+        continue;
+      }
+      xyz.push_back((static_cast<float>(u) - kK.cx) / kK.fx * z);
+      xyz.push_back((static_cast<float>(v) - kK.cy) / kK.fy * z);
+      xyz.push_back(z);
+    }
+  return xyz;
+}
+
+// xyz triples handed over in pieces of `piece` points; it can start again.
+class Pieces final : public fg::PointSource {
+ public:
+  Pieces(const std::vector<float>& xyz, uint32_t piece) : xyz_(xyz), piece_(piece) {}
+  bool next(fg::PointPiece& p) override {
+    const uint32_t total = static_cast<uint32_t>(xyz_.size() / 3);
+    const uint32_t n = std::min(piece_, total - at_);
+    const auto* base = reinterpret_cast<const uint8_t*>(xyz_.data() + size_t{3} * at_);
+    p = fg::PointPiece{base, base + 4, base + 8, 12, n};
+    at_ += n;
+    return true;
+  }
+  bool can_rewind() const override { return true; }
+  bool rewind() override {
+    at_ = 0;
+    return true;
+  }
+
+ private:
+  const std::vector<float>& xyz_;
+  uint32_t piece_;
+  uint32_t at_ = 0;
+};
+
+// The first pass reads every fourth point of the hand's cloud, counted across the
+// pieces a source hands over: pieces of any size give the registration of the whole.
+TEST(Registration, ReadsTheSamePointsWholeOrInPieces) {
+  const World w = boxes_world();
+  const Pose given = off_by(kHand, Vec3(1, 0, 0), 10.f, Vec3(0, 1, 0), 1.f);
+  const std::vector<uint16_t> head = render(w, kHead);
+  const std::vector<float> hand = points_of(render(w, kHand));
+  fg::RegistrationResult reg[4];
+  const uint32_t pieces[4] = {0, 1001, 4099, 3};  // 0: the whole cloud in one call
+  for (int k = 0; k < 4; ++k) {
+    auto planner = std::make_unique<fg::Planner>();
+    ASSERT_EQ(planner->configure(fg::PlannerConfig{}), fg::Status::ok);
+    ASSERT_EQ(planner->add_depth_image(fg::SensorRole::head, head.data(), kW, kH, kK, kHead), fg::Status::ok);
+    if (pieces[k] == 0) {
+      ASSERT_EQ(
+          planner->add_points(fg::SensorRole::hand, hand.data(), static_cast<uint32_t>(hand.size() / 3), 12, given),
+          fg::Status::ok);
+    } else {
+      Pieces src(hand, pieces[k]);
+      ASSERT_EQ(planner->add_point_source(fg::SensorRole::hand, src, given), fg::Status::ok);
+    }
+    fg::PlanResult r;
+    (void)planner->plan(r);
+    reg[k] = r.registration;
+  }
+  EXPECT_EQ(reg[0].outcome, fg::RegistrationOutcome::corrected);
+  for (int k = 1; k < 4; ++k) {
+    EXPECT_EQ(reg[k].outcome, reg[0].outcome) << pieces[k];
+    EXPECT_EQ(reg[k].pairs, reg[0].pairs) << pieces[k];
+    EXPECT_EQ(reg[k].samples, reg[0].samples) << pieces[k];
+    EXPECT_EQ(reg[k].residual_mm, reg[0].residual_mm) << pieces[k];
+    EXPECT_EQ(reg[k].translation_mm, reg[0].translation_mm) << pieces[k];
   }
 }
 
