@@ -123,6 +123,7 @@ FG_LANES_TARGET inline void offsets_of(VF ox, VF oy, VF oz, V4f* out) {
 // the depth of the others is read. Apart from the ingest's loop, which it would slow
 // down.
 void add_moment(State& s, float x, float y, float z) {
+  if (z >= s.zmin && z <= s.zmax) ++s.moment_in_range;
   constexpr float half = 0.5f * static_cast<float>(kSightBins);
   const float inv = 1.f / z;
   const float bu = (x * inv + 1.f) * half, bv = (y * inv + 1.f) * half;
@@ -135,20 +136,55 @@ void add_moment(State& s, float x, float y, float z) {
   mo.n += 1.f;
 }
 
+namespace {
+// Every fourth of the points i in [0, count) that have a depth (by their running count,
+// State::moment_count) goes to take(i); the others cost a test of their depth only.
+// The range filter's depths are counted among those taken (moment_in_range): a cloud
+// with none there is not registered.
+template <class HasDepth, class Take>
+inline void every_fourth_with_depth(State& s, uint32_t count, HasDepth has_depth, Take take) {
+  uint32_t n = s.moment_count;
+  for (uint32_t i = 0; i < count; ++i) {
+    if (!has_depth(i)) continue;
+    if ((n++ & 3u) == 0u) take(i);
+  }
+  s.moment_count = n;
+}
+}  // namespace
+
 void add_moments(State& s, const uint8_t* const base[3], uint32_t count, uint32_t stride_bytes) {
-  // Every fourth point of the source, counted across its pieces: a moment bin spans
-  // dozens of pixels, and the points between are not read at all.
-  const uint32_t first = (4u - (s.moment_count & 3u)) & 3u;
-  s.moment_count += count;
-  for (uint32_t i = first; i < count; i += 4u) {
-    const size_t off = static_cast<size_t>(i) * stride_bytes;
-    float x, y, z;
-    std::memcpy(&z, base[2] + off, sizeof z);
-    if (!(z > 0.f && z <= 3.0e38f)) continue;  // NaN fails too
-    if (z >= s.zmin && z <= s.zmax) ++s.moment_in_range;
-    std::memcpy(&x, base[0] + off, sizeof x);
-    std::memcpy(&y, base[1] + off, sizeof y);
-    add_moment(s, x, y, z);
+  const auto z_at = [&](uint32_t i) {
+    float z;
+    std::memcpy(&z, base[2] + static_cast<size_t>(i) * stride_bytes, sizeof z);
+    return z;
+  };
+  every_fourth_with_depth(
+      s, count,
+      [&](uint32_t i) {
+        const float z = z_at(i);
+        return z > 0.f && z <= 3.0e38f;  // NaN fails too
+      },
+      [&](uint32_t i) {
+        const size_t off = static_cast<size_t>(i) * stride_bytes;
+        float x, y;
+        std::memcpy(&x, base[0] + off, sizeof x);
+        std::memcpy(&y, base[1] + off, sizeof y);
+        add_moment(s, x, y, z_at(i));
+      });
+}
+
+void add_moments_depth(State& s, const uint16_t* depth_mm, uint16_t width, uint16_t height,
+                       const PinholeIntrinsics& k) {
+  const float ifx = 1.f / k.fx, ify = 1.f / k.fy;
+  for (uint32_t v = 0; v < height; ++v) {
+    const uint16_t* row = depth_mm + static_cast<size_t>(v) * width;
+    const float yf = (static_cast<float>(v) - k.cy) * ify;
+    every_fourth_with_depth(
+        s, width, [&](uint32_t u) { return row[u] != 0u; },
+        [&](uint32_t u) {
+          const float z = static_cast<float>(row[u]) * 0.001f;
+          add_moment(s, (static_cast<float>(u) - k.cx) * ifx * z, yf * z, z);
+        });
   }
 }
 

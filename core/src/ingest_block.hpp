@@ -9,6 +9,7 @@
 #include <cstdint>
 
 #include "fg/core/limits.hpp"
+#include "fg/core/pinhole.hpp"
 #include "fg/core/pipeline/registration.hpp"
 #include "fg/core/pipeline/units.hpp"
 #include "fg/core/vec4.hpp"
@@ -32,8 +33,8 @@ struct State {
   // gathers depth moments (kMomentBins^2, zeroed before), the second is the ingest.
   bool moments_only = false;
   DepthMoments* moments = nullptr;
-  uint32_t moment_count = 0;     // points of the source met by the first pass (it reads every fourth)
-  uint32_t moment_in_range = 0;  // those within the range filter's depths
+  uint32_t moment_count = 0;     // points with a depth met by the first pass
+  uint32_t moment_in_range = 0;  // of those it binned, those within the range filter's depths
   // A block's kept points wait here before they reach the grid: the arithmetic of a
   // block runs without waiting on memory, then its grid look-ups and sums issue back
   // to back. 64 points per block (about 1.3 KiB) on the host; small builds keep the
@@ -73,6 +74,9 @@ void add_moment(State& s, float x, float y, float z);
 //! The first pass over `count` points at base[k] + i * stride_bytes (x, y, z): adds every
 //! fourth with a depth in front, counting on from the calls before.
 void add_moments(State& s, const uint8_t* const base[3], uint32_t count, uint32_t stride_bytes);
+//! The same over a depth image's pixels (millimetres, 0: no return), row by row: the
+//! points of its organized cloud, with or without those without a return.
+void add_moments_depth(State& s, const uint16_t* depth_mm, uint16_t width, uint16_t height, const PinholeIntrinsics& k);
 
 //! The vector width add_block uses (4 or 8) for the width a caller asks for: 4 forces
 //! the four-lane path of every target, anything else (0 by convention) picks the widest

@@ -455,17 +455,8 @@ Status Planner::add_point_source(SensorRole role, PointSource& source, const Pos
 Status Planner::depth_pass(ingest::State& in, const uint16_t* depth_mm, uint16_t width, uint16_t height,
                            const PinholeIntrinsics& k) {
   const float ifx = 1.f / k.fx, ify = 1.f / k.fy;
-  if (in.moments_only) {  // the registration's first pass: every fourth pixel
-    for (uint32_t v = 0; v < height; ++v) {
-      const uint16_t* row = depth_mm + static_cast<size_t>(v) * width;
-      const float yf = (static_cast<float>(v) - k.cy) * ify;
-      for (uint32_t u = v & 3u; u < width; u += 4u) {  // staggered from row to row
-        if (row[u] == 0) continue;
-        const float z = static_cast<float>(row[u]) * 0.001f;
-        if (z >= in.zmin && z <= in.zmax) ++in.moment_in_range;
-        ingest::add_moment(in, (static_cast<float>(u) - k.cx) * ifx * z, yf * z, z);
-      }
-    }
+  if (in.moments_only) {  // the registration's first pass: every fourth return
+    ingest::add_moments_depth(in, depth_mm, width, height, k);
     return Status::ok;
   }
   Status st = Status::ok;

@@ -198,38 +198,56 @@ class Pieces final : public fg::PointSource {
   uint32_t at_ = 0;
 };
 
-// The first pass reads every fourth point of the hand's cloud, counted across the
-// pieces a source hands over: pieces of any size give the registration of the whole.
+// The first pass reads every fourth point with a depth of the hand's cloud, counted
+// across the pieces a source hands over: pieces of any size, the depth image itself and
+// its points without those that have no return give the registration of the whole.
 TEST(Registration, ReadsTheSamePointsWholeOrInPieces) {
   const World w = boxes_world();
   const Pose given = off_by(kHand, Vec3(1, 0, 0), 10.f, Vec3(0, 1, 0), 1.f);
-  const std::vector<uint16_t> head = render(w, kHead);
-  const std::vector<float> hand = points_of(render(w, kHand));
-  fg::RegistrationResult reg[4];
-  const uint32_t pieces[4] = {0, 1001, 4099, 3};  // 0: the whole cloud in one call
-  for (int k = 0; k < 4; ++k) {
+  const std::vector<uint16_t> head = render(w, kHead), hand_image = render(w, kHand);
+  const std::vector<float> hand = points_of(hand_image);
+  std::vector<float> with_return;  // the points that have a return
+  for (size_t i = 0; i + 2 < hand.size(); i += 3)
+    if (!std::isnan(hand[i + 2]))
+      with_return.insert(with_return.end(), hand.begin() + static_cast<long>(i),
+                         hand.begin() + static_cast<long>(i) + 3);
+  enum class Input { whole, pieces, image, returns };
+  const struct {
+    Input input;
+    uint32_t piece;
+  } cases[] = {{Input::whole, 0},  {Input::pieces, 1001}, {Input::pieces, 4099},
+               {Input::pieces, 3}, {Input::image, 0},     {Input::returns, 0}};
+  std::vector<fg::RegistrationResult> reg;
+  for (const auto& c : cases) {
     auto planner = std::make_unique<fg::Planner>();
     ASSERT_EQ(planner->configure(fg::PlannerConfig{}), fg::Status::ok);
     ASSERT_EQ(planner->add_depth_image(fg::SensorRole::head, head.data(), kW, kH, kK, kHead), fg::Status::ok);
-    if (pieces[k] == 0) {
-      ASSERT_EQ(
-          planner->add_points(fg::SensorRole::hand, hand.data(), static_cast<uint32_t>(hand.size() / 3), 12, given),
-          fg::Status::ok);
+    const auto add = [&](const std::vector<float>& xyz) {
+      return planner->add_points(fg::SensorRole::hand, xyz.data(), static_cast<uint32_t>(xyz.size() / 3), 12, given);
+    };
+    fg::Status st = fg::Status::ok;
+    if (c.input == Input::whole) {
+      st = add(hand);
+    } else if (c.input == Input::returns) {
+      st = add(with_return);
+    } else if (c.input == Input::image) {
+      st = planner->add_depth_image(fg::SensorRole::hand, hand_image.data(), kW, kH, kK, given);
     } else {
-      Pieces src(hand, pieces[k]);
-      ASSERT_EQ(planner->add_point_source(fg::SensorRole::hand, src, given), fg::Status::ok);
+      Pieces src(hand, c.piece);
+      st = planner->add_point_source(fg::SensorRole::hand, src, given);
     }
+    ASSERT_EQ(st, fg::Status::ok);
     fg::PlanResult r;
     (void)planner->plan(r);
-    reg[k] = r.registration;
+    reg.push_back(r.registration);
   }
   EXPECT_EQ(reg[0].outcome, fg::RegistrationOutcome::corrected);
-  for (int k = 1; k < 4; ++k) {
-    EXPECT_EQ(reg[k].outcome, reg[0].outcome) << pieces[k];
-    EXPECT_EQ(reg[k].pairs, reg[0].pairs) << pieces[k];
-    EXPECT_EQ(reg[k].samples, reg[0].samples) << pieces[k];
-    EXPECT_EQ(reg[k].residual_mm, reg[0].residual_mm) << pieces[k];
-    EXPECT_EQ(reg[k].translation_mm, reg[0].translation_mm) << pieces[k];
+  for (size_t k = 1; k < reg.size(); ++k) {
+    EXPECT_EQ(reg[k].outcome, reg[0].outcome) << k;
+    EXPECT_EQ(reg[k].pairs, reg[0].pairs) << k;
+    EXPECT_EQ(reg[k].samples, reg[0].samples) << k;
+    EXPECT_EQ(reg[k].residual_mm, reg[0].residual_mm) << k;
+    EXPECT_EQ(reg[k].translation_mm, reg[0].translation_mm) << k;
   }
 }
 
