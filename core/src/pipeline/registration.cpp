@@ -281,33 +281,98 @@ Sums accumulate(const DepthMoments* map, const Pose& hand, Sample* samples, uint
 
 // The head's samples: voxels that project where the hand saw a surface (as calibrated),
 // so that none is wasted on what only the head saw, taken evenly over the classes of
-// the head's normals there (normal_class): at most cap / 6 of each, every stride-th of
-// the class in the grid's order. At most 16 x cap voxels are looked at (every pre-th).
+// the head's normals there (normal_class): at most cap / 6 of each.
+// - A first pass classifies every 16th voxel (count_step) and counts the classes.
+// - A class the first pass met at least quota times (a table fills most of the view
+//   with one class) is abundant: it is taken from those voxels, every stride-th.
+// - The others (an object's sides) are taken from every 4th voxel (every pre-th of
+//   the grid), every stride-th of the class, but only where they can be: in the head's
+//   view near a voxel of the first pass of such a class or on an edge the hand saw (a
+//   cell of kCellBins^2 head sight bins and its neighbours). Elsewhere a voxel costs
+//   its projection only, not the two sensors' surfaces.
 // Returns how many were taken into `samples`.
+constexpr uint32_t kCellBins = 4;  // head sight bins per cell side (31 mm at 1 m on the host)
+constexpr uint32_t kCells = kSightBins / kCellBins;
+constexpr uint8_t kNotInView = kNormalClasses;  // the hand saw no surface there, or the head none
+constexpr uint8_t kEdge = kNormalClasses + 1;   // the hand saw a surface, the head an edge
+static_assert(kNormalClasses + 2 <= 8, "a cell's classes in a byte's bits");
+
 uint32_t select_samples(const VoxelGrid& grid, const SensorViews& views, const DepthMoments* moments, uint32_t cap,
                         Sample* samples) {
+  cap = cap < kRegistrationSamples ? cap : kRegistrationSamples;
+  if (cap == 0u) return 0u;
   const uint32_t size = grid.size();
-  const uint32_t pre = cap == 0 ? 1u : (size + 16u * cap - 1u) / (16u * cap);
+  const uint32_t pre = (size + 16u * cap - 1u) / (16u * cap);
+  const uint32_t count_step = 4u * pre;  // at most 4 x cap voxels
   const uint32_t quota = cap / kNormalClasses > 0u ? cap / kNormalClasses : 1u;
   const Pose& hand = views.pose[static_cast<uint32_t>(SensorRole::hand)];
-  const auto class_in_view = [&](uint32_t i, Sample& c) {
+  // A voxel's class code; its head sight bin (u, v) when it has one.
+  const auto classify = [&](uint32_t i, Sample& c, int& u, int& v) -> uint8_t {
     c.p = grid.centroid(i);
     c.bin = -1;
-    Vec3 w, nw;
-    if (!hand_surface(moments, hand.R, hand.t, c, w, nw) || !head_normal(views, c.p, c.n)) return kNormalClasses;
-    return normal_class(c.n);
+    Vec3 w, nw, ph;
+    if (!head_sight_bin(views, c.p, ph, u, v)) {
+      u = -1;
+      return kNotInView;
+    }
+    if (!hand_surface(moments, hand.R, hand.t, c, w, nw)) return kNotInView;
+    if (!head_normal(views, c.p, c.n)) return kEdge;
+    return static_cast<uint8_t>(normal_class(c.n));
   };
-  // The classes' shares are counted on every 4th of those voxels.
-  uint32_t seen[kNormalClasses + 1] = {};
+  const auto cell_of = [](int u, int v) { return (v / kCellBins) * kCells + u / kCellBins; };
+  uint8_t first_class[4u * kRegistrationSamples];  // per voxel of the first pass
+  uint8_t cell_classes[kCells * kCells] = {};      // bit per class code met in the cell
+  uint32_t seen[kNormalClasses] = {};
   Sample c;
-  for (uint32_t i = 0; i < size; i += 4u * pre) ++seen[class_in_view(i, c)];
+  for (uint32_t i = 0, j = 0; i < size; i += count_step, ++j) {
+    int u = 0, v = 0;
+    const uint8_t k = classify(i, c, u, v);
+    first_class[j] = k;
+    if (k < kNormalClasses) ++seen[k];
+    if (k != kNotInView) cell_classes[cell_of(u, v)] |= static_cast<uint8_t>(1u << k);
+  }
+  // Abundant: the first pass alone met the quota; it is taken from those voxels.
   uint32_t stride[kNormalClasses], taken[kNormalClasses] = {}, met[kNormalClasses] = {};
-  for (uint32_t k = 0; k < kNormalClasses; ++k)
-    stride[k] = 4u * seen[k] > quota ? (4u * seen[k] + quota - 1u) / quota : 1u;
+  bool abundant[kNormalClasses];
+  uint8_t wanted_bits = static_cast<uint8_t>(1u << kEdge);
+  for (uint32_t k = 0; k < kNormalClasses; ++k) {
+    abundant[k] = seen[k] >= quota;
+    const uint32_t met_expected = abundant[k] ? seen[k] : 4u * seen[k];
+    stride[k] = met_expected > quota ? (met_expected + quota - 1u) / quota : 1u;
+    if (!abundant[k]) wanted_bits |= static_cast<uint8_t>(1u << k);
+  }
+  // The cells whose neighbourhood met a wanted class, a bit each.
+  uint64_t wanted_cells[(kCells * kCells + 63u) / 64u] = {};
+  for (int cv = 0; cv < static_cast<int>(kCells); ++cv)
+    for (int cu = 0; cu < static_cast<int>(kCells); ++cu) {
+      if ((cell_classes[cv * static_cast<int>(kCells) + cu] & wanted_bits) == 0u) continue;
+      for (int y = cv - 1; y <= cv + 1; ++y)
+        for (int x = cu - 1; x <= cu + 1; ++x)
+          if (x >= 0 && y >= 0 && x < static_cast<int>(kCells) && y < static_cast<int>(kCells)) {
+            const uint32_t b = static_cast<uint32_t>(y) * kCells + static_cast<uint32_t>(x);
+            wanted_cells[b / 64u] |= uint64_t{1} << (b % 64u);
+          }
+    }
+  const auto wanted = [&](int u, int v) {
+    const uint32_t b = static_cast<uint32_t>(cell_of(u, v));
+    return (wanted_cells[b / 64u] >> (b % 64u) & 1u) != 0u;
+  };
   uint32_t n = 0;
   for (uint32_t i = 0; i < size && n < cap; i += pre) {
-    const uint32_t k = class_in_view(i, c);
-    if (k == kNormalClasses || met[k]++ % stride[k] != 0u || taken[k] == quota) continue;
+    const bool first = i % count_step == 0u;
+    uint8_t k = kNotInView;
+    int u = 0, v = 0;
+    if (first) {
+      k = first_class[i / count_step];
+    } else {
+      Vec3 ph;
+      c.p = grid.centroid(i);
+      if (!head_sight_bin(views, c.p, ph, u, v) || !wanted(u, v)) continue;
+      k = classify(i, c, u, v);
+    }
+    if (k >= kNormalClasses || taken[k] == quota) continue;
+    if ((abundant[k] && !first) || met[k]++ % stride[k] != 0u) continue;
+    if (first) (void)classify(i, c, u, v);  // the sample's normal and hand surface
     ++taken[k];
     samples[n++] = c;
   }
