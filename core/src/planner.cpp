@@ -118,7 +118,8 @@ Status Planner::plan(PlanResult& out) {
     return finish(out, tally, Status::sensor_disagreement, NoGraspReason::none,
                   "the hand sensor's cloud disagrees with the head's after the registration: the hand saw through "
                   "surfaces the head saw (registration.see_through); check the hand's pose, its hand-eye calibration "
-                  "and the clouds' frames");
+                  "and the clouds' frames, and the head's pose when its table is off level "
+                  "(registration.head_tilt_deg)");
   if (overflow_)
     return finish(out, tally, Status::capacity_exceeded, NoGraspReason::none,
                   "more occupied voxels than the build's FG_MAX_VOXELS");

@@ -27,11 +27,15 @@ void Planner::configured_crop(Vec3& lo, Vec3& hi) const {
             cfg_.crop_max_z_m);
 }
 
-void Planner::reset() {
-  sensors_.clear();
-  counts_ = PointCounts{};
-  ingest_us_ = 0;
-  overflow_ = false;
+// A.4c with the head's table off level: the grid and the crop box as reset() leaves
+// them, the head no longer added (its sight map unused), its kept points uncounted.
+void Planner::leave_out_head() {
+  sensors_.added[static_cast<uint32_t>(SensorRole::head)] = false;
+  counts_.after_filter = 0;
+  reset_grid();
+}
+
+void Planner::reset_grid() {
   Vec3 crop_min, crop_max;
   configured_crop(crop_min, crop_max);
   // 2.5 cells of margin below the crop box: every accepted point has a key with room
@@ -44,6 +48,14 @@ void Planner::reset() {
     crop_hi_cells_[j] = hi[j];
   }
   crop_used_ = CropUsed{crop_min.x(), crop_min.y(), crop_max.x(), crop_max.y(), 0u, 0u};
+}
+
+void Planner::reset() {
+  sensors_.clear();
+  counts_ = PointCounts{};
+  ingest_us_ = 0;
+  overflow_ = false;
+  reset_grid();
   object_.clear();
   objects_ready_ = false;
   support_ = SupportPlane{};
@@ -171,7 +183,7 @@ Status Planner::ingest_begin(SensorRole role, const Pose& world_T_sensor, ingest
   }
   const Status s = check_pose(world_T_sensor);
   if (s != Status::ok) return s;
-  if (role == SensorRole::hand && registration_.outcome == RegistrationOutcome::sensor_disagreement) {
+  if (registration_.outcome == RegistrationOutcome::sensor_disagreement && role == registration_.left_out) {
     message_ = "this sensor role was already added since reset() (and left out: sensor_disagreement)";
     return Status::invalid_sensor;
   }
@@ -321,10 +333,15 @@ bool Planner::register_hand(ingest::State& in, bool in_sensor_units) {
     registration_.outcome = RegistrationOutcome::too_little_overlap;
   }
   if (registration_.outcome == RegistrationOutcome::sensor_disagreement) {
-    // A.4c: the hand's points stay out; the plan is the head's alone.
-    sensors_.added[kHand] = false;
-    registration_.us = static_cast<uint32_t>(platform::monotonic_us() - t0);
-    return false;
+    if (registration_.left_out == SensorRole::hand) {
+      // A.4c: the hand's points stay out; the plan is the head's alone.
+      sensors_.added[kHand] = false;
+      registration_.us = static_cast<uint32_t>(platform::monotonic_us() - t0);
+      return false;
+    }
+    // The head's table is off level and the hand's is not: the head's points leave the
+    // grid, and the hand's, as given, make the plan alone.
+    leave_out_head();
   }
   hand = registration_.hand_pose(hand);
   sensors_.origin[kHand] = hand.t;

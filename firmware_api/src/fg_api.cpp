@@ -535,6 +535,10 @@ fg_status fg_registration(fg_workspace* ws, fg_registration_result* out) {
   out->us = r.us;
   out->see_through = r.see_through;
   out->compared = r.compared;
+  out->head_tilt_deg = r.head_tilt_deg;
+  out->hand_tilt_deg = r.hand_tilt_deg;
+  out->left_out =
+      r.outcome == fg::RegistrationOutcome::sensor_disagreement ? static_cast<int32_t>(r.left_out) : int32_t{-1};
   return FG_OK;
 }
 

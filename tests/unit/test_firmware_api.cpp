@@ -233,6 +233,9 @@ TEST(FirmwareApiRegistration, ReportsThePlannersRegistration) {
   EXPECT_EQ(got.see_through, want.see_through);
   EXPECT_EQ(got.compared, want.compared);
   EXPECT_GT(got.compared, 0u);
+  // Measured on a disagreement only: NaN, and no sensor left out.
+  EXPECT_TRUE(std::isnan(got.head_tilt_deg) && std::isnan(got.hand_tilt_deg));
+  EXPECT_EQ(got.left_out, -1);
 
   ASSERT_EQ(fg_reset(ws), FG_OK);
   ASSERT_EQ(fg_set_registration(ws, 0), FG_OK);
@@ -270,6 +273,10 @@ TEST(FirmwareApiRegistration, StrictModeRefusesCloudsThatDisagree) {
     fg_registration_result reg;
     ASSERT_EQ(fg_registration(ws, &reg), FG_OK);
     EXPECT_EQ(reg.outcome, FG_REGISTRATION_SENSOR_DISAGREEMENT) << mode << ": see-through " << reg.see_through;
+    // The hand moved, not turned off level: the head's table and the hand's are level
+    // alike, and the head, the reference, is kept.
+    EXPECT_EQ(reg.left_out, FG_SENSOR_HAND);
+    EXPECT_LT(reg.head_tilt_deg, 2.f);
     fg_grasp g;
     const fg_status s = fg_plan(ws, &g);
     if (mode == FG_REGISTRATION_MODE_STRICT) {

@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 #include <string.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -408,6 +409,14 @@ TEST(NoHeap, PlanningAllocatesNothing) {
     EXPECT_EQ(off.counts.total(), 0u);
   }
   pl->set_registration(fg::RegistrationMode::on);
+  // The head's pose turned 7 degrees about its horizontal image axis: its table leans, the
+  // hand's does not, and the head's points leave the grid (A.4c); no allocation either.
+  Camera tilted = head;
+  tilted.pose.R = head.pose.R * Eigen::AngleAxisf(7.f * 3.14159265f / 180.f, Vec3::UnitX()).toRotationMatrix();
+  const CycleResult head_out = armed_cycle(*pl, tilted, cloud, hand, depth, out);
+  EXPECT_EQ(out.registration.outcome, fg::RegistrationOutcome::sensor_disagreement);
+  EXPECT_EQ(out.registration.left_out, SensorRole::head) << out.registration.head_tilt_deg;
+  EXPECT_EQ(head_out.counts.total(), 0u);
 }
 
 TEST(NoHeap, ConfigureAndConstructionDoNotAllocateEither) {

@@ -328,6 +328,63 @@ TEST(Registration, LeavesOutAHandThatSeesThroughTheHeadsSurfaces) {
   EXPECT_EQ(r.result.grasp.closing, head.result.grasp.closing);
 }
 
+// The head's pose given off, the hand's as it is; the hand's image alone planned the
+// same way when `hand_only`.
+Outcome run_head_given(const World& w, const Pose& head_given, bool hand_only) {
+  auto planner = std::make_unique<fg::Planner>();
+  EXPECT_EQ(planner->configure(fg::PlannerConfig{}), fg::Status::ok);
+  const std::vector<uint16_t> head = render(w, kHead), hand = render(w, kHand);
+  if (!hand_only) {
+    EXPECT_EQ(planner->add_depth_image(fg::SensorRole::head, head.data(), kW, kH, kK, head_given), fg::Status::ok);
+  }
+  EXPECT_EQ(planner->add_depth_image(fg::SensorRole::hand, hand.data(), kW, kH, kK, kHand), fg::Status::ok);
+  if (!hand_only) {  // left out, it cannot come back
+    EXPECT_EQ(planner->add_depth_image(fg::SensorRole::head, head.data(), kW, kH, kK, kHead),
+              fg::Status::invalid_sensor);
+  }
+  Outcome r;
+  r.plan_status = planner->plan(r.result);
+  r.hand_used = planner->sensor_pose(fg::SensorRole::hand);
+  return r;
+}
+
+TEST(Registration, LeavesOutAHeadWhoseTableIsOffLevel) {
+  // The head turned 7 degrees about its horizontal image axis (a head knocked out of
+  // its calibration): its table leans 7 degrees and its boxes lie centimetres off, beyond
+  // the alignment's reach. The hand's table is level, as the world's is: the head's
+  // points leave the grid and the plan is the hand's alone, bit for bit.
+  const World w = boxes_world();
+  const Pose head_given = off_by(kHead, Vec3(1, 0, 0), 0.f, Vec3(1, 0, 0), 7.f);
+  const Outcome r = run_head_given(w, head_given, false);
+  const fg::RegistrationResult& reg = r.result.registration;
+  ASSERT_EQ(reg.outcome, fg::RegistrationOutcome::sensor_disagreement) << fg::to_string(reg.outcome);
+  EXPECT_EQ(reg.left_out, fg::SensorRole::head);
+  EXPECT_NEAR(reg.head_tilt_deg, 7.f, 1.f);
+  EXPECT_LT(reg.hand_tilt_deg, 1.f);
+  EXPECT_EQ((r.hand_used.t - kHand.t).norm(), 0.f);
+  const Outcome hand = run_head_given(w, head_given, true);
+  ASSERT_EQ(r.plan_status, hand.plan_status);
+  EXPECT_EQ(r.result.points.voxels, hand.result.points.voxels);
+  EXPECT_EQ(r.result.grasp.position, hand.result.grasp.position);
+  EXPECT_EQ(r.result.grasp.closing, hand.result.grasp.closing);
+}
+
+TEST(Registration, KeepsTheHeadWhenTheHandsTableIsOffLevel) {
+  // The other way round (the hand turned about its horizontal image axis): the hand's
+  // table leans, the head's is level, and the hand is the one left out.
+  const World w = boxes_world();
+  const Pose given = off_by(kHand, Vec3(0, 1, 0), 60.f, Vec3(1, 0, 0), 8.f);
+  const Outcome r = run(w, given, fg::RegistrationMode::on);
+  const fg::RegistrationResult& reg = r.result.registration;
+  ASSERT_EQ(reg.outcome, fg::RegistrationOutcome::sensor_disagreement) << fg::to_string(reg.outcome);
+  EXPECT_EQ(reg.left_out, fg::SensorRole::hand);
+  EXPECT_LT(reg.head_tilt_deg, 1.f);
+  EXPECT_GT(reg.hand_tilt_deg, 2.f);
+  const Outcome head = run_head_only(w);
+  ASSERT_EQ(r.plan_status, head.plan_status);
+  EXPECT_EQ(r.result.grasp.position, head.result.grasp.position);
+}
+
 TEST(Registration, CatchesASeeThroughEitherWay) {
   // The hand 8 cm off along its line of sight: pushed away, its surfaces lie behind the
   // head's samples (the hand saw through them); pulled back, in front of them, where

@@ -2,6 +2,7 @@
 #include "fg/core/pipeline/registration.hpp"
 
 #include <cmath>
+#include <limits>
 
 namespace fg {
 
@@ -453,6 +454,35 @@ float see_through_share(const SensorViews& views, const DepthMoments* moments, c
   return compared > 0 ? static_cast<float>(through) / static_cast<float>(compared) : 0.f;
 }
 
+// Each sensor's table as its own surfaces place it, the hand at `hand`: the angle off
+// world up of the mean normal of its samples' surfaces that face within 30 degrees of
+// up (kFacingUpCos: the table and the objects' tops; a side is steeper), in degrees;
+// NaN with fewer than min_level_samples of them.
+constexpr float kFacingUpCos = 0.866f;
+float tilt_deg(const Vec3& sum, uint32_t count, uint32_t min_count) {
+  if (count < min_count || !(sum.norm() > 0.f)) return std::numeric_limits<float>::quiet_NaN();
+  const float c = sum.z() / sum.norm();
+  return std::acos(c > 1.f ? 1.f : c) * 57.2957795f;
+}
+void table_tilts(const DepthMoments* moments, const Pose& hand, Sample* samples, uint32_t n,
+                 const RegistrationParams& params, RegistrationResult& out) {
+  Vec3 head_sum = Vec3::Zero(), hand_sum = Vec3::Zero();
+  uint32_t head_count = 0, hand_count = 0;
+  for (uint32_t i = 0; i < n; ++i) {
+    if (samples[i].n.z() >= kFacingUpCos) {
+      head_sum += samples[i].n;
+      ++head_count;
+    }
+    Vec3 w, nw;
+    if (hand_surface(moments, hand.R, hand.t, samples[i], w, nw) && nw.z() >= kFacingUpCos) {
+      hand_sum += nw;
+      ++hand_count;
+    }
+  }
+  out.head_tilt_deg = tilt_deg(head_sum, head_count, params.min_level_samples);
+  out.hand_tilt_deg = tilt_deg(hand_sum, hand_count, params.min_level_samples);
+}
+
 // The alignment of the samples (A.4b) and its verdict.
 RegistrationResult align(const DepthMoments* moments, const Pose& hand, Sample* samples, uint32_t n,
                          const RegistrationParams& params) {
@@ -548,6 +578,12 @@ RegistrationResult register_hand(const VoxelGrid& grid, const SensorViews& views
     out.correction = Pose{};
     out.translation_mm = out.rotation_deg = 0.f;
     out.residual_mm = out.residual_before_mm;
+    // Which one to believe: the sensor whose table is level, as the world's is. The
+    // head (fixed, calibrated once) unless its table is off level and the hand's is not.
+    table_tilts(moments, given, samples, n, params, out);
+    const float level_deg = params.level_tilt_rad * 57.2957795f;
+    out.left_out =
+        out.head_tilt_deg > level_deg && out.hand_tilt_deg <= level_deg ? SensorRole::head : SensorRole::hand;
   }
   return out;
 }

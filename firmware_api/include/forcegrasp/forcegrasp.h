@@ -248,8 +248,10 @@ typedef enum fg_registration_outcome {
                                                6 deg): fused as calibrated */
   FG_REGISTRATION_HAND_ADDED_FIRST = 5,   /**< the hand's points came before the head's: fused as calibrated */
   FG_REGISTRATION_SENSOR_DISAGREEMENT = 6 /**< as fused, the hand saw through the head's surfaces
-                                               (see_through): the hand's points are left out, the
-                                               plan is the head's alone (strict: an error) */
+                                               (see_through): one sensor's points are left out
+                                               (left_out: the hand, unless the head's table is off
+                                               level and the hand's is not), the plan is the
+                                               other's alone (strict: an error) */
 } fg_registration_outcome;
 
 /** The hand sensor's registration to the head (docs/method.md A.4b). */
@@ -269,6 +271,9 @@ typedef struct fg_registration_result {
   float see_through; /**< of the head's samples where the hand saw a surface (compared), the share
                           2 cm or more in front of it, as the clouds would be fused */
   uint32_t compared;
+  float head_tilt_deg; /**< on a disagreement: the head's table off level (degrees); else NaN */
+  float hand_tilt_deg; /**< the same for the hand's table, at its pose as given */
+  int32_t left_out;    /**< on a disagreement: the fg_sensor_role whose points are left out; else -1 */
 } fg_registration_result;
 
 /** How the hand sensor's cloud joins the head's (fg_set_registration). */

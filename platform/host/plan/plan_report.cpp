@@ -10,6 +10,10 @@ namespace fg::host {
 namespace {
 using nlohmann::json;
 
+// A number, or null where it is not measured (NaN): JSON has no NaN, and the Python
+// module's dict must be the program's report.
+json finite_or_null(float v) { return std::isfinite(v) ? json(v) : json(nullptr); }
+
 json vec(const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
 
 //! The report of a grasp: its pose and figures, and every check it passed with its
@@ -31,7 +35,7 @@ json grasp_entry(const Grasp& g, const CheckMargins& margins, const PlannerConfi
     const CheckId id = static_cast<CheckId>(k);
     if (!cfg.executability_checks || (id == CheckId::robot_reach && !check_cfg.check_reach)) continue;
     const float m = margins[id];
-    checks[to_string(id)] = json{{"margin", std::isfinite(m) ? json(m) : json(nullptr)}, {"unit", margin_unit(id)}};
+    checks[to_string(id)] = json{{"margin", finite_or_null(m)}, {"unit", margin_unit(id)}};
   }
   e["checks"] = checks;
   return e;
@@ -80,6 +84,11 @@ void report_figures(json& j, const PlanResult& res) {
                              {"iterations", reg.iterations},
                              {"see_through", reg.see_through},
                              {"compared", reg.compared},
+                             {"head_tilt_deg", finite_or_null(reg.head_tilt_deg)},
+                             {"hand_tilt_deg", finite_or_null(reg.hand_tilt_deg)},
+                             {"left_out", reg.outcome == RegistrationOutcome::sensor_disagreement
+                                              ? json(reg.left_out == SensorRole::head ? "head" : "hand")
+                                              : json(nullptr)},
                              {"correction", json{{"R", rows}, {"t", json::array({c.t.x(), c.t.y(), c.t.z()})}}}};
     timing["registration"] = reg.us;
   }

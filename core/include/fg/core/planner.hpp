@@ -298,6 +298,10 @@ class Planner {
   // Before a block of n points: room for n more voxels, the crop box shrunk if need be
   // (at crop_shrink_min the block is added as far as the grid holds it).
   void make_room(ingest::State& in, uint32_t n);
+  //! The empty grid over the configured crop box (reset(), leave_out_head()).
+  void reset_grid();
+  //! A.4c: the head's points out of the grid, the hand's to plan from alone.
+  void leave_out_head();
   void shrink_crop(ingest::State& in);
   // The loop every point layout shares: coordinate k of point i at base[k] + i * stride.
   [[nodiscard]] Status add_coordinates(SensorRole role, const uint8_t* const base[3], uint32_t count,

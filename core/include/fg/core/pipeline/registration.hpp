@@ -13,6 +13,7 @@
 // not moved. docs/method.md, "A.4b registration".
 #pragma once
 #include <cstdint>
+#include <limits>
 
 #include "fg/core/pipeline/sensor_views.hpp"
 #include "fg/core/types.hpp"
@@ -41,8 +42,8 @@ enum class RegistrationOutcome : uint8_t {
   implausible,         //!< the best alignment lies beyond the capture range: fused as calibrated
   hand_added_first,    //!< the hand's points joined the grid before the head's: fused as calibrated
   //! As they would be fused, the hand saw through surfaces the head saw (see_through):
-  //! the hand's points are left out and the plan is the head's alone (RegistrationMode::
-  //! strict: plan() refuses with Status::sensor_disagreement).
+  //! one sensor's points are left out (`left_out`) and the plan is the other's alone
+  //! (RegistrationMode::strict: plan() refuses with Status::sensor_disagreement).
   sensor_disagreement,
 };
 const char* to_string(RegistrationOutcome o);
@@ -71,6 +72,15 @@ struct RegistrationResult {
   //! (`compared`), the share more than see_through_m in front of that surface.
   float see_through = 0.f;
   uint32_t compared = 0;
+  //! On sensor_disagreement, each sensor's table as its own surfaces place it (the mean
+  //! normal of its samples within 30 deg of world up, the hand at its given pose):
+  //! degrees off level. NaN otherwise, or with too few such samples. The world's
+  //! table is level (z up).
+  float head_tilt_deg = std::numeric_limits<float>::quiet_NaN();
+  float hand_tilt_deg = std::numeric_limits<float>::quiet_NaN();
+  //! On sensor_disagreement, the sensor whose points are left out: the hand, unless the
+  //! head's table is off level by more than level_tilt and the hand's is not.
+  SensorRole left_out = SensorRole::hand;
   uint32_t us = 0;  //!< the stage's time (platform clock)
 
   //! The hand pose the fusion uses: correction * given when corrected, else given.
@@ -91,6 +101,10 @@ struct RegistrationParams {
   float min_overlap = 0.05f;          //!< nor when under this share of the samples
   float see_through_m = 0.02f;        //!< a head sample this far in front of the hand's surface is seen through
   float max_see_through = 0.2f;       //!< a larger share of the compared samples: sensor_disagreement
+  //! A table seen more than this off level says its sensor's pose is off: the contract's
+  //! table is level, and a mean of a hundred normals is good to a fraction of it.
+  float level_tilt_rad = 0.0349f;   //!< 2 deg
+  uint32_t min_level_samples = 32;  //!< fewer samples facing up: no tilt measured (NaN)
 };
 
 //! The registration of the hand's surface, `moments` (kMomentBins^2 bins) seen from
