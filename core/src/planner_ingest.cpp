@@ -309,7 +309,7 @@ constexpr size_t kMomentFloats = size_t{3} * kMomentBins * kMomentBins;
 void Planner::begin_hand_pass(ingest::State& in) {
   static_assert(sizeof(DepthMoments) == 3 * sizeof(float), "moments are three floats");
   static_assert(
-      (kMomentFloats + size_t{kRegistrationSampleFloats} * kRegistrationSamples) * sizeof(float) <= sizeof(ViewWork),
+      (kMomentFloats + kRegistrationScratchFloats) * sizeof(float) <= sizeof(ViewWork) && kMomentFloats % 2 == 0,
       "the registration borrows the per-view memory, idle until plan(), without growing it");
   float* const mem = reinterpret_cast<float*>(view_words_);
   for (size_t i = 0; i < kMomentFloats; ++i) mem[i] = 0.f;

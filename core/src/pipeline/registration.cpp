@@ -292,14 +292,17 @@ Sums accumulate(const DepthMoments* map, const Pose& hand, Sample* samples, uint
 //   cell of kCellBins^2 head sight bins and its neighbours). Elsewhere a voxel costs
 //   its projection only, not the two sensors' surfaces.
 // Returns how many were taken into `samples`.
-constexpr uint32_t kCellBins = 4;  // head sight bins per cell side (31 mm at 1 m on the host)
-constexpr uint32_t kCells = kSightBins / kCellBins;
+// A cell: kSelectCellBins head sight bins a side (31 mm at 1 m on the host).
+constexpr uint32_t kCellBins = kSelectCellBins;
+constexpr uint32_t kCells = kSelectCells;
 constexpr uint8_t kNotInView = kNormalClasses;  // the hand saw no surface there, or the head none
 constexpr uint8_t kEdge = kNormalClasses + 1;   // the hand saw a surface, the head an edge
 static_assert(kNormalClasses + 2 <= 8, "a cell's classes in a byte's bits");
+static_assert(kNormalClasses + 2 <= 16, "a first-pass class in 4 bits");
+static_assert(size_t{kRegistrationSampleFloats} * kRegistrationSamples % 2 == 0, "the picking's work 8-byte aligned");
 
 uint32_t select_samples(const VoxelGrid& grid, const SensorViews& views, const DepthMoments* moments, uint32_t cap,
-                        Sample* samples) {
+                        Sample* samples, uint64_t* work) {
   cap = cap < kRegistrationSamples ? cap : kRegistrationSamples;
   if (cap == 0u) return 0u;
   const uint32_t size = grid.size();
@@ -321,14 +324,18 @@ uint32_t select_samples(const VoxelGrid& grid, const SensorViews& views, const D
     return static_cast<uint8_t>(normal_class(c.n));
   };
   const auto cell_of = [](int u, int v) { return (v / kCellBins) * kCells + u / kCellBins; };
-  uint8_t first_class[4u * kRegistrationSamples];  // per voxel of the first pass
-  uint8_t cell_classes[kCells * kCells] = {};      // bit per class code met in the cell
+  // Per voxel of the first pass, its class code in 4 bits; per cell, a bit per code met.
+  uint8_t* const first_class = reinterpret_cast<uint8_t*>(work);
+  uint8_t* const cell_classes = first_class + 2u * kRegistrationSamples;
+  uint64_t* const wanted_cells = work + (kSelectionClassBytes + 7u) / 8u;
+  for (uint32_t b = 0; b < kCells * kCells; ++b) cell_classes[b] = 0;
+  for (uint32_t w = 0; w < (kCells * kCells + 63u) / 64u; ++w) wanted_cells[w] = 0;
   uint32_t seen[kNormalClasses] = {};
   Sample c;
   for (uint32_t i = 0, j = 0; i < size; i += count_step, ++j) {
     int u = 0, v = 0;
     const uint8_t k = classify(i, c, u, v);
-    first_class[j] = k;
+    first_class[j / 2u] = (j & 1u) == 0u ? k : static_cast<uint8_t>(first_class[j / 2u] | k << 4u);
     if (k < kNormalClasses) ++seen[k];
     if (k != kNotInView) cell_classes[cell_of(u, v)] |= static_cast<uint8_t>(1u << k);
   }
@@ -343,7 +350,6 @@ uint32_t select_samples(const VoxelGrid& grid, const SensorViews& views, const D
     if (!abundant[k]) wanted_bits |= static_cast<uint8_t>(1u << k);
   }
   // The cells whose neighbourhood met a wanted class, a bit each.
-  uint64_t wanted_cells[(kCells * kCells + 63u) / 64u] = {};
   for (int cv = 0; cv < static_cast<int>(kCells); ++cv)
     for (int cu = 0; cu < static_cast<int>(kCells); ++cu) {
       if ((cell_classes[cv * static_cast<int>(kCells) + cu] & wanted_bits) == 0u) continue;
@@ -364,7 +370,8 @@ uint32_t select_samples(const VoxelGrid& grid, const SensorViews& views, const D
     uint8_t k = kNotInView;
     int u = 0, v = 0;
     if (first) {
-      k = first_class[i / count_step];
+      const uint32_t j = i / count_step;
+      k = static_cast<uint8_t>(first_class[j / 2u] >> (4u * (j & 1u)) & 15u);
     } else {
       Vec3 ph;
       c.p = grid.centroid(i);
@@ -454,33 +461,45 @@ float see_through_share(const SensorViews& views, const DepthMoments* moments, c
   return compared > 0 ? static_cast<float>(through) / static_cast<float>(compared) : 0.f;
 }
 
-// Each sensor's table as its own surfaces place it, the hand at `hand`: the angle off
-// world up of the mean normal of its samples' surfaces that face within 30 degrees of
-// up (kFacingUpCos: the table and the objects' tops; a side is steeper), in degrees;
-// NaN with fewer than min_level_samples of them.
-constexpr float kFacingUpCos = 0.866f;
-float tilt_deg(const Vec3& sum, uint32_t count, uint32_t min_count) {
-  if (count < min_count || !(sum.norm() > 0.f)) return std::numeric_limits<float>::quiet_NaN();
-  const float c = sum.z() / sum.norm();
-  return std::acos(c > 1.f ? 1.f : c) * 57.2957795f;
+// Each sensor's table as its own surfaces place it, the hand at `hand`: the mean normal
+// of its samples' surfaces that face within 30 degrees of world up (kFacingUpCos: the
+// table and the objects' tops; a side is steeper), then again of those within 10
+// degrees of that mean (kTableSpreadCos: the table's own normals scatter by a few
+// degrees, a dome's or a sloped top's do not stay with them); its angle off up, in
+// degrees. NaN with fewer than min_level_samples in either mean.
+constexpr float kFacingUpCos = 0.866f;     // 30 deg
+constexpr float kTableSpreadCos = 0.985f;  // 10 deg
+template <class NormalOf>
+float table_tilt_deg(uint32_t n, uint32_t min_count, NormalOf normal_of) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  Vec3 mean = Vec3::UnitZ();
+  float cos_min = kFacingUpCos;
+  for (int round = 0; round < 2; ++round) {
+    Vec3 sum = Vec3::Zero();
+    uint32_t count = 0;
+    for (uint32_t i = 0; i < n; ++i) {
+      Vec3 nw;
+      if (normal_of(i, nw) && nw.dot(mean) >= cos_min) {
+        sum += nw;
+        ++count;
+      }
+    }
+    if (count < min_count || !(sum.norm() > 0.f)) return nan;
+    mean = sum / sum.norm();
+    cos_min = kTableSpreadCos;
+  }
+  return std::acos(mean.z() > 1.f ? 1.f : mean.z()) * 57.2957795f;
 }
 void table_tilts(const DepthMoments* moments, const Pose& hand, Sample* samples, uint32_t n,
                  const RegistrationParams& params, RegistrationResult& out) {
-  Vec3 head_sum = Vec3::Zero(), hand_sum = Vec3::Zero();
-  uint32_t head_count = 0, hand_count = 0;
-  for (uint32_t i = 0; i < n; ++i) {
-    if (samples[i].n.z() >= kFacingUpCos) {
-      head_sum += samples[i].n;
-      ++head_count;
-    }
-    Vec3 w, nw;
-    if (hand_surface(moments, hand.R, hand.t, samples[i], w, nw) && nw.z() >= kFacingUpCos) {
-      hand_sum += nw;
-      ++hand_count;
-    }
-  }
-  out.head_tilt_deg = tilt_deg(head_sum, head_count, params.min_level_samples);
-  out.hand_tilt_deg = tilt_deg(hand_sum, hand_count, params.min_level_samples);
+  out.head_tilt_deg = table_tilt_deg(n, params.min_level_samples, [&](uint32_t i, Vec3& nw) {
+    nw = samples[i].n;
+    return true;
+  });
+  out.hand_tilt_deg = table_tilt_deg(n, params.min_level_samples, [&](uint32_t i, Vec3& nw) {
+    Vec3 w;
+    return hand_surface(moments, hand.R, hand.t, samples[i], w, nw);
+  });
 }
 
 // The alignment of the samples (A.4b) and its verdict.
@@ -563,7 +582,9 @@ RegistrationResult register_hand(const VoxelGrid& grid, const SensorViews& views
   RegistrationResult out;
   if (grid.finalized()) return out;
   Sample* samples = reinterpret_cast<Sample*>(scratch);
-  const uint32_t n = select_samples(grid, views, moments, params.max_samples, samples);
+  uint64_t* const work =
+      reinterpret_cast<uint64_t*>(scratch + size_t{kRegistrationSampleFloats} * kRegistrationSamples);
+  const uint32_t n = select_samples(grid, views, moments, params.max_samples, samples, work);
   if (n == 0) {
     out.outcome = RegistrationOutcome::too_little_overlap;
     return out;

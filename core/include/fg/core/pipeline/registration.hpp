@@ -32,6 +32,17 @@ struct DepthMoments {
 
 //! Scratch floats per head sample (register_hand's `scratch`).
 inline constexpr uint32_t kRegistrationSampleFloats = 14;
+//! The sample picking's work memory, after the samples in register_hand's `scratch`: a
+//! class per voxel of its first pass (4 bits; at most 4 per sample), the classes met per
+//! cell of kSelectCellBins^2 head sight bins (a byte), and a bit per cell; in 64-bit words.
+inline constexpr uint32_t kSelectCellBins = 4;
+inline constexpr uint32_t kSelectCells = kSightBins / kSelectCellBins;
+inline constexpr size_t kSelectionClassBytes = size_t{2} * kRegistrationSamples + size_t{kSelectCells} * kSelectCells;
+inline constexpr size_t kSelectionWords =
+    (kSelectionClassBytes + 7) / 8 + (size_t{kSelectCells} * kSelectCells + 63) / 64;
+//! register_hand's scratch in floats: kRegistrationSamples samples, then the picking's work.
+inline constexpr size_t kRegistrationScratchFloats =
+    size_t{kRegistrationSampleFloats} * kRegistrationSamples + 2 * kSelectionWords;
 
 //! What the registration did with the hand sensor's pose.
 enum class RegistrationOutcome : uint8_t {
@@ -73,9 +84,9 @@ struct RegistrationResult {
   float see_through = 0.f;
   uint32_t compared = 0;
   //! On sensor_disagreement, each sensor's table as its own surfaces place it (the mean
-  //! normal of its samples within 30 deg of world up, the hand at its given pose):
-  //! degrees off level. NaN otherwise, or with too few such samples. The world's
-  //! table is level (z up).
+  //! normal of its samples within 30 deg of world up, then of those within 10 deg of
+  //! that; the hand at its given pose): degrees off level. NaN otherwise, or with too
+  //! few such samples. The world's table is level (z up).
   float head_tilt_deg = std::numeric_limits<float>::quiet_NaN();
   float hand_tilt_deg = std::numeric_limits<float>::quiet_NaN();
   //! On sensor_disagreement, the sensor whose points are left out: the hand, unless the
@@ -102,15 +113,16 @@ struct RegistrationParams {
   float see_through_m = 0.02f;        //!< a head sample this far in front of the hand's surface is seen through
   float max_see_through = 0.2f;       //!< a larger share of the compared samples: sensor_disagreement
   //! A table seen more than this off level says its sensor's pose is off: the contract's
-  //! table is level, and a mean of a hundred normals is good to a fraction of it.
-  float level_tilt_rad = 0.0349f;   //!< 2 deg
+  //! table is level. The head's estimate reads up to 2 deg off on an exact pose (its
+  //! normals come from nearest returns, pulled toward the sensor), the hand's less.
+  float level_tilt_rad = 0.0524f;   //!< 3 deg
   uint32_t min_level_samples = 32;  //!< fewer samples facing up: no tilt measured (NaN)
 };
 
 //! The registration of the hand's surface, `moments` (kMomentBins^2 bins) seen from
 //! views.pose[hand] (world_T_sensor as given), to the head's points, which `grid`
 //! (before finalize()) holds alone, their normals from the head's sight map in `views`.
-//! `scratch` holds kRegistrationSampleFloats x params.max_samples floats. Changes
+//! `scratch` holds kRegistrationScratchFloats floats, 8-byte aligned. Changes
 //! nothing: the caller ingests the hand's points with the corrected pose.
 //! Deterministic; at most max_iterations passes over at most max_samples samples.
 RegistrationResult register_hand(const VoxelGrid& grid, const SensorViews& views, const DepthMoments* moments,
