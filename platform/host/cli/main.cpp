@@ -39,6 +39,7 @@ struct SimArgs {
   std::string distribution_arg = "cell";
   std::vector<double> calibration_error;  // --calibration-error MM,DEG
   std::vector<double> kinematic_error;    // --kinematic-error MM,DEG
+  std::vector<double> head_error;         // --head-error MM,DEG
 };
 
 //! Every object kind's name, comma-separated (the --objects help).
@@ -112,6 +113,13 @@ void add_sim_command(CLI::App& app, SimArgs& a) {
       ->add_option("--calibration-error", a.calibration_error,
                    "MM,DEG: the wrist sensor's pose the task believes is off by MM millimetres and DEG degrees in each "
                    "trial (a hand-eye error in a direction drawn from the trial's seed)")
+      ->delimiter(',')
+      ->expected(2)
+      ->check(CLI::Range(0.0, 100.0));
+  sim_cmd
+      ->add_option("--head-error", a.head_error,
+                   "MM,DEG: the head sensor's pose the task believes is off by MM millimetres and DEG degrees in each "
+                   "trial (a head knocked out of its calibration, in a direction drawn from the trial's seed)")
       ->delimiter(',')
       ->expected(2)
       ->check(CLI::Range(0.0, 100.0));
@@ -210,7 +218,7 @@ int run_sim_command(SimArgs& a) {
     return kExitInvalid;
   }
   so.progress = !a.quiet;
-  // --calibration-error and --kinematic-error: MM,DEG, both finite.
+  // --calibration-error, --head-error and --kinematic-error: MM,DEG, both finite.
   const auto error_pair = [](const std::vector<double>& v, const char* option, double& mm, double& deg) {
     if (v.size() != 2) return true;
     if (!std::isfinite(v[0]) || !std::isfinite(v[1])) {
@@ -222,7 +230,8 @@ int run_sim_command(SimArgs& a) {
     return true;
   };
   if (!error_pair(a.calibration_error, "--calibration-error", so.calibration_error_mm, so.calibration_error_deg) ||
-      !error_pair(a.kinematic_error, "--kinematic-error", so.kinematic_error_mm, so.kinematic_error_deg))
+      !error_pair(a.kinematic_error, "--kinematic-error", so.kinematic_error_mm, so.kinematic_error_deg) ||
+      !error_pair(a.head_error, "--head-error", so.head_error_mm, so.head_error_deg))
     return kExitInvalid;
   // The parser let only the distributions' names through (CLI::IsMember).
   if (!fg::sim::distribution_from_name(a.distribution_arg, so.distribution)) {

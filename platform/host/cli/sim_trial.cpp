@@ -267,7 +267,12 @@ SimTrial run_sim_trial(const std::string& kind_name, uint64_t seed, const SimOpt
   double q0[6];
   out.wrist_view = capture_joints(scene.hand.world_T_sensor, tool0_T_camera, q0);
   task::TaskConfig tc;
-  tc.world_T_head = scene.head.world_T_sensor.to_pose();
+  // What the task believes of the head's pose: off by the head error, in a direction of
+  // its own (another stream of the trial's seed than the wrist's).
+  constexpr uint64_t kHeadStream = 0x9E3779B97F4A7C15ull;
+  tc.world_T_head =
+      sim::with_calibration_error(scene.head.world_T_sensor, opt.head_error_mm, opt.head_error_deg, seed ^ kHeadStream)
+          .to_pose();
   // What the task believes of the wrist sensor's mount: off by the calibration error.
   tc.tool0_T_hand =
       sim::with_calibration_error(tool0_T_camera, opt.calibration_error_mm, opt.calibration_error_deg, seed).to_pose();
@@ -288,6 +293,8 @@ SimTrial run_sim_trial(const std::string& kind_name, uint64_t seed, const SimOpt
     out.task_state += std::string(":") + task::to_string(grasp_task.failure());
   if (pr.status == Status::no_grasp) out.plan_reason = to_string(pr.reason);
   out.registration = to_string(pr.registration.outcome);
+  if (pr.registration.outcome == RegistrationOutcome::sensor_disagreement)
+    out.registration += pr.registration.left_out == SensorRole::head ? " (head left out)" : " (hand left out)";
   if (out.wrist_view) {
     // A target point seen by the hand: the truth maps it to the sensor frame, the
     // pose the planner used (and the one given: the correction undone) back to world.
@@ -398,6 +405,9 @@ json results_table(const std::vector<SimTrial>& trials, const SimOptions& opt) {
   if (opt.calibration_error_mm > 0.0 || opt.calibration_error_deg > 0.0)
     std::printf("the wrist sensor's believed pose off by %g mm and %g deg in each trial\n", opt.calibration_error_mm,
                 opt.calibration_error_deg);
+  if (opt.head_error_mm > 0.0 || opt.head_error_deg > 0.0)
+    std::printf("the head sensor's believed pose off by %g mm and %g deg in each trial\n", opt.head_error_mm,
+                opt.head_error_deg);
   if (opt.kinematic_error_mm > 0.0 || opt.kinematic_error_deg > 0.0)
     std::printf("the arm's DH lengths off by up to %g mm and its joint zeros by up to %g deg in each trial\n",
                 opt.kinematic_error_mm, opt.kinematic_error_deg);
@@ -480,6 +490,7 @@ nlohmann::json run_sim(const SimOptions& opt, const PlannerConfig& cfg, Planner&
               {"seed", opt.seed},
               {"calibration_error", json{{"mm", opt.calibration_error_mm}, {"deg", opt.calibration_error_deg}}},
               {"kinematic_error", json{{"mm", opt.kinematic_error_mm}, {"deg", opt.kinematic_error_deg}}},
+              {"head_error", json{{"mm", opt.head_error_mm}, {"deg", opt.head_error_deg}}},
               {"trials", records},
               {"table", table}};
 }

@@ -32,6 +32,9 @@ struct SimOptions {
   //! random direction and a turn of DEG about a random axis through the sensor, drawn
   //! from the trial's seed); the camera itself stays where the arm holds it.
   double calibration_error_mm = 0.0, calibration_error_deg = 0.0;
+  //! The head sensor's pose the task believes, off by MM millimetres and DEG degrees in
+  //! each trial, in a direction of its own drawn from the trial's seed (--head-error).
+  double head_error_mm = 0.0, head_error_deg = 0.0;
   //! --kinematic-error MM,DEG: the arm's true kinematics off the nominal UR5 the task
   //! computes with (sim::with_kinematic_error: every DH length within MM, every joint's
   //! zero within DEG, drawn from the trial's seed), as an uncalibrated arm's are. The
