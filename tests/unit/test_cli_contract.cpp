@@ -1254,3 +1254,29 @@ TEST_F(CliContract, HandPoseFarOffPlansFromTheHeadOrRefusesWhenStrict) {
             expect_ok(plan(example_scene()))["grasp"]);
   expect_invalid(plan(example_scene(), {"--registration", "maybe"}), "--registration", {"maybe", "registration"});
 }
+
+// The head's pose turned 7 degrees about its image's x axis: its table leans, the
+// hand's does not. The plan is the hand's alone, and the report says which sensor was
+// left out and why (the tables' tilts); strict mode refuses as for a hand far off.
+TEST_F(CliContract, HeadOffLevelPlansFromTheHand) {
+  json m = example_manifest();
+  const double a = 7.0 * 3.14159265358979 / 180.0, c = std::cos(a), sn = std::sin(a);
+  for (json& s : m["sensors"])
+    if (s["name"] == "head")
+      for (json& row : s["pose"]["rotation"]) {  // R * Rx(a): the columns y and z turn
+        const double y = row[1].get<double>(), z = row[2].get<double>();
+        row[1] = c * y + sn * z;
+        row[2] = -sn * y + c * z;
+      }
+  const std::string scene = manifest(m, "head_off.json");
+  const json j = expect_ok(plan(scene));
+  const json& reg = j["registration"];
+  EXPECT_EQ(reg.value("outcome", ""), "sensor_disagreement") << reg.dump();
+  EXPECT_EQ(reg.value("left_out", ""), "head") << reg.dump();
+  EXPECT_GT(reg.value("head_tilt_deg", 0.0), 3.0) << reg.dump();
+  EXPECT_LT(reg.value("hand_tilt_deg", 90.0), 3.0) << reg.dump();
+  expect_invalid(plan(scene, {"--registration", "strict"}), "head_off.json", {"disagrees", "head_tilt_deg"});
+  // Calibrated, nothing is left out and the tilts are not measured.
+  const json ok = expect_ok(plan(example_scene()))["registration"];
+  EXPECT_TRUE(ok["left_out"].is_null() && ok["head_tilt_deg"].is_null()) << ok.dump();
+}

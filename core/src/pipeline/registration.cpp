@@ -326,7 +326,7 @@ uint32_t select_samples(const VoxelGrid& grid, const SensorViews& views, const D
   const auto cell_of = [](int u, int v) { return (v / kCellBins) * kCells + u / kCellBins; };
   // Per voxel of the first pass, its class code in 4 bits; per cell, a bit per code met.
   uint8_t* const first_class = reinterpret_cast<uint8_t*>(work);
-  uint8_t* const cell_classes = first_class + 2u * kRegistrationSamples;
+  uint8_t* const cell_classes = first_class + size_t{2} * kRegistrationSamples;
   uint64_t* const wanted_cells = work + (kSelectionClassBytes + 7u) / 8u;
   for (uint32_t b = 0; b < kCells * kCells; ++b) cell_classes[b] = 0;
   for (uint32_t w = 0; w < (kCells * kCells + 63u) / 64u; ++w) wanted_cells[w] = 0;
