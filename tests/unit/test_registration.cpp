@@ -110,17 +110,27 @@ struct Outcome {
   Pose hand_used;
 };
 
-Outcome run(const World& w, const Pose& hand_given, fg::RegistrationMode mode, bool head_first = true) {
+// Both sensors' images of the world, the hand's pose and the head's given as stated. A
+// sensor a disagreement left out cannot be added again.
+Outcome run(const World& w, const Pose& hand_given, fg::RegistrationMode mode, bool head_first = true,
+            const Pose& head_given = kHead) {
   auto planner = std::make_unique<fg::Planner>();
   EXPECT_EQ(planner->configure(fg::PlannerConfig{}), fg::Status::ok);
   planner->set_registration(mode);
   const std::vector<uint16_t> head = render(w, kHead), hand = render(w, kHand);
-  const auto add_head = [&] {
-    EXPECT_EQ(planner->add_depth_image(fg::SensorRole::head, head.data(), kW, kH, kK, kHead), fg::Status::ok);
+  const auto add = [&](fg::SensorRole role, const Pose& pose) {
+    const std::vector<uint16_t>& image = role == fg::SensorRole::head ? head : hand;
+    return planner->add_depth_image(role, image.data(), kW, kH, kK, pose);
   };
-  if (head_first) add_head();
-  EXPECT_EQ(planner->add_depth_image(fg::SensorRole::hand, hand.data(), kW, kH, kK, hand_given), fg::Status::ok);
-  if (!head_first) add_head();
+  const fg::SensorRole first = head_first ? fg::SensorRole::head : fg::SensorRole::hand;
+  const fg::SensorRole second = head_first ? fg::SensorRole::hand : fg::SensorRole::head;
+  const auto given = [&](fg::SensorRole role) { return role == fg::SensorRole::head ? head_given : hand_given; };
+  EXPECT_EQ(add(first, given(first)), fg::Status::ok);
+  EXPECT_EQ(add(second, given(second)), fg::Status::ok);
+  const fg::RegistrationResult& reg = planner->registration();
+  if (reg.outcome == fg::RegistrationOutcome::sensor_disagreement) {
+    EXPECT_EQ(add(reg.left_out, given(reg.left_out)), fg::Status::invalid_sensor);
+  }
   Outcome r;
   r.plan_status = planner->plan(r.result);
   r.hand_used = planner->sensor_pose(fg::SensorRole::hand);
@@ -298,11 +308,13 @@ TEST(Registration, RunsOnlyWithTheHeadFirstAndWhenOn) {
 }
 
 // The plan of the head's image alone.
-Outcome run_head_only(const World& w) {
+// One sensor's image alone, at its true pose.
+Outcome run_alone(const World& w, fg::SensorRole role) {
   auto planner = std::make_unique<fg::Planner>();
   EXPECT_EQ(planner->configure(fg::PlannerConfig{}), fg::Status::ok);
-  const std::vector<uint16_t> head = render(w, kHead);
-  EXPECT_EQ(planner->add_depth_image(fg::SensorRole::head, head.data(), kW, kH, kK, kHead), fg::Status::ok);
+  const Pose& pose = role == fg::SensorRole::head ? kHead : kHand;
+  const std::vector<uint16_t> image = render(w, pose);
+  EXPECT_EQ(planner->add_depth_image(role, image.data(), kW, kH, kK, pose), fg::Status::ok);
   Outcome r;
   r.plan_status = planner->plan(r.result);
   return r;
@@ -321,31 +333,11 @@ TEST(Registration, LeavesOutAHandThatSeesThroughTheHeadsSurfaces) {
   EXPECT_GE(reg.compared, fg::RegistrationParams{}.min_pairs);
   EXPECT_EQ(reg.correction.t.norm(), 0.f);
   EXPECT_EQ((r.hand_used.t - given.t).norm(), 0.f);
-  const Outcome head = run_head_only(w);
+  const Outcome head = run_alone(w, fg::SensorRole::head);
   ASSERT_EQ(r.plan_status, head.plan_status);
   EXPECT_EQ(r.result.points.voxels, head.result.points.voxels);
   EXPECT_EQ(r.result.grasp.position, head.result.grasp.position);
   EXPECT_EQ(r.result.grasp.closing, head.result.grasp.closing);
-}
-
-// The head's pose given off, the hand's as it is; the hand's image alone planned the
-// same way when `hand_only`.
-Outcome run_head_given(const World& w, const Pose& head_given, bool hand_only) {
-  auto planner = std::make_unique<fg::Planner>();
-  EXPECT_EQ(planner->configure(fg::PlannerConfig{}), fg::Status::ok);
-  const std::vector<uint16_t> head = render(w, kHead), hand = render(w, kHand);
-  if (!hand_only) {
-    EXPECT_EQ(planner->add_depth_image(fg::SensorRole::head, head.data(), kW, kH, kK, head_given), fg::Status::ok);
-  }
-  EXPECT_EQ(planner->add_depth_image(fg::SensorRole::hand, hand.data(), kW, kH, kK, kHand), fg::Status::ok);
-  if (!hand_only) {  // left out, it cannot come back
-    EXPECT_EQ(planner->add_depth_image(fg::SensorRole::head, head.data(), kW, kH, kK, kHead),
-              fg::Status::invalid_sensor);
-  }
-  Outcome r;
-  r.plan_status = planner->plan(r.result);
-  r.hand_used = planner->sensor_pose(fg::SensorRole::hand);
-  return r;
 }
 
 TEST(Registration, LeavesOutAHeadWhoseTableIsOffLevel) {
@@ -355,14 +347,14 @@ TEST(Registration, LeavesOutAHeadWhoseTableIsOffLevel) {
   // points leave the grid and the plan is the hand's alone, bit for bit.
   const World w = boxes_world();
   const Pose head_given = off_by(kHead, Vec3(1, 0, 0), 0.f, Vec3(1, 0, 0), 7.f);
-  const Outcome r = run_head_given(w, head_given, false);
+  const Outcome r = run(w, kHand, fg::RegistrationMode::on, true, head_given);
   const fg::RegistrationResult& reg = r.result.registration;
   ASSERT_EQ(reg.outcome, fg::RegistrationOutcome::sensor_disagreement) << fg::to_string(reg.outcome);
   EXPECT_EQ(reg.left_out, fg::SensorRole::head);
   EXPECT_NEAR(reg.head_tilt_deg, 7.f, 1.f);
   EXPECT_LT(reg.hand_tilt_deg, 1.f);
   EXPECT_EQ((r.hand_used.t - kHand.t).norm(), 0.f);
-  const Outcome hand = run_head_given(w, head_given, true);
+  const Outcome hand = run_alone(w, fg::SensorRole::hand);
   ASSERT_EQ(r.plan_status, hand.plan_status);
   EXPECT_EQ(r.result.points.voxels, hand.result.points.voxels);
   EXPECT_EQ(r.result.grasp.position, hand.result.grasp.position);
@@ -380,7 +372,7 @@ TEST(Registration, KeepsTheHeadWhenTheHandsTableIsOffLevel) {
   EXPECT_EQ(reg.left_out, fg::SensorRole::hand);
   EXPECT_LT(reg.head_tilt_deg, 1.f);
   EXPECT_GT(reg.hand_tilt_deg, 2.f);
-  const Outcome head = run_head_only(w);
+  const Outcome head = run_alone(w, fg::SensorRole::head);
   ASSERT_EQ(r.plan_status, head.plan_status);
   EXPECT_EQ(r.result.grasp.position, head.result.grasp.position);
 }
