@@ -289,17 +289,31 @@ Sums accumulate(const DepthMoments* map, const Pose& hand, Sample* samples, uint
 // - The others (an object's sides) are taken from every 4th voxel (every pre-th of
 //   the grid), every stride-th of the class, but only where they can be: in the head's
 //   view near a voxel of the first pass of such a class or on an edge the hand saw (a
-//   cell of kCellBins^2 head sight bins and its neighbours). Elsewhere a voxel costs
+//   cell of kSelectCellBins^2 head sight bins and its neighbours). Elsewhere a voxel costs
 //   its projection only, not the two sensors' surfaces.
-// Returns how many were taken into `samples`.
-// A cell: kSelectCellBins head sight bins a side (31 mm at 1 m on the host).
-constexpr uint32_t kCellBins = kSelectCellBins;
-constexpr uint32_t kCells = kSelectCells;
+// Returns how many were taken into `samples`. A cell is kSelectCellBins head sight bins a
+// side (31 mm at 1 m on the host).
 constexpr uint8_t kNotInView = kNormalClasses;  // the hand saw no surface there, or the head none
 constexpr uint8_t kEdge = kNormalClasses + 1;   // the hand saw a surface, the head an edge
 static_assert(kNormalClasses + 2 <= 8, "a cell's classes in a byte's bits");
 static_assert(kNormalClasses + 2 <= 16, "a first-pass class in 4 bits");
 static_assert(size_t{kRegistrationSampleFloats} * kRegistrationSamples % 2 == 0, "the picking's work 8-byte aligned");
+
+// The cells whose neighbourhood (the cell and the eight around it) met a class of
+// `wanted_bits`, a bit each.
+void mark_wanted_cells(const uint8_t* cell_classes, uint8_t wanted_bits, uint64_t* wanted_cells) {
+  constexpr int kSide = static_cast<int>(kSelectCells);
+  for (int cv = 0; cv < kSide; ++cv)
+    for (int cu = 0; cu < kSide; ++cu) {
+      if ((cell_classes[cv * kSide + cu] & wanted_bits) == 0u) continue;
+      for (int y = cv - 1; y <= cv + 1; ++y)
+        for (int x = cu - 1; x <= cu + 1; ++x)
+          if (x >= 0 && y >= 0 && x < kSide && y < kSide) {
+            const uint32_t b = static_cast<uint32_t>(y * kSide + x);
+            wanted_cells[b / 64u] |= uint64_t{1} << (b % 64u);
+          }
+    }
+}
 
 uint32_t select_samples(const VoxelGrid& grid, const SensorViews& views, const DepthMoments* moments, uint32_t cap,
                         Sample* samples, uint64_t* work) {
@@ -323,13 +337,16 @@ uint32_t select_samples(const VoxelGrid& grid, const SensorViews& views, const D
     if (!head_normal(views, c.p, c.n)) return kEdge;
     return static_cast<uint8_t>(normal_class(c.n));
   };
-  const auto cell_of = [](int u, int v) { return (v / kCellBins) * kCells + u / kCellBins; };
+  const auto cell_of = [](int u, int v) {
+    return (v / static_cast<int>(kSelectCellBins)) * static_cast<int>(kSelectCells) +
+           u / static_cast<int>(kSelectCellBins);
+  };
   // Per voxel of the first pass, its class code in 4 bits; per cell, a bit per code met.
   uint8_t* const first_class = reinterpret_cast<uint8_t*>(work);
   uint8_t* const cell_classes = first_class + size_t{2} * kRegistrationSamples;
   uint64_t* const wanted_cells = work + (kSelectionClassBytes + 7u) / 8u;
-  for (uint32_t b = 0; b < kCells * kCells; ++b) cell_classes[b] = 0;
-  for (uint32_t w = 0; w < (kCells * kCells + 63u) / 64u; ++w) wanted_cells[w] = 0;
+  for (uint32_t b = 0; b < kSelectCells * kSelectCells; ++b) cell_classes[b] = 0;
+  for (uint32_t w = 0; w < (kSelectCells * kSelectCells + 63u) / 64u; ++w) wanted_cells[w] = 0;
   uint32_t seen[kNormalClasses] = {};
   Sample c;
   for (uint32_t i = 0, j = 0; i < size; i += count_step, ++j) {
@@ -349,17 +366,7 @@ uint32_t select_samples(const VoxelGrid& grid, const SensorViews& views, const D
     stride[k] = met_expected > quota ? (met_expected + quota - 1u) / quota : 1u;
     if (!abundant[k]) wanted_bits |= static_cast<uint8_t>(1u << k);
   }
-  // The cells whose neighbourhood met a wanted class, a bit each.
-  for (int cv = 0; cv < static_cast<int>(kCells); ++cv)
-    for (int cu = 0; cu < static_cast<int>(kCells); ++cu) {
-      if ((cell_classes[cv * static_cast<int>(kCells) + cu] & wanted_bits) == 0u) continue;
-      for (int y = cv - 1; y <= cv + 1; ++y)
-        for (int x = cu - 1; x <= cu + 1; ++x)
-          if (x >= 0 && y >= 0 && x < static_cast<int>(kCells) && y < static_cast<int>(kCells)) {
-            const uint32_t b = static_cast<uint32_t>(y) * kCells + static_cast<uint32_t>(x);
-            wanted_cells[b / 64u] |= uint64_t{1} << (b % 64u);
-          }
-    }
+  mark_wanted_cells(cell_classes, wanted_bits, wanted_cells);
   const auto wanted = [&](int u, int v) {
     const uint32_t b = static_cast<uint32_t>(cell_of(u, v));
     return (wanted_cells[b / 64u] >> (b % 64u) & 1u) != 0u;
