@@ -86,9 +86,9 @@ void add_plan_command(CLI::App& app, PlanArgs& a) {
   a.cmd
       ->add_option_function<std::string>(
           "--registration", [&a](const std::string& v) { a.po.registration = registration_mode(v); },
-          "on (the default): register the hand sensor's cloud to the head's before fusing them, and plan from the "
-          "head alone when they still disagree; strict: the same, but a disagreement is an error; off: fuse them "
-          "as calibrated")
+          "on (the default): register the hand sensor's cloud to the head's before fusing them, and plan from one "
+          "sensor alone when they still disagree (the head, unless its table leans and the hand's does not); "
+          "strict: the same, but a disagreement is an error; off: fuse them as calibrated")
       ->check(CLI::IsMember({"on", "off", "strict"}));
 }
 
@@ -134,8 +134,9 @@ void add_sim_command(CLI::App& app, SimArgs& a) {
   sim_cmd
       ->add_option_function<std::string>(
           "--registration", [&so](const std::string& v) { so.registration = registration_mode(v); },
-          "on (the default): the planner registers the wrist sensor's cloud to the head's (the head's alone when "
-          "they disagree); strict: a disagreement is an error; off: fuses them as calibrated")
+          "on (the default): the planner registers the wrist sensor's cloud to the head's (one sensor's alone when "
+          "they disagree: the one whose table is level); strict: a disagreement is an error; off: fuses them as "
+          "calibrated")
       ->check(CLI::IsMember({"on", "off", "strict"}));
   sim_cmd->add_option("--pictures", so.pictures_dir, "write SVG pictures of each trial's plan to DIR/<kind>-<seed>");
   sim_cmd->add_option("--export", so.export_dir,
