@@ -100,7 +100,9 @@ struct RegistrationResult {
 
 //! Bounds and thresholds of the stage, with their physical meaning.
 struct RegistrationParams {
-  uint32_t max_samples = 1024;        //!< head voxel centroids taken, spread over the cloud
+  //! Head voxel centroids taken, spread over the cloud: at most kRegistrationSamples,
+  //! the scratch's room (more are not taken).
+  uint32_t max_samples = 1024;
   uint32_t max_iterations = 24;       //!< each a pass over the samples and a 6x6 solve
   float gate_start_m = 0.04f;         //!< pairs farther apart are not pairs: the capture range
   float gate_end_m = 0.008f;          //!< the final gate: a few times the sensors' noise
