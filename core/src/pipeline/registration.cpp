@@ -141,16 +141,14 @@ bool head_sight_bin(const SensorViews& views, const Vec3& h, Vec3& p, int& u, in
   return true;
 }
 
-// The head's surface normal at its sample h, from its map of nearest returns (the
-// returns one bin to each side, 8 mm apart at 1 m on the host's map: the nearest return
-// of a bin is biased toward the sensor, alike in neighbouring bins, so their slope is
-// not). False on a depth edge or where the head saw nothing.
-bool head_normal(const SensorViews& views, const Vec3& h, Vec3& nw) {
+// The head's surface normal (world) at a sample that lies at p in the head's frame, in
+// its sight bin (u, v) (head_sight_bin), from its map of nearest returns (the returns
+// one bin to each side, 8 mm apart at 1 m on the host's map: the nearest return of a bin
+// is biased toward the sensor, alike in neighbouring bins, so their slope is not). False
+// on a depth edge or where the head saw nothing.
+bool head_normal(const SensorViews& views, const Vec3& p, int u, int v, Vec3& nw) {
   constexpr uint32_t kHeadRole = static_cast<uint32_t>(SensorRole::head);
   constexpr float half = 0.5f * static_cast<float>(kSightBins);
-  Vec3 p;
-  int u = 0, v = 0;
-  if (!head_sight_bin(views, h, p, u, v)) return false;
   const int du[5] = {0, 1, -1, 0, 0}, dv[5] = {0, 0, 0, 1, -1};
   float d[5];
   for (int k = 0; k < 5; ++k) {
@@ -325,17 +323,22 @@ uint32_t select_samples(const VoxelGrid& grid, const SensorViews& views, const D
   const uint32_t quota = cap / kNormalClasses > 0u ? cap / kNormalClasses : 1u;
   const Pose& hand = views.pose[static_cast<uint32_t>(SensorRole::hand)];
   // A voxel's class code; its head sight bin (u, v) when it has one.
+  // The class code of the voxel at c.p, which lies at ph in the head's frame, in its
+  // sight bin (u, v).
+  const auto classify_in_view = [&](Sample& c, const Vec3& ph, int u, int v) -> uint8_t {
+    c.bin = -1;
+    Vec3 w, nw;
+    if (!hand_surface(moments, hand.R, hand.t, c, w, nw)) return kNotInView;
+    if (!head_normal(views, ph, u, v, c.n)) return kEdge;
+    return static_cast<uint8_t>(normal_class(c.n));
+  };
+  // Voxel i's class code, and its head sight bin (u, v) when it has one.
   const auto classify = [&](uint32_t i, Sample& c, int& u, int& v) -> uint8_t {
     c.p = grid.centroid(i);
     c.bin = -1;
-    Vec3 w, nw, ph;
-    if (!head_sight_bin(views, c.p, ph, u, v)) {
-      u = -1;
-      return kNotInView;
-    }
-    if (!hand_surface(moments, hand.R, hand.t, c, w, nw)) return kNotInView;
-    if (!head_normal(views, c.p, c.n)) return kEdge;
-    return static_cast<uint8_t>(normal_class(c.n));
+    Vec3 ph;
+    if (!head_sight_bin(views, c.p, ph, u, v)) return kNotInView;
+    return classify_in_view(c, ph, u, v);
   };
   const auto cell_of = [](int u, int v) {
     return (v / static_cast<int>(kSelectCellBins)) * static_cast<int>(kSelectCells) +
@@ -383,7 +386,7 @@ uint32_t select_samples(const VoxelGrid& grid, const SensorViews& views, const D
       Vec3 ph;
       c.p = grid.centroid(i);
       if (!head_sight_bin(views, c.p, ph, u, v) || !wanted(u, v)) continue;
-      k = classify(i, c, u, v);
+      k = classify_in_view(c, ph, u, v);
     }
     if (k >= kNormalClasses || taken[k] == quota) continue;
     if ((abundant[k] && !first) || met[k]++ % stride[k] != 0u) continue;
