@@ -1,6 +1,7 @@
 // Stage A.4b: the hand sensor registered to the head sensor (registration.hpp).
 #include "fg/core/pipeline/registration.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -198,15 +199,24 @@ void jacobi6(float A[6][6], float V[6][6], float d[6]) {
   for (int i = 0; i < 6; ++i) d[i] = A[i][i];
 }
 
-// Samples are taken evenly over the directions of the head's normals where they lie,
-// six classes (the dominant axis of the world normal, either sign): a table fills the
-// view, and samples spread evenly over it would leave few on an object's sides, which
-// alone fix the slide and the turn in the table's plane.
+// Samples are taken evenly over the directions of the head's normals where they lie, in
+// six classes: the four sides (the dominant horizontal axis of the world normal, either
+// sign), the table (facing up, at its height) and the raised surfaces facing up (the
+// objects' tops). A table fills the view, and samples spread evenly over it would leave
+// few on the objects, which alone fix the slide and the turn in the table's plane. A
+// surface facing down is not seen by sensors looking down at a table.
 constexpr uint32_t kNormalClasses = 6;
-uint32_t normal_class(const Vec3& n) {
+constexpr uint8_t kUp = 4, kRaised = 5;
+constexpr uint8_t kNotInView = kNormalClasses;  // the hand saw no surface there, or the head none (or faces down)
+constexpr uint8_t kEdge = kNormalClasses + 1;   // the hand saw a surface, the head an edge
+// A surface facing up more than this above the table is an object's: a few times the
+// sensors' noise and the voxel's size.
+constexpr float kRaisedM = 0.01f;
+uint8_t normal_class(const Vec3& n) {
   const Vec3 a = n.cwiseAbs();
-  const uint32_t axis = a.x() >= a.y() && a.x() >= a.z() ? 0u : (a.y() >= a.z() ? 1u : 2u);
-  return 2u * axis + (n[static_cast<int>(axis)] < 0.f ? 1u : 0u);
+  if (a.z() >= a.x() && a.z() >= a.y()) return n.z() >= 0.f ? kUp : kNotInView;
+  const uint8_t axis = a.x() >= a.y() ? 0u : 1u;
+  return static_cast<uint8_t>(2u * axis + (n[axis] < 0.f ? 1u : 0u));
 }
 
 struct Sample {
@@ -281,7 +291,10 @@ Sums accumulate(const DepthMoments* map, const Pose& hand, Sample* samples, uint
 // The head's samples: voxels that project where the hand saw a surface (as calibrated),
 // so that none is wasted on what only the head saw, taken evenly over the classes of
 // the head's normals there (normal_class): at most cap / 6 of each.
-// - A first pass classifies every 16th voxel (count_step) and counts the classes.
+// - A first pass classifies every 16th voxel (count_step) and counts the classes. The
+//   table's height is the 10th percentile of its voxels facing up (the table is the
+//   lowest surface facing up, and the largest); those more than kRaisedM above it are
+//   raised.
 // - A class the first pass met at least quota times (a table fills most of the view
 //   with one class) is abundant: it is taken from those voxels, every stride-th.
 // - The others (an object's sides) are taken from every 4th voxel (every pre-th of
@@ -289,13 +302,19 @@ Sums accumulate(const DepthMoments* map, const Pose& hand, Sample* samples, uint
 //   view near a voxel of the first pass of such a class or on an edge the hand saw (a
 //   cell of kSelectCellBins^2 head sight bins and its neighbours). Elsewhere a voxel costs
 //   its projection only, not the two sensors' surfaces.
-// Returns how many were taken into `samples`. A cell is kSelectCellBins head sight bins a
-// side (31 mm at 1 m on the host).
-constexpr uint8_t kNotInView = kNormalClasses;  // the hand saw no surface there, or the head none
-constexpr uint8_t kEdge = kNormalClasses + 1;   // the hand saw a surface, the head an edge
+// Returns how many were taken into `samples`, and the height above which a surface is
+// raised in `raised_z` (+infinity when the first pass met nothing facing up). A cell is kSelectCellBins head
+// sight bins a side (31 mm at 1 m on the host).
 static_assert(kNormalClasses + 2 <= 8, "a cell's classes in a byte's bits");
 static_assert(kNormalClasses + 2 <= 16, "a first-pass class in 4 bits");
 static_assert(size_t{kRegistrationSampleFloats} * kRegistrationSamples % 2 == 0, "the picking's work 8-byte aligned");
+// The first pass visits at most 4 x cap + 1 voxels; three words each of its voxels facing
+// up fit in the samples' room (one of them the voxel's index in the pass and its cell,
+// 16 bits each).
+constexpr uint32_t kFirstPassVoxels = 4u * kRegistrationSamples + 1u;
+static_assert(size_t{3} * kFirstPassVoxels <= size_t{kRegistrationSampleFloats} * kRegistrationSamples,
+              "the first pass's voxels facing up in the samples' room");
+static_assert(kFirstPassVoxels <= 65536u && kSelectCells * kSelectCells <= 65536u, "16 bits each");
 
 // The cells whose neighbourhood (the cell and the eight around it) met a class of
 // `wanted_bits`, a bit each.
@@ -313,8 +332,31 @@ void mark_wanted_cells(const uint8_t* cell_classes, uint8_t wanted_bits, uint64_
     }
 }
 
+// The table's height from the heights z[0, n) of surfaces facing up (reordered): the
+// median of those within kTableBandM above their 10th percentile (the table is the
+// lowest surface facing up, and the largest; the band keeps the objects' tops out).
+// Returns the height above which a surface is raised: kRaisedM above the table, or
+// four times the spread of the table's own heights (a far sensor's noise) if more;
+// +infinity without heights.
+constexpr float kTableBandM = 0.02f;
+float raised_height(float* z, uint32_t n) {
+  if (n == 0u) return std::numeric_limits<float>::infinity();
+  float* const tenth = z + n / 10u;
+  std::nth_element(z, tenth, z + n);
+  const float lowest = *tenth;
+  float* const band_end = std::partition(tenth, z + n, [lowest](float h) { return h <= lowest + kTableBandM; });
+  const uint32_t band = static_cast<uint32_t>(band_end - tenth);  // at least the 10th percentile itself
+  float* const median = tenth + band / 2u;
+  std::nth_element(tenth, median, band_end);
+  const float table_z = *median;
+  float* const upper = tenth + (3u * band) / 4u;  // the 75th percentile: 0.67 spreads above the median
+  std::nth_element(median, upper, band_end);
+  const float spread = (*upper - table_z) / 0.6745f;
+  return table_z + std::fmax(kRaisedM, 4.f * spread);
+}
+
 uint32_t select_samples(const VoxelGrid& grid, const SensorViews& views, const DepthMoments* moments, uint32_t cap,
-                        Sample* samples, uint64_t* work) {
+                        Sample* samples, uint64_t* work, float& raised_z) {
   cap = cap < kRegistrationSamples ? cap : kRegistrationSamples;
   if (cap == 0u) return 0u;
   const uint32_t size = grid.size();
@@ -330,7 +372,10 @@ uint32_t select_samples(const VoxelGrid& grid, const SensorViews& views, const D
     Vec3 w, nw;
     if (!hand_surface(moments, hand.R, hand.t, c, w, nw)) return kNotInView;
     if (!head_normal(views, ph, u, v, c.n)) return kEdge;
-    return static_cast<uint8_t>(normal_class(c.n));
+    // A surface that faces away from the hand (or is grazing to it): the hand did not
+    // see it, whatever it saw in that direction.
+    if (!(c.n.dot((hand.t - c.p).normalized()) >= kGrazingCos)) return kNotInView;
+    return normal_class(c.n);
   };
   // Voxel i's class code, and its head sight bin (u, v) when it has one.
   const auto classify = [&](uint32_t i, Sample& c, int& u, int& v) -> uint8_t {
@@ -351,6 +396,12 @@ uint32_t select_samples(const VoxelGrid& grid, const SensorViews& views, const D
   for (uint32_t b = 0; b < kSelectCells * kSelectCells; ++b) cell_classes[b] = 0;
   for (uint32_t w = 0; w < (kSelectCells * kSelectCells + 63u) / 64u; ++w) wanted_cells[w] = 0;
   uint32_t seen[kNormalClasses] = {};
+  // The first pass's voxels facing up, until their height is known: where each lies (its
+  // index in the pass, its cell) and its height, in the samples' room (not yet taken).
+  uint32_t* const up_voxel = reinterpret_cast<uint32_t*>(samples);  // index | cell << 16
+  float* const up_z = reinterpret_cast<float*>(up_voxel + kFirstPassVoxels);
+  float* const up_z_sorted = up_z + kFirstPassVoxels;
+  uint32_t ups = 0;
   Sample c;
   for (uint32_t i = 0, j = 0; i < size; i += count_step, ++j) {
     int u = 0, v = 0;
@@ -358,6 +409,21 @@ uint32_t select_samples(const VoxelGrid& grid, const SensorViews& views, const D
     first_class[j / 2u] = (j & 1u) == 0u ? k : static_cast<uint8_t>(first_class[j / 2u] | k << 4u);
     if (k < kNormalClasses) ++seen[k];
     if (k != kNotInView) cell_classes[cell_of(u, v)] |= static_cast<uint8_t>(1u << k);
+    if (k == kUp) {
+      up_voxel[ups] = j | static_cast<uint32_t>(cell_of(u, v)) << 16u;
+      up_z[ups] = up_z_sorted[ups] = c.p.z();
+      ++ups;
+    }
+  }
+  raised_z = raised_height(up_z_sorted, ups);
+  for (uint32_t a = 0; a < ups; ++a) {
+    if (!(up_z[a] > raised_z)) continue;
+    const uint32_t j = up_voxel[a] & 0xFFFFu;
+    const uint32_t kept = (j & 1u) != 0u ? 0x0Fu : 0xF0u;  // the other voxel's nibble
+    first_class[j / 2u] = static_cast<uint8_t>((first_class[j / 2u] & kept) | uint32_t{kRaised} << (4u * (j & 1u)));
+    cell_classes[up_voxel[a] >> 16u] |= static_cast<uint8_t>(1u << kRaised);
+    --seen[kUp];
+    ++seen[kRaised];
   }
   // Abundant: the first pass alone met the quota; it is taken from those voxels.
   uint32_t stride[kNormalClasses], taken[kNormalClasses] = {}, met[kNormalClasses] = {};
@@ -365,7 +431,7 @@ uint32_t select_samples(const VoxelGrid& grid, const SensorViews& views, const D
   uint8_t wanted_bits = static_cast<uint8_t>(1u << kEdge);
   for (uint32_t k = 0; k < kNormalClasses; ++k) {
     abundant[k] = seen[k] >= quota;
-    const uint32_t met_expected = abundant[k] ? seen[k] : 4u * seen[k];
+    const uint32_t met_expected = abundant[k] ? seen[k] : 16u * seen[k];
     stride[k] = met_expected > quota ? (met_expected + quota - 1u) / quota : 1u;
     if (!abundant[k]) wanted_bits |= static_cast<uint8_t>(1u << k);
   }
@@ -375,24 +441,41 @@ uint32_t select_samples(const VoxelGrid& grid, const SensorViews& views, const D
     return (wanted_cells[b / 64u] >> (b % 64u) & 1u) != 0u;
   };
   uint32_t n = 0;
-  for (uint32_t i = 0; i < size && n < cap; i += pre) {
-    const bool first = i % count_step == 0u;
-    uint8_t k = kNotInView;
-    int u = 0, v = 0;
-    if (first) {
-      const uint32_t j = i / count_step;
-      k = static_cast<uint8_t>(first_class[j / 2u] >> (4u * (j & 1u)) & 15u);
-    } else {
-      Vec3 ph;
-      c.p = grid.centroid(i);
-      if (!head_sight_bin(views, c.p, ph, u, v) || !wanted(u, v)) continue;
-      k = classify_in_view(c, ph, u, v);
-    }
-    if (k >= kNormalClasses || taken[k] == quota) continue;
-    if ((abundant[k] && !first) || met[k]++ % stride[k] != 0u) continue;
+  // Voxel i, of the first pass (its class known) or not (`u`, `v` its head sight bin),
+  // taken when its class still wants samples.
+  const auto offer = [&](uint32_t i, bool first, uint8_t k, int u, int v) {
+    if (k >= kNormalClasses || taken[k] == quota || n == cap) return;
+    if ((abundant[k] && !first) || met[k]++ % stride[k] != 0u) return;
     if (first) (void)classify(i, c, u, v);  // the sample's normal and hand surface
     ++taken[k];
     samples[n++] = c;
+  };
+  // Voxel i's class when its head sight bin lies in a wanted cell, else kNotInView.
+  const auto rare_class = [&](uint32_t i, int& u, int& v) -> uint8_t {
+    Vec3 ph;
+    c.p = grid.centroid(i);
+    if (!head_sight_bin(views, c.p, ph, u, v) || !wanted(u, v)) return kNotInView;
+    const uint8_t k = classify_in_view(c, ph, u, v);
+    return k == kUp && c.p.z() > raised_z ? kRaised : k;
+  };
+  for (uint32_t i = 0; i < size && n < cap; i += pre) {
+    int u = 0, v = 0;
+    if (i % count_step == 0u) {
+      const uint32_t j = i / count_step;
+      const uint8_t k = static_cast<uint8_t>(first_class[j / 2u] >> (4u * (j & 1u)) & 15u);
+      offer(i, true, k, u, v);
+      Vec3 ph;
+      if (k == kNotInView || !head_sight_bin(views, grid.centroid(i), ph, u, v) || !wanted(u, v)) continue;
+    } else {
+      const uint8_t k = rare_class(i, u, v);
+      if (k == kNotInView) continue;
+      offer(i, false, k, u, v);
+    }
+    // The voxels up to the next probe lie mostly where it does (the grid keeps the
+    // order the sensor's rows came in): in a wanted cell, each is looked at too.
+    // (None of them is of the first pass: its voxels are every count_step-th, a multiple
+    // of pre.)
+    for (uint32_t e = i + 1; e < i + pre && e < size && n < cap; ++e) offer(e, false, rare_class(e, u, v), u, v);
   }
   return n;
 }
@@ -512,6 +595,121 @@ void table_tilts(const DepthMoments* moments, const Pose& hand, Sample* samples,
   });
 }
 
+// Stage A.4b's second step: the slide along the table. Point-to-plane pairs fix the
+// height and the tilt from the table and the objects' tops, but the slide only from the
+// sides both sensors saw and the tops' slopes, and sensors that look from opposite sides
+// see few of either: too few pairs for the alignment to move along the table
+// (kMinInformation). Where a surface both saw curves or ends, though, a wrong slide puts
+// the hand's depth along its ray off the head's samples there. The slide is searched on
+// a grid, coarse to fine, for the least projective misfit of the head's samples off the
+// table: a global search, where the alignment's steps would follow the few pairs into a
+// wrong minimum.
+
+// At most this many samples off the table take part (every k-th of them), in the hand's
+// frame: the selection's work memory, idle by then, holds them.
+constexpr uint32_t kSlideSamples =
+    static_cast<uint32_t>(2u * kSelectionWords / 3u) < 256u ? static_cast<uint32_t>(2u * kSelectionWords / 3u) : 256u;
+
+// The hand's mean depth along the ray to the point q (the hand's frame), bilinear
+// between the centres of its map's bins, minus q's depth: false outside the map or where
+// the hand saw too little around it.
+bool projective_residual(const DepthMoments* map, const Vec3& q, float& r) {
+  constexpr float half = 0.5f * static_cast<float>(kMomentBins);
+  if (!(q.z() > 0.05f)) return false;
+  const float inv = 1.f / q.z();
+  const float bu = (q.x() * inv + 1.f) * half - 0.5f, bv = (q.y() * inv + 1.f) * half - 0.5f;
+  constexpr float hi = static_cast<float>(kMomentBins - 1);
+  if (!(bu >= 0.f && bv >= 0.f && bu < hi && bv < hi)) return false;
+  const int u = static_cast<int>(bu), v = static_cast<int>(bv);
+  const float fu = bu - static_cast<float>(u), fv = bv - static_cast<float>(v);
+  const float w[4] = {(1.f - fu) * (1.f - fv), fu * (1.f - fv), (1.f - fu) * fv, fu * fv};
+  const DepthMoments* m = map + v * static_cast<int>(kMomentBins) + u;
+  const DepthMoments* corner[4] = {m, m + 1, m + kMomentBins, m + kMomentBins + 1};
+  float depth = 0.f, wsum = 0.f;
+  for (int k = 0; k < 4; ++k)
+    if (corner[k]->n >= kMinReturns) {
+      depth += w[k] * corner[k]->sum / corner[k]->n;
+      wsum += w[k];
+    }
+  // Most of the weight on bins with returns: else the hand saw too little there.
+  if (!(wsum > 0.5f)) return false;
+  r = depth / wsum - q.z();
+  return true;
+}
+
+// The misfit of the samples q[0, n) (the hand's frame) with the hand moved by `shift`
+// (its frame: the samples move by -shift): per sample, the squared residual within
+// `gate`, else gate^2 (seen through, hidden, or not seen).
+float projective_misfit(const DepthMoments* map, const Vec3* q, uint32_t n, const Vec3& shift, float gate) {
+  float cost = 0.f;
+  for (uint32_t i = 0; i < n; ++i) {
+    float r = 0.f;
+    const bool seen = projective_residual(map, q[i] - shift, r);
+    cost += seen && std::fabs(r) < gate ? r * r : gate * gate;
+  }
+  return cost;
+}
+
+// The slide (world, along the table) that best fits the m samples off the table to the
+// hand's surfaces at `hand`: a grid of (2 * kSlideSteps + 1)^2 slides slide_step apart,
+// then kSlideRefinements grids of 3 x 3, each half as fine, around the best. `q` holds
+// kSlideSamples points. Zero unless it lowers the misfit by min_slide_gain_samples
+// samples' worth (gate^2 each) and by the share min_slide_gain: noise alone, fitted,
+// gains a few samples' worth, and a misfit that stays flat says the slide is not seen.
+constexpr int kSlideSteps = 3;
+constexpr int kSlideRefinements = 3;
+Vec3 search_slide(const DepthMoments* map, const Pose& hand, const Sample* samples, uint32_t m,
+                  const RegistrationParams& params, Vec3* q) {
+  if (m < params.min_slide_samples) return Vec3::Zero();
+  const uint32_t every = (m + kSlideSamples - 1u) / kSlideSamples;
+  uint32_t nq = 0;
+  for (uint32_t i = 0; i < m; i += every) q[nq++] = hand.R.transpose() * (samples[i].p - hand.t);
+  const float gate = params.gate_end_m;
+  // A world slide s moves the hand's frame by R^T s.
+  const Vec3 ex = hand.R.transpose() * Vec3::UnitX(), ey = hand.R.transpose() * Vec3::UnitY();
+  const float at_zero = projective_misfit(map, q, nq, Vec3::Zero(), gate);
+  float bx = 0.f, by = 0.f, best_cost = at_zero;
+  float step = params.slide_step_m;
+  int reach = kSlideSteps;
+  for (int level = 0; level <= kSlideRefinements; ++level) {
+    const float cx = bx, cy = by;
+    for (int iy = -reach; iy <= reach; ++iy)
+      for (int ix = -reach; ix <= reach; ++ix) {
+        if (ix == 0 && iy == 0) continue;  // the centre's cost is known
+        const float x = cx + static_cast<float>(ix) * step, y = cy + static_cast<float>(iy) * step;
+        const float cost = projective_misfit(map, q, nq, x * ex + y * ey, gate);
+        if (cost < best_cost) {
+          best_cost = cost;
+          bx = x;
+          by = y;
+        }
+      }
+    step *= 0.5f;
+    reach = 1;
+  }
+  const float gain = at_zero - best_cost;
+  const bool found = gain >= params.min_slide_gain_samples * gate * gate && gain >= params.min_slide_gain * at_zero;
+  return found ? Vec3(bx, by, 0.f) : Vec3::Zero();
+}
+
+// The slide (search_slide) after the alignment `out` of the hand at `given`, folded into
+// its correction when it is more than noise and the whole stays within the capture range.
+void slide(const DepthMoments* moments, const Pose& given, Sample* samples, uint32_t n, uint32_t m,
+           const RegistrationParams& params, Vec3* work, RegistrationResult& out) {
+  const Vec3 shift = search_slide(moments, out.hand_pose(given), samples, m, params, work);
+  if (!(shift.norm() >= params.min_correction_m)) return;
+  Pose c = out.outcome == RegistrationOutcome::corrected ? out.correction : Pose{};
+  c.t += shift;
+  const float moved_origin = (c.R * given.t + c.t - given.t).norm();
+  if (moved_origin > params.max_translation_m) return;
+  const Sums after = accumulate(moments, given, samples, n, c.R, c.t, Vec3::Zero(), 1.f, params.gate_end_m);
+  out.outcome = RegistrationOutcome::corrected;
+  out.correction = c;
+  out.translation_mm = 1000.f * moved_origin;
+  out.rotation_deg = angle_of(c.R) * 57.2957795f;
+  out.residual_mm = after.pairs > 0 ? 1000.f * std::sqrt(after.sq / static_cast<float>(after.pairs)) : out.residual_mm;
+}
+
 // The alignment of the samples (A.4b) and its verdict.
 RegistrationResult align(const DepthMoments* moments, const Pose& hand, Sample* samples, uint32_t n,
                          const RegistrationParams& params) {
@@ -594,13 +792,22 @@ RegistrationResult register_hand(const VoxelGrid& grid, const SensorViews& views
   Sample* samples = reinterpret_cast<Sample*>(scratch);
   uint64_t* const work =
       reinterpret_cast<uint64_t*>(scratch + size_t{kRegistrationSampleFloats} * kRegistrationSamples);
-  const uint32_t n = select_samples(grid, views, moments, params.max_samples, samples, work);
+  float raised_z = 0.f;
+  const uint32_t n = select_samples(grid, views, moments, params.max_samples, samples, work, raised_z);
   if (n == 0) {
     out.outcome = RegistrationOutcome::too_little_overlap;
     return out;
   }
   const Pose& given = views.pose[static_cast<uint32_t>(SensorRole::hand)];
   out = align(moments, given, samples, n, params);
+  if (out.outcome == RegistrationOutcome::corrected || out.outcome == RegistrationOutcome::calibration_kept) {
+    // The samples off the table first: the slide is searched on them.
+    Sample* const off_table = std::partition(samples, samples + n, [raised_z](const Sample& smp) {
+      return !(normal_class(smp.n) == kUp && smp.p.z() <= raised_z);
+    });
+    const uint32_t m = static_cast<uint32_t>(off_table - samples);
+    slide(moments, given, samples, n, m, params, reinterpret_cast<Vec3*>(work), out);
+  }
   // A.4c: whatever the alignment's verdict, do the clouds agree as they will be fused?
   const Pose used = out.hand_pose(given);
   out.see_through = see_through_share(views, moments, used, samples, n, params.see_through_m, out.compared);

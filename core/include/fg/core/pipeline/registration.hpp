@@ -119,6 +119,15 @@ struct RegistrationParams {
   //! normals come from nearest returns, pulled toward the sensor), the hand's less.
   float level_tilt_rad = 0.0524f;   //!< 3 deg
   uint32_t min_level_samples = 32;  //!< fewer samples facing up: no tilt measured (NaN)
+  //! The slide in the table's plane, searched after the alignment on the samples off the
+  //! table: the coarse grid's step (it reaches 4 steps each way, then three 3 x 3 grids
+  //! each half as fine refine it); what it must explain of the samples' misfit (each
+  //! sample's capped at gate_end^2), in samples' worth and as a share; and the fewest
+  //! samples it needs.
+  float slide_step_m = 0.005f;
+  float min_slide_gain_samples = 5.f;
+  float min_slide_gain = 0.05f;
+  uint32_t min_slide_samples = 32;
 };
 
 //! The registration of the hand's surface, `moments` (kMomentBins^2 bins) seen from
