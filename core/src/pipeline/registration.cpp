@@ -355,19 +355,17 @@ float raised_height(float* z, uint32_t n) {
   return table_z + std::fmax(kRaisedM, 4.f * spread);
 }
 
-uint32_t select_samples(const VoxelGrid& grid, const SensorViews& views, const DepthMoments* moments, uint32_t cap,
-                        Sample* samples, uint64_t* work, float& raised_z) {
-  cap = cap < kRegistrationSamples ? cap : kRegistrationSamples;
-  if (cap == 0u) return 0u;
-  const uint32_t size = grid.size();
-  const uint32_t pre = (size + 16u * cap - 1u) / (16u * cap);
-  const uint32_t count_step = 4u * pre;  // at most 4 x cap voxels
-  const uint32_t quota = cap / kNormalClasses > 0u ? cap / kNormalClasses : 1u;
-  const Pose& hand = views.pose[static_cast<uint32_t>(SensorRole::hand)];
-  // A voxel's class code; its head sight bin (u, v) when it has one.
+// What the picking reads: the grid, the sensors' views and the hand's moments; and
+// how it classifies a voxel (the class codes above).
+struct Picking {
+  const VoxelGrid& grid;
+  const SensorViews& views;
+  const DepthMoments* moments;
+  const Pose& hand;
+
   // The class code of the voxel at c.p, which lies at ph in the head's frame, in its
   // sight bin (u, v).
-  const auto classify_in_view = [&](Sample& c, const Vec3& ph, int u, int v) -> uint8_t {
+  uint8_t classify_in_view(Sample& c, const Vec3& ph, int u, int v) const {
     c.bin = -1;
     Vec3 w, nw;
     if (!hand_surface(moments, hand.R, hand.t, c, w, nw)) return kNotInView;
@@ -376,77 +374,102 @@ uint32_t select_samples(const VoxelGrid& grid, const SensorViews& views, const D
     // see it, whatever it saw in that direction.
     if (!(c.n.dot((hand.t - c.p).normalized()) >= kGrazingCos)) return kNotInView;
     return normal_class(c.n);
-  };
+  }
   // Voxel i's class code, and its head sight bin (u, v) when it has one.
-  const auto classify = [&](uint32_t i, Sample& c, int& u, int& v) -> uint8_t {
+  uint8_t classify(uint32_t i, Sample& c, int& u, int& v) const {
     c.p = grid.centroid(i);
     c.bin = -1;
     Vec3 ph;
     if (!head_sight_bin(views, c.p, ph, u, v)) return kNotInView;
     return classify_in_view(c, ph, u, v);
-  };
-  const auto cell_of = [](int u, int v) {
-    return (v / static_cast<int>(kSelectCellBins)) * static_cast<int>(kSelectCells) +
-           u / static_cast<int>(kSelectCellBins);
-  };
-  // Per voxel of the first pass, its class code in 4 bits; per cell, a bit per code met.
+  }
+  static uint32_t cell_of(int u, int v) {
+    return static_cast<uint32_t>((v / static_cast<int>(kSelectCellBins)) * static_cast<int>(kSelectCells) +
+                                 u / static_cast<int>(kSelectCellBins));
+  }
+  static bool in_cells(const uint64_t* bits, int u, int v) {
+    const uint32_t b = cell_of(u, v);
+    return (bits[b / 64u] >> (b % 64u) & 1u) != 0u;
+  }
+
+  // The first pass, over every count_step-th voxel: each one's class code in 4 bits
+  // (first_class), the codes met per cell (a bit each, cell_classes) and per class
+  // (seen). Its voxels facing up wait in `room` (the samples', not yet taken) until the
+  // table's height is known: those raised become kRaised. Returns the height above
+  // which a surface is raised.
+  float first_pass(uint32_t count_step, uint8_t* first_class, uint8_t* cell_classes, uint32_t* seen, void* room) const {
+    uint32_t* const up_voxel = static_cast<uint32_t*>(room);  // index in the pass | cell << 16
+    float* const up_z = reinterpret_cast<float*>(up_voxel + kFirstPassVoxels);
+    float* const up_z_sorted = up_z + kFirstPassVoxels;
+    uint32_t ups = 0;
+    Sample c;
+    for (uint32_t i = 0, j = 0; i < grid.size(); i += count_step, ++j) {
+      int u = 0, v = 0;
+      const uint8_t k = classify(i, c, u, v);
+      first_class[j / 2u] = (j & 1u) == 0u ? k : static_cast<uint8_t>(first_class[j / 2u] | k << 4u);
+      if (k < kNormalClasses) ++seen[k];
+      if (k != kNotInView) cell_classes[cell_of(u, v)] |= static_cast<uint8_t>(1u << k);
+      if (k == kUp) {
+        up_voxel[ups] = j | cell_of(u, v) << 16u;
+        up_z[ups] = up_z_sorted[ups] = c.p.z();
+        ++ups;
+      }
+    }
+    const float raised_z = raised_height(up_z_sorted, ups);
+    for (uint32_t a = 0; a < ups; ++a) {
+      if (!(up_z[a] > raised_z)) continue;
+      const uint32_t j = up_voxel[a] & 0xFFFFu;
+      const uint32_t kept = (j & 1u) != 0u ? 0x0Fu : 0xF0u;  // the other voxel's nibble
+      first_class[j / 2u] = static_cast<uint8_t>((first_class[j / 2u] & kept) | uint32_t{kRaised} << (4u * (j & 1u)));
+      cell_classes[up_voxel[a] >> 16u] |= static_cast<uint8_t>(1u << kRaised);
+      --seen[kUp];
+      ++seen[kRaised];
+    }
+    return raised_z;
+  }
+};
+
+uint32_t select_samples(const VoxelGrid& grid, const SensorViews& views, const DepthMoments* moments, uint32_t cap,
+                        Sample* samples, uint64_t* work, float& raised_z) {
+  cap = cap < kRegistrationSamples ? cap : kRegistrationSamples;
+  if (cap == 0u) return 0u;
+  const uint32_t size = grid.size();
+  const uint32_t pre = (size + 16u * cap - 1u) / (16u * cap);
+  const uint32_t count_step = 4u * pre;  // at most 4 x cap voxels
+  const uint32_t quota = cap / kNormalClasses > 0u ? cap / kNormalClasses : 1u;
+  const Picking picking{grid, views, moments, views.pose[static_cast<uint32_t>(SensorRole::hand)]};
   uint8_t* const first_class = reinterpret_cast<uint8_t*>(work);
   uint8_t* const cell_classes = first_class + size_t{2} * kRegistrationSamples;
   uint64_t* const wanted_cells = work + (kSelectionClassBytes + 7u) / 8u;
+  uint64_t* const dense_cells = wanted_cells + kSelectCellWords;
   for (uint32_t b = 0; b < kSelectCells * kSelectCells; ++b) cell_classes[b] = 0;
-  for (uint32_t w = 0; w < (kSelectCells * kSelectCells + 63u) / 64u; ++w) wanted_cells[w] = 0;
+  for (uint32_t w = 0; w < 2u * kSelectCellWords; ++w) wanted_cells[w] = 0;
   uint32_t seen[kNormalClasses] = {};
-  // The first pass's voxels facing up, until their height is known: where each lies (its
-  // index in the pass, its cell) and its height, in the samples' room (not yet taken).
-  uint32_t* const up_voxel = reinterpret_cast<uint32_t*>(samples);  // index | cell << 16
-  float* const up_z = reinterpret_cast<float*>(up_voxel + kFirstPassVoxels);
-  float* const up_z_sorted = up_z + kFirstPassVoxels;
-  uint32_t ups = 0;
-  Sample c;
-  for (uint32_t i = 0, j = 0; i < size; i += count_step, ++j) {
-    int u = 0, v = 0;
-    const uint8_t k = classify(i, c, u, v);
-    first_class[j / 2u] = (j & 1u) == 0u ? k : static_cast<uint8_t>(first_class[j / 2u] | k << 4u);
-    if (k < kNormalClasses) ++seen[k];
-    if (k != kNotInView) cell_classes[cell_of(u, v)] |= static_cast<uint8_t>(1u << k);
-    if (k == kUp) {
-      up_voxel[ups] = j | static_cast<uint32_t>(cell_of(u, v)) << 16u;
-      up_z[ups] = up_z_sorted[ups] = c.p.z();
-      ++ups;
-    }
-  }
-  raised_z = raised_height(up_z_sorted, ups);
-  for (uint32_t a = 0; a < ups; ++a) {
-    if (!(up_z[a] > raised_z)) continue;
-    const uint32_t j = up_voxel[a] & 0xFFFFu;
-    const uint32_t kept = (j & 1u) != 0u ? 0x0Fu : 0xF0u;  // the other voxel's nibble
-    first_class[j / 2u] = static_cast<uint8_t>((first_class[j / 2u] & kept) | uint32_t{kRaised} << (4u * (j & 1u)));
-    cell_classes[up_voxel[a] >> 16u] |= static_cast<uint8_t>(1u << kRaised);
-    --seen[kUp];
-    ++seen[kRaised];
-  }
-  // Abundant: the first pass alone met the quota; it is taken from those voxels.
+  raised_z = picking.first_pass(count_step, first_class, cell_classes, seen, samples);
+  // Abundant: the first pass alone met the quota; it is taken from those voxels. Scarce:
+  // every pre-th voxel would not meet it either (a small object's sides and top); it is
+  // taken from every voxel near where the first pass met it.
   uint32_t stride[kNormalClasses], taken[kNormalClasses] = {}, met[kNormalClasses] = {};
-  bool abundant[kNormalClasses];
-  uint8_t wanted_bits = static_cast<uint8_t>(1u << kEdge);
+  bool abundant[kNormalClasses], scarce[kNormalClasses];
+  uint8_t wanted_bits = static_cast<uint8_t>(1u << kEdge), scarce_bits = 0;
   for (uint32_t k = 0; k < kNormalClasses; ++k) {
     abundant[k] = seen[k] >= quota;
-    const uint32_t met_expected = abundant[k] ? seen[k] : 16u * seen[k];
+    scarce[k] = 4u * seen[k] < quota;
+    const uint32_t met_expected = abundant[k] ? seen[k] : (scarce[k] ? 16u : 4u) * seen[k];
     stride[k] = met_expected > quota ? (met_expected + quota - 1u) / quota : 1u;
     if (!abundant[k]) wanted_bits |= static_cast<uint8_t>(1u << k);
+    if (scarce[k]) scarce_bits |= static_cast<uint8_t>(1u << k);
   }
   mark_wanted_cells(cell_classes, wanted_bits, wanted_cells);
-  const auto wanted = [&](int u, int v) {
-    const uint32_t b = static_cast<uint32_t>(cell_of(u, v));
-    return (wanted_cells[b / 64u] >> (b % 64u) & 1u) != 0u;
-  };
+  mark_wanted_cells(cell_classes, scarce_bits, dense_cells);
   uint32_t n = 0;
+  Sample c;
   // Voxel i, of the first pass (its class known) or not (`u`, `v` its head sight bin),
   // taken when its class still wants samples.
   const auto offer = [&](uint32_t i, bool first, uint8_t k, int u, int v) {
     if (k >= kNormalClasses || taken[k] == quota || n == cap) return;
     if ((abundant[k] && !first) || met[k]++ % stride[k] != 0u) return;
-    if (first) (void)classify(i, c, u, v);  // the sample's normal and hand surface
+    if (first) (void)picking.classify(i, c, u, v);  // the sample's normal and hand surface
     ++taken[k];
     samples[n++] = c;
   };
@@ -454,8 +477,8 @@ uint32_t select_samples(const VoxelGrid& grid, const SensorViews& views, const D
   const auto rare_class = [&](uint32_t i, int& u, int& v) -> uint8_t {
     Vec3 ph;
     c.p = grid.centroid(i);
-    if (!head_sight_bin(views, c.p, ph, u, v) || !wanted(u, v)) return kNotInView;
-    const uint8_t k = classify_in_view(c, ph, u, v);
+    if (!head_sight_bin(views, c.p, ph, u, v) || !Picking::in_cells(wanted_cells, u, v)) return kNotInView;
+    const uint8_t k = picking.classify_in_view(c, ph, u, v);
     return k == kUp && c.p.z() > raised_z ? kRaised : k;
   };
   for (uint32_t i = 0; i < size && n < cap; i += pre) {
@@ -465,17 +488,21 @@ uint32_t select_samples(const VoxelGrid& grid, const SensorViews& views, const D
       const uint8_t k = static_cast<uint8_t>(first_class[j / 2u] >> (4u * (j & 1u)) & 15u);
       offer(i, true, k, u, v);
       Vec3 ph;
-      if (k == kNotInView || !head_sight_bin(views, grid.centroid(i), ph, u, v) || !wanted(u, v)) continue;
+      if (scarce_bits == 0u || k == kNotInView || !head_sight_bin(views, grid.centroid(i), ph, u, v)) continue;
     } else {
       const uint8_t k = rare_class(i, u, v);
       if (k == kNotInView) continue;
       offer(i, false, k, u, v);
     }
+    if (!Picking::in_cells(dense_cells, u, v)) continue;
     // The voxels up to the next probe lie mostly where it does (the grid keeps the
-    // order the sensor's rows came in): in a wanted cell, each is looked at too.
+    // order the sensor's rows came in): near a scarce class, each is looked at for it.
     // (None of them is of the first pass: its voxels are every count_step-th, a multiple
     // of pre.)
-    for (uint32_t e = i + 1; e < i + pre && e < size && n < cap; ++e) offer(e, false, rare_class(e, u, v), u, v);
+    for (uint32_t e = i + 1; e < i + pre && e < size && n < cap; ++e) {
+      const uint8_t k = rare_class(e, u, v);
+      if (k < kNormalClasses && scarce[k]) offer(e, false, k, u, v);
+    }
   }
   return n;
 }
@@ -623,7 +650,7 @@ bool projective_residual(const DepthMoments* map, const Vec3& q, float& r) {
   const int u = static_cast<int>(bu), v = static_cast<int>(bv);
   const float fu = bu - static_cast<float>(u), fv = bv - static_cast<float>(v);
   const float w[4] = {(1.f - fu) * (1.f - fv), fu * (1.f - fv), (1.f - fu) * fv, fu * fv};
-  const DepthMoments* m = map + v * static_cast<int>(kMomentBins) + u;
+  const DepthMoments* m = map + static_cast<size_t>(v) * kMomentBins + static_cast<size_t>(u);
   const DepthMoments* corner[4] = {m, m + 1, m + kMomentBins, m + kMomentBins + 1};
   float depth = 0.f, wsum = 0.f;
   for (int k = 0; k < 4; ++k)

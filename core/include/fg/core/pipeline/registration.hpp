@@ -34,12 +34,13 @@ struct DepthMoments {
 inline constexpr uint32_t kRegistrationSampleFloats = 14;
 //! The sample picking's work memory, after the samples in register_hand's `scratch`: a
 //! class per voxel of its first pass (4 bits; at most 4 per sample), the classes met per
-//! cell of kSelectCellBins^2 head sight bins (a byte), and a bit per cell; in 64-bit words.
+//! cell of kSelectCellBins^2 head sight bins (a byte), and two bits per cell (wanted,
+//! dense); in 64-bit words. The slide's samples borrow it afterwards.
 inline constexpr uint32_t kSelectCellBins = 4;
 inline constexpr uint32_t kSelectCells = kSightBins / kSelectCellBins;
 inline constexpr size_t kSelectionClassBytes = size_t{2} * kRegistrationSamples + size_t{kSelectCells} * kSelectCells;
-inline constexpr size_t kSelectionWords =
-    (kSelectionClassBytes + 7) / 8 + (size_t{kSelectCells} * kSelectCells + 63) / 64;
+inline constexpr size_t kSelectCellWords = (size_t{kSelectCells} * kSelectCells + 63) / 64;
+inline constexpr size_t kSelectionWords = (kSelectionClassBytes + 7) / 8 + 2 * kSelectCellWords;
 //! register_hand's scratch in floats: kRegistrationSamples samples, then the picking's work.
 inline constexpr size_t kRegistrationScratchFloats =
     size_t{kRegistrationSampleFloats} * kRegistrationSamples + 2 * kSelectionWords;
