@@ -291,10 +291,9 @@ Sums accumulate(const DepthMoments* map, const Pose& hand, Sample* samples, uint
 // The head's samples: voxels that project where the hand saw a surface (as calibrated),
 // so that none is wasted on what only the head saw, taken evenly over the classes of
 // the head's normals there (normal_class): at most cap / 6 of each.
-// - A first pass classifies every 16th voxel (count_step) and counts the classes. The
-//   table's height is the 10th percentile of its voxels facing up (the table is the
-//   lowest surface facing up, and the largest); those more than kRaisedM above it are
-//   raised.
+// - A first pass classifies every 16th voxel (count_step) and counts the classes; its
+//   voxels facing up give the table's height and noise (raised_height), and those above
+//   them are raised.
 // - A class the first pass met at least quota times (a table fills most of the view
 //   with one class) is abundant: it is taken from those voxels, every stride-th.
 // - The others (an object's sides) are taken from every 4th voxel (every pre-th of
@@ -302,6 +301,8 @@ Sums accumulate(const DepthMoments* map, const Pose& hand, Sample* samples, uint
 //   view near a voxel of the first pass of such a class or on an edge the hand saw (a
 //   cell of kSelectCellBins^2 head sight bins and its neighbours). Elsewhere a voxel costs
 //   its projection only, not the two sensors' surfaces.
+// - A scarce class (every pre-th voxel would not fill its quota either) is taken from
+//   every voxel near where the first pass met it.
 // Returns how many were taken into `samples`, and the height above which a surface is
 // raised in `raised_z` (+infinity when the first pass met nothing facing up). A cell is kSelectCellBins head
 // sight bins a side (31 mm at 1 m on the host).
