@@ -123,14 +123,15 @@ struct Outcome {
   Pose hand_used;
 };
 
-// Both sensors' images of the world, the hand's pose and the head's given as stated. A
-// sensor a disagreement left out cannot be added again.
+// Both sensors' images of the world from their true poses (kHead, kHand unless stated),
+// the hand's pose and the head's given as stated. A sensor a disagreement left out
+// cannot be added again.
 Outcome run(const World& w, const Pose& hand_given, fg::RegistrationMode mode, bool head_first = true,
-            const Pose& head_given = kHead) {
+            const Pose& head_given = kHead, const Pose& head_true = kHead, const Pose& hand_true = kHand) {
   auto planner = std::make_unique<fg::Planner>();
   EXPECT_EQ(planner->configure(fg::PlannerConfig{}), fg::Status::ok);
   planner->set_registration(mode);
-  const std::vector<uint16_t> head = render(w, kHead), hand = render(w, kHand);
+  const std::vector<uint16_t> head = render(w, head_true), hand = render(w, hand_true);
   const auto add = [&](fg::SensorRole role, const Pose& pose) {
     const std::vector<uint16_t>& image = role == fg::SensorRole::head ? head : hand;
     return planner->add_depth_image(role, image.data(), kW, kH, kK, pose);
@@ -150,18 +151,10 @@ Outcome run(const World& w, const Pose& hand_given, fg::RegistrationMode mode, b
   return r;
 }
 
-// Both sensors' images from their true poses `head` and `hand`, the hand's pose given
-// as `hand_given`, registration on.
+// Both sensors' images from their true poses `head` and `hand` (given as they are), the
+// hand's pose given as `hand_given`, registration on.
 Outcome run_between(const World& w, const Pose& head, const Pose& hand, const Pose& hand_given) {
-  auto planner = std::make_unique<fg::Planner>();
-  EXPECT_EQ(planner->configure(fg::PlannerConfig{}), fg::Status::ok);
-  const std::vector<uint16_t> head_image = render(w, head), hand_image = render(w, hand);
-  EXPECT_EQ(planner->add_depth_image(fg::SensorRole::head, head_image.data(), kW, kH, kK, head), fg::Status::ok);
-  EXPECT_EQ(planner->add_depth_image(fg::SensorRole::hand, hand_image.data(), kW, kH, kK, hand_given), fg::Status::ok);
-  Outcome r;
-  r.plan_status = planner->plan(r.result);
-  r.hand_used = planner->sensor_pose(fg::SensorRole::hand);
-  return r;
+  return run(w, hand_given, fg::RegistrationMode::on, true, head, head, hand);
 }
 
 TEST(Registration, CorrectsAHandPoseOffByMillimetresAndADegree) {
