@@ -720,6 +720,17 @@ Vec3 search_slide(const DepthMoments* map, const Pose& hand, const Sample* sampl
   return found ? Vec3(bx, by, 0.f) : Vec3::Zero();
 }
 
+// The RMS residual of the pairs of `s` (mm); 0 without pairs.
+float rms_mm(const Sums& s) { return s.pairs > 0 ? 1000.f * std::sqrt(s.sq / static_cast<float>(s.pairs)) : 0.f; }
+
+// `out` corrected by `c`, which moves the hand's origin by moved_origin (m).
+void set_corrected(const Pose& c, float moved_origin, RegistrationResult& out) {
+  out.outcome = RegistrationOutcome::corrected;
+  out.correction = c;
+  out.translation_mm = 1000.f * moved_origin;
+  out.rotation_deg = angle_of(c.R) * 57.2957795f;
+}
+
 // The slide (search_slide) after the alignment `out` of the hand at `given`, folded into
 // its correction when it is more than noise and the whole stays within the capture range.
 void slide(const DepthMoments* moments, const Pose& given, Sample* samples, uint32_t n, uint32_t m,
@@ -731,11 +742,8 @@ void slide(const DepthMoments* moments, const Pose& given, Sample* samples, uint
   const float moved_origin = (c.R * given.t + c.t - given.t).norm();
   if (moved_origin > params.max_translation_m) return;
   const Sums after = accumulate(moments, given, samples, n, c.R, c.t, Vec3::Zero(), 1.f, params.gate_end_m);
-  out.outcome = RegistrationOutcome::corrected;
-  out.correction = c;
-  out.translation_mm = 1000.f * moved_origin;
-  out.rotation_deg = angle_of(c.R) * 57.2957795f;
-  out.residual_mm = after.pairs > 0 ? 1000.f * std::sqrt(after.sq / static_cast<float>(after.pairs)) : out.residual_mm;
+  set_corrected(c, moved_origin, out);
+  if (after.pairs > 0) out.residual_mm = rms_mm(after);
 }
 
 // The alignment of the samples (A.4b) and its verdict.
@@ -774,7 +782,7 @@ RegistrationResult align(const DepthMoments* moments, const Pose& hand, Sample* 
   const Sums before =
       accumulate(moments, hand, samples, n, Mat3::Identity(), Vec3::Zero(), pivot, lever, params.gate_end_m);
   const Sums after = accumulate(moments, hand, samples, n, R, t, pivot, lever, params.gate_end_m);
-  out.residual_before_mm = before.pairs > 0 ? 1000.f * std::sqrt(before.sq / static_cast<float>(before.pairs)) : 0.f;
+  out.residual_before_mm = rms_mm(before);
   const float moved_origin = (R * hand.t + t - hand.t).norm();
   const float angle = angle_of(R);
   // The largest move over the samples' extent: the pivot's plus the turn at the lever.
@@ -802,12 +810,11 @@ RegistrationResult align(const DepthMoments* moments, const Pose& hand, Sample* 
     out.outcome = RegistrationOutcome::calibration_kept;
     return out;
   }
-  out.outcome = RegistrationOutcome::corrected;
-  out.correction.R = R;
-  out.correction.t = t;
-  out.translation_mm = 1000.f * moved_origin;
-  out.rotation_deg = angle * 57.2957795f;
-  out.residual_mm = after.pairs > 0 ? 1000.f * std::sqrt(after.sq / static_cast<float>(after.pairs)) : 0.f;
+  Pose c;
+  c.R = R;
+  c.t = t;
+  set_corrected(c, moved_origin, out);
+  out.residual_mm = rms_mm(after);
   return out;
 }
 
