@@ -1280,3 +1280,38 @@ TEST_F(CliContract, HeadOffLevelPlansFromTheHand) {
   const json ok = expect_ok(plan(example_scene()))["registration"];
   EXPECT_TRUE(ok["left_out"].is_null() && ok["head_tilt_deg"].is_null()) << ok.dump();
 }
+
+// `forcegrasp sim --sensors head|hand`: the task captures with that sensor alone, so
+// nothing is registered and, with the head alone, no wrist pose error is measured; the
+// default captures with both and registers the wrist. An unknown value is refused.
+TEST_F(CliContract, SimPlansFromTheSensorsAsked) {
+  const auto sim_report = [&](const std::string& sensors) {
+    const std::string out = path("sim_" + sensors + ".json");
+    std::vector<std::string> args = {"sim",    "--objects", "box,can", "--trials", "2",
+                                     "--seed", "9",         "--quiet", "--json",   out};
+    if (!sensors.empty()) args.insert(args.end(), {"--sensors", sensors});
+    const CliRun r = run_cli(args, 120.0);
+    EXPECT_EQ(r.exit_code, 0) << describe(r);
+    std::ifstream f(out);
+    return json::parse(f, nullptr, false);
+  };
+  for (const std::string sensors : {"head", "hand"}) {
+    const json j = sim_report(sensors);
+    ASSERT_TRUE(j.is_object()) << sensors;
+    EXPECT_EQ(j.value("sensors", ""), sensors);
+    ASSERT_EQ(j["trials"].size(), 2u);
+    for (const json& t : j["trials"]) {
+      EXPECT_EQ(t.value("registration", ""), "not_run") << t.dump();
+      if (sensors == "head") {
+        EXPECT_FALSE(t.contains("hand_error_mm")) << t.dump();
+      }
+    }
+  }
+  const json both = sim_report("");
+  ASSERT_TRUE(both.is_object());
+  EXPECT_EQ(both.value("sensors", ""), "both");
+  for (const json& t : both["trials"]) EXPECT_NE(t.value("registration", ""), "not_run") << t.dump();
+  const CliRun bad = run_cli({"sim", "--trials", "1", "--sensors", "wrist"});
+  EXPECT_EQ(bad.exit_code, 2) << describe(bad);
+  EXPECT_NE(bad.err.find("--sensors"), std::string::npos) << describe(bad);
+}

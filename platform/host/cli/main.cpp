@@ -138,6 +138,16 @@ void add_sim_command(CLI::App& app, SimArgs& a) {
           "they disagree: the one whose table is level); strict: a disagreement is an error; off: fuses them as "
           "calibrated")
       ->check(CLI::IsMember({"on", "off", "strict"}));
+  sim_cmd
+      ->add_option_function<std::string>(
+          "--sensors",
+          [&so](const std::string& v) {
+            so.use_head = v != "hand";
+            so.use_hand = v != "head";
+          },
+          "both (the default): the task captures with the head and the wrist sensor and plans from both; head or "
+          "hand: from that sensor alone (the arm still stands at the wrist's viewpoint)")
+      ->check(CLI::IsMember({"both", "head", "hand"}));
   sim_cmd->add_option("--pictures", so.pictures_dir, "write SVG pictures of each trial's plan to DIR/<kind>-<seed>");
   sim_cmd->add_option("--export", so.export_dir,
                       "write each trial's scene (scene.json, PCD, truth.json) to DIR/<kind>-<seed>");

@@ -267,6 +267,8 @@ SimTrial run_sim_trial(const std::string& kind_name, uint64_t seed, const SimOpt
   double q0[6];
   out.wrist_view = capture_joints(scene.hand.world_T_sensor, tool0_T_camera, q0);
   task::TaskConfig tc;
+  tc.use_head = opt.use_head;
+  tc.use_hand = opt.use_hand;
   // What the task believes of the head's pose: off by the head error, in a direction of
   // its own (another stream of the trial's seed than the wrist's).
   constexpr uint64_t kHeadStream = 0x9E3779B97F4A7C15ull;
@@ -295,7 +297,7 @@ SimTrial run_sim_trial(const std::string& kind_name, uint64_t seed, const SimOpt
   out.registration = to_string(pr.registration.outcome);
   if (pr.registration.outcome == RegistrationOutcome::sensor_disagreement)
     out.registration += pr.registration.left_out == SensorRole::head ? " (head left out)" : " (hand left out)";
-  if (out.wrist_view) {
+  if (out.wrist_view && opt.use_hand) {
     // A target point seen by the hand: the truth maps it to the sensor frame, the
     // pose the planner used (and the one given: the correction undone) back to world.
     // Where the wrist camera was when it captured (the true arm's FK), or would be.
@@ -402,6 +404,8 @@ json results_table(const std::vector<SimTrial>& trials, const SimOptions& opt) {
   std::printf("distribution %s, seed %llu (trial i: seed + i; --distribution %s --seed %llu repeats it)\n",
               sim::distribution_name(opt.distribution), static_cast<unsigned long long>(opt.seed),
               sim::distribution_name(opt.distribution), static_cast<unsigned long long>(opt.seed));
+  if (!(opt.use_head && opt.use_hand))
+    std::printf("the %s sensor alone (--sensors)\n", opt.use_head ? "head" : "wrist");
   if (opt.calibration_error_mm > 0.0 || opt.calibration_error_deg > 0.0)
     std::printf("the wrist sensor's believed pose off by %g mm and %g deg in each trial\n", opt.calibration_error_mm,
                 opt.calibration_error_deg);
@@ -441,6 +445,7 @@ void print_registration(const std::vector<SimTrial>& trials) {
     return v[static_cast<size_t>(q * static_cast<double>(v.size() - 1))];
   };
   std::printf("registration: %s\n", line.c_str());
+  if (given.empty()) return;  // no trial used the wrist sensor
   std::printf("hand pose error at the target (mm), median / 90%%: given %.1f / %.1f, used %.1f / %.1f\n",
               pct(given, 0.5), pct(given, 0.9), pct(used, 0.5), pct(used, 0.9));
 }
@@ -480,6 +485,10 @@ json trial_json(const SimTrial& t) {
 
 }  // namespace
 
+const char* sensors_name(const SimOptions& opt) {
+  return opt.use_head && opt.use_hand ? "both" : (opt.use_head ? "head" : "hand");
+}
+
 nlohmann::json run_sim(const SimOptions& opt, const PlannerConfig& cfg, Planner& planner) {
   const std::vector<SimTrial> trials = run_trials(opt, cfg, planner);
   json table = results_table(trials, opt);
@@ -488,6 +497,7 @@ nlohmann::json run_sim(const SimOptions& opt, const PlannerConfig& cfg, Planner&
   for (const SimTrial& t : trials) records.push_back(trial_json(t));
   return json{{"distribution", sim::distribution_name(opt.distribution)},
               {"seed", opt.seed},
+              {"sensors", sensors_name(opt)},
               {"calibration_error", json{{"mm", opt.calibration_error_mm}, {"deg", opt.calibration_error_deg}}},
               {"kinematic_error", json{{"mm", opt.kinematic_error_mm}, {"deg", opt.kinematic_error_deg}}},
               {"head_error", json{{"mm", opt.head_error_mm}, {"deg", opt.head_error_deg}}},

@@ -42,7 +42,13 @@ struct SimOptions {
   //! true arm takes it.
   double kinematic_error_mm = 0.0, kinematic_error_deg = 0.0;
   RegistrationMode registration = RegistrationMode::on;  //!< --registration on|off|strict
+  //! --sensors both|head|hand: the sensors the task captures and plans from (the arm
+  //! still stands at the wrist's viewpoint when the wrist is not used).
+  bool use_head = true, use_hand = true;
 };
+
+//! "both", "head" or "hand": the sensors of SimOptions (--sensors).
+const char* sensors_name(const SimOptions& opt);
 
 //! One trial's outcome.
 struct SimTrial {
