@@ -363,8 +363,8 @@ TEST(BalanceShapes, WedgeWindowBetaIsTwiceTheHalfAngle) {
                     "top-down wedge 2a = 0.2 rad -> best window beta 0.000 (window betas 0..0.34), "
                     "2a = 0.4 -> 0.271 (0.27..0.53), while a fit over the whole side gives 0.201 / 0.404. "
                     "The grasp inherits it: a = 0.2 is planned as balanced with beta 0.192 from a viewpoint "
-                    "whose true beta is 0.380. Fitting the slopes to the voxel centroids instead (docs/method.md "
-                    "D) follows the sides within 1 mm but leaves the best window at "
+                    "whose true beta is 0.380. Fitting the slopes to the voxel centroids instead "
+                    "(docs/method.md D) follows the sides within 1 mm but leaves the best window at "
                     "0.13 / 0.37: the centroids wander ~1 mm, so a 22 mm window's beta scatters by ~0.03 "
                     "and the smallest of ~90 windows lies low; in simulation it lost more than it gained. "
                     "Set FG_RUN_KNOWN_BUGS=1 to run.";
