@@ -212,6 +212,9 @@ constexpr uint8_t kEdge = kNormalClasses + 1;   // the hand saw a surface, the h
 // A surface facing up more than this above the table is an object's: a few times the
 // sensors' noise and the voxel's size.
 constexpr float kRaisedM = 0.01f;
+// A class code with the tops told from the table: a surface facing up is raised (an
+// object's top) above raised_z, the table's height and noise (raised_height).
+uint8_t with_tops(uint8_t k, float z, float raised_z) { return k == kUp && z > raised_z ? kRaised : k; }
 uint8_t normal_class(const Vec3& n) {
   const Vec3 a = n.cwiseAbs();
   if (a.z() >= a.x() && a.z() >= a.y()) return n.z() >= 0.f ? kUp : kNotInView;
@@ -304,8 +307,8 @@ Sums accumulate(const DepthMoments* map, const Pose& hand, Sample* samples, uint
 // - A scarce class (every pre-th voxel would not fill its quota either) is taken from
 //   every voxel near where the first pass met it.
 // Returns how many were taken into `samples`, and the height above which a surface is
-// raised in `raised_z` (+infinity when the first pass met nothing facing up). A cell is kSelectCellBins head
-// sight bins a side (31 mm at 1 m on the host).
+// raised in `raised_z` (+infinity when the first pass met nothing facing up). A cell is
+// kSelectCellBins head sight bins a side (31 mm at 1 m on the host).
 static_assert(kNormalClasses + 2 <= 8, "a cell's classes in a byte's bits");
 static_assert(kNormalClasses + 2 <= 16, "a first-pass class in 4 bits");
 static_assert(size_t{kRegistrationSampleFloats} * kRegistrationSamples % 2 == 0, "the picking's work 8-byte aligned");
@@ -479,8 +482,7 @@ uint32_t select_samples(const VoxelGrid& grid, const SensorViews& views, const D
     Vec3 ph;
     c.p = grid.centroid(i);
     if (!head_sight_bin(views, c.p, ph, u, v) || !Picking::in_cells(wanted_cells, u, v)) return kNotInView;
-    const uint8_t k = picking.classify_in_view(c, ph, u, v);
-    return k == kUp && c.p.z() > raised_z ? kRaised : k;
+    return with_tops(picking.classify_in_view(c, ph, u, v), c.p.z(), raised_z);
   };
   for (uint32_t i = 0; i < size && n < cap; i += pre) {
     int u = 0, v = 0;
@@ -838,7 +840,7 @@ RegistrationResult register_hand(const VoxelGrid& grid, const SensorViews& views
   if (out.outcome == RegistrationOutcome::corrected || out.outcome == RegistrationOutcome::calibration_kept) {
     // The samples off the table first: the slide is searched on them.
     Sample* const off_table = std::partition(samples, samples + n, [raised_z](const Sample& smp) {
-      return !(normal_class(smp.n) == kUp && smp.p.z() <= raised_z);
+      return with_tops(normal_class(smp.n), smp.p.z(), raised_z) != kUp;
     });
     const uint32_t m = static_cast<uint32_t>(off_table - samples);
     slide(moments, given, samples, n, m, params, reinterpret_cast<Vec3*>(work), out);

@@ -121,7 +121,7 @@ struct RegistrationParams {
   float level_tilt_rad = 0.0524f;   //!< 3 deg
   uint32_t min_level_samples = 32;  //!< fewer samples facing up: no tilt measured (NaN)
   //! The slide in the table's plane, searched after the alignment on the samples off the
-  //! table: the coarse grid's step (it reaches 4 steps each way, then three 3 x 3 grids
+  //! table: the coarse grid's step (it reaches 3 steps each way, then three 3 x 3 grids
   //! each half as fine refine it); what it must explain of the samples' misfit (each
   //! sample's capped at gate_end^2), in samples' worth and as a share; and the fewest
   //! samples it needs.
