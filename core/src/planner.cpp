@@ -186,10 +186,13 @@ Status Planner::plan(PlanResult& out) {
       tally.candidates_before = candidates_.n;
       NoGraspReason r2 = NoGraspReason::none;
       const char* why2 = "";
+      const LookAdvice first_look = out.look;
       found = search_grasp(out, r2, why2);
-      // Both failed: the target's own reason and size are reported (the fall-back
-      // was a second chance, not the target); the inspection shows the last search.
+      // Both failed: the target's own reason, size and advice are reported (the
+      // fall-back was a second chance, not the target); the inspection shows the last
+      // search.
       if (found == kMaxCandidates) counts_.object = first_size;
+      out.look = found == kMaxCandidates ? first_look : LookAdvice{};
     }
   }
   return report_search(out, tally, found, reason, why);
@@ -379,6 +382,13 @@ uint32_t Planner::search_grasp(PlanResult& out, NoGraspReason& reason, const cha
     // from elsewhere (the wrist camera) and plan again.
     reason = NoGraspReason::occluded;
     why = "every candidate puts a finger in space the sensors saw only behind the object";
+    // Where a sensor would have to look: the hidden space of the first refused candidate
+    // that has any (a thin grasp's refusal may be for space no sensor covered at all).
+    const Vec3 up = support_.found ? Vec3(support_.plane.n.normalized()) : Vec3::UnitZ();
+    Vec3 hidden;
+    for (uint32_t k = 0; k < selection_.n_occluded() && !out.look.valid; ++k)
+      if (checks_.hidden_centre(candidates_.items[selection_.occluded(k)], hidden))
+        out.look = advise_look(hidden, frame_.centroid, up, sensors_);
   } else {
     why = "every candidate hits the support plane or another object";
   }

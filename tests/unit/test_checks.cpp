@@ -337,6 +337,28 @@ TEST_F(TightBox, TheFarFacesFingerIsHiddenYetOutsideTheBody) {
   EXPECT_NEAR(margins_of(w, c)[CheckId::unknown_space], 0.2f, 1e-6);
 }
 
+TEST_F(TightBox, TheSpaceThatRefusesAGraspIsItsHiddenFingerSamples) {
+  std::vector<Vec3> world;
+  add_box_faces(world, kBoxX, 0.f, kNarrow, kLong, kHigh, 0.002f);
+  add_table_around(world, 0.003f);
+  look(world);
+  // Centred, the far finger's hidden samples lie outside the body: none refuse it.
+  const fg::Candidate centred = top_down(Vec3(kBoxX, 0.f, kHigh - 0.01f), Vec3::UnitX(), kNarrow - kLeaf);
+  Vec3 centre;
+  EXPECT_FALSE(w.checks->hidden_centre(centred, centre));
+  // 52.5 mm towards -x: the +x finger stands inside the box, under its top, where no
+  // sensor sees (the sweep through the top fails it first); the -x finger in the open.
+  // The hidden space is that finger's: its samples' centre, half a finger's thickness
+  // beyond its inner face, below the top.
+  const float shift = 0.0525f;
+  const fg::Candidate inside = top_down(Vec3(kBoxX - shift, 0.f, kHigh - 0.01f), Vec3::UnitX(), kNarrow - kLeaf);
+  ASSERT_TRUE(w.checks->hidden_centre(inside, centre));
+  const float finger_mid = kBoxX - shift + 0.5f * w.cfg.gripper.max_opening_m + 0.5f * w.cfg.gripper.finger_thickness_m;
+  EXPECT_NEAR(centre.x(), finger_mid, 1e-4f);
+  EXPECT_NEAR(centre.y(), 0.f, 0.006f);
+  EXPECT_LT(centre.z(), kHigh);
+}
+
 TEST_F(TightBox, SpaceHiddenByAnotherObjectStillCounts) {
   // A second box (40 x 40 x 150 mm) 20 mm beyond the target's far face: its unseen
   // inside lies outside the target's body, behind the second box's own faces.

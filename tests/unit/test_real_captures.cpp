@@ -357,6 +357,8 @@ TEST(RealCaptures, EveryLabelledObjectUnderTurnedAndShiftedScenes) {
             if (o.result.reason == fg::NoGraspReason::occluded) {
               EXPECT_GT(rj.occluded, rj.collision + rj.table);
               EXPECT_GT(rj.occluded, rj.friction);
+              // Which sensor would have to look where.
+              EXPECT_TRUE(o.result.look.valid);
             }
             if (o.result.reason == fg::NoGraspReason::collision) {
               EXPECT_GE(rj.collision + rj.table, rj.occluded) << "the refusals were mostly for occlusion";

@@ -66,6 +66,9 @@ constexpr float kHullNeighbourhood = 0.01f;
 // A target's footprint (its completed hull on the plane) is flat-sided when it fills at
 // least this share of its smallest rectangle: a disc fills pi/4 (0.785), a rectangle 1.
 constexpr float kFlatSidedFill = 0.9f;
+// The unknown-space check's samples of both open fingers: 2 across a finger's thickness
+// x 3 across its width x 5 along its depth, each (fingers_in_seen_space).
+constexpr uint32_t kFingerSamples = 2 * 2 * 3 * 5;
 // A finger may have this share of its samples hidden (edges of silhouettes blur).
 constexpr float kMaxHiddenShare = 0.2f;
 // A finger with at most this many hidden samples (of 30) counts as in seen space.
@@ -608,7 +611,7 @@ bool GraspChecks::fingers_clear_of_footprint(const Vec3& pos, const ViewFrame& f
 // A few (1) are allowed, but the unseen side of a rounded object bulges past what was
 // seen there, so such grasps come after those whose fingers lie in seen space (0).
 int GraspChecks::fingers_in_seen_space(const Vec3& pos, const ViewFrame& f, float width, uint32_t& partly_hidden,
-                                       float* hidden_share) {
+                                       float* hidden_share, Vec3* hidden_sum) {
   const GripperGeometry& g = cfg_.gripper;
   const float half_open = 0.5f * g.max_opening_m, t = g.finger_thickness_m;
   // A thin grasp (kThinSheetLeaves) closes on a single layer of voxels. Seen by one
@@ -623,6 +626,7 @@ int GraspChecks::fingers_in_seen_space(const Vec3& pos, const ViewFrame& f, floa
   partly_hidden = 0;
   for (int side = 0; side < 2; ++side) {
     const uint32_t before = hidden, free_before = seen_free;
+    Vec3 not_free_sum = Vec3::Zero();  // this finger's samples no sensor saw free
     const float x0 = side == 0 ? -half_open - t : half_open;
     for (int ix = 0; ix < 2; ++ix)
       for (int iy = 0; iy < 3; ++iy)
@@ -633,11 +637,20 @@ int GraspChecks::fingers_in_seen_space(const Vec3& pos, const ViewFrame& f, floa
           ++total;
           const Vec3 q = pos + f.X * x + f.Y * y + f.Z * z;
           const int v = visibility(q);
-          hidden += v < 0 && could_be_solid(q) ? 1u : 0u;
+          const bool counts = v < 0 && could_be_solid(q);
+          hidden += counts ? 1u : 0u;
+          if (counts && hidden_sum != nullptr) *hidden_sum += q;
           seen_free += v > 0 ? 1u : 0u;
+          if (v <= 0) not_free_sum += q;
         }
     if (hidden - before > kSeenFingerHidden) partly_hidden |= 1u << side;
-    if (thin && seen_free - free_before < kThinSeenFree) return 2;
+    if (thin && seen_free - free_before < kThinSeenFree) {
+      // Refused for the space behind the layer: this finger's samples not seen free.
+      const uint32_t not_free = kFingerSamples / 2 - (seen_free - free_before);
+      if (hidden_share != nullptr) *hidden_share = static_cast<float>(not_free) / static_cast<float>(kFingerSamples);
+      if (hidden_sum != nullptr) *hidden_sum = not_free_sum;
+      return 2;
+    }
   }
   // Straight down onto a target standing on the plane, with one finger hidden beside
   // the side the sensors did not see (the far face of a tall box: the top hides it from
@@ -651,6 +664,16 @@ int GraspChecks::fingers_in_seen_space(const Vec3& pos, const ViewFrame& f, floa
   const bool top_down = straight_down(f.Z);
   if (static_cast<float>(hidden) > kMaxHiddenShare * static_cast<float>(total) && !(one_finger && top_down)) return 2;
   return partly_hidden != 0 ? 1 : 0;
+}
+
+bool GraspChecks::hidden_centre(const Candidate& c, Vec3& centre) {
+  uint32_t partly_hidden = 0;
+  float share = 0.f;
+  Vec3 sum = Vec3::Zero();
+  (void)fingers_in_seen_space(c.position, c.frame(), c.width, partly_hidden, &share, &sum);
+  if (!(share > 0.f)) return false;
+  centre = sum / std::round(share * static_cast<float>(kFingerSamples));
+  return true;
 }
 
 // Each side under a partly hidden finger that shows no contact normal (contact_normal_stats:

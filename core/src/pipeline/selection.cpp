@@ -118,9 +118,15 @@ uint32_t Selection::first_pass(CandidateList& list, uint32_t first, GraspChecks&
     if (v.outcome == CheckVerdict::Outcome::wait)
       deferred_[n_deferred_++] = order_[i];
     else
-      ++rejected.by_check[static_cast<uint32_t>(v.check)];
+      count_failure(order_[i], v, rejected);
   }
   return kMaxCandidates;
+}
+
+void Selection::count_failure(uint16_t index, const CheckVerdict& v, CheckRejections& rejected) {
+  ++rejected.by_check[static_cast<uint32_t>(v.check)];
+  if ((v.check == CheckId::unknown_space || v.check == CheckId::unseen_side) && n_occluded_ < kOccludedKept)
+    occluded_[n_occluded_++] = index;
 }
 
 uint32_t Selection::second_pass(CandidateList& list, GraspChecks& checks, GraspCheck* robot,
@@ -133,7 +139,7 @@ uint32_t Selection::second_pass(CandidateList& list, GraspChecks& checks, GraspC
       judged_[deferred_[i]] = 1;
       const CheckVerdict v = judge(c, false, checks, robot);
       if (v.passed()) return deferred_[i];
-      ++rejected.by_check[static_cast<uint32_t>(v.check)];
+      count_failure(deferred_[i], v, rejected);
     }
   return kMaxCandidates;
 }

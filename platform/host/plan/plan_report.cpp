@@ -127,6 +127,10 @@ json plan_report(const Planner& planner, const PlanResult& res, Status st, const
     j["status"] = "no_grasp";
     j["reason"] = to_string(res.reason);
     j["message"] = res.message;
+    if (res.look.valid)
+      j["look"] = json{{"sensor", res.look.sensor == SensorRole::head ? "head" : "hand"},
+                       {"at", vec(res.look.at)},
+                       {"from", vec(res.look.from)}};
   } else {
     j["status"] = "internal_error";
     j["error"] = res.message;

@@ -12,6 +12,7 @@
 #include "fg/core/pinhole.hpp"
 #include "fg/core/pipeline/candidates.hpp"
 #include "fg/core/pipeline/grasp_checks.hpp"
+#include "fg/core/pipeline/look_advice.hpp"
 #include "fg/core/pipeline/object_frame.hpp"
 #include "fg/core/pipeline/registration.hpp"
 #include "fg/core/pipeline/selection.hpp"
@@ -119,6 +120,8 @@ struct PlanResult {
   //! A.4b: how the hand sensor was registered to the head (not_run with one sensor).
   //! Its time is in stage_us's total (and its own `us`), not in another stage's.
   RegistrationResult registration;
+  //! With reason occluded: which sensor would have to look where (look_advice.hpp).
+  LookAdvice look;
 };
 
 //! A stage-by-stage picture of one viewpoint, recomputed on demand (host pictures).

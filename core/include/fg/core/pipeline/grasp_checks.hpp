@@ -138,6 +138,11 @@ class GraspChecks {
   //! that wall.
   [[nodiscard]] bool plausible_wall(const Vec3& q, Vec3& outward) const;
 
+  //! The centre of the space that refused a candidate for occlusion: its open-finger
+  //! samples hidden where something could be solid (the unknown-space check's samples),
+  //! or for a thin grasp a finger's samples no sensor saw free. False when it has none.
+  [[nodiscard]] bool hidden_centre(const Candidate& c, Vec3& centre);
+
   //! Within kTopDownCos of the support plane's downward normal.
   [[nodiscard]] bool straight_down(const Vec3& approach) const;
 
@@ -164,8 +169,11 @@ class GraspChecks {
   [[nodiscard]] bool footprint_applies(const ViewFrame& f, float width) const;
   [[nodiscard]] bool fingers_clear_of_footprint(const Vec3& pos, const ViewFrame& f, float width, float grow = 0.f);
   [[nodiscard]] bool lower_tip_unseen(const Vec3& pos, const ViewFrame& f, float width);
+  // hidden_sum: the sum of the hidden samples that count (world), hidden_share their share
+  // of all; a thin grasp refused for too little space seen free: that finger's samples
+  // not seen free.
   [[nodiscard]] int fingers_in_seen_space(const Vec3& pos, const ViewFrame& f, float width, uint32_t& partly_hidden,
-                                          float* hidden_share = nullptr);
+                                          float* hidden_share = nullptr, Vec3* hidden_sum = nullptr);
   float swept_clearance(const Candidate& c) const;
   float friction_margin_deg(const Candidate& c);
   [[nodiscard]] bool unseen_side_clear(const Vec3& pos, const ViewFrame& f, int side);

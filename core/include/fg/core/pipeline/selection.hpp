@@ -37,8 +37,16 @@ class Selection {
   void begin_target() {
     n_deferred_ = 0;
     ranked_all_ = 0;
+    n_occluded_ = 0;
     for (uint8_t& j : judged_) j = 0;
   }
+
+  //! The first candidates (up to kOccludedKept, in the order judged) that the passes
+  //! refused for occlusion (unknown_space, unseen_side): where a sensor would have to
+  //! look (look_advice.hpp).
+  static constexpr uint32_t kOccludedKept = 4;
+  uint32_t n_occluded() const { return n_occluded_; }
+  uint32_t occluded(uint32_t k) const { return occluded_[k]; }
 
   //! The first pass over candidates [first, list.n) (one family's): ranked, balanced
   //! ones (beta <= beta_max) by dZ, then the rest by beta, and checked in that order.
@@ -78,6 +86,10 @@ class Selection {
   uint32_t checks_left_ = 0;             // candidates the checks may still examine in this plan
   uint8_t judged_[kMaxCandidates] = {};  // per candidate of this target: judged by a pass
   uint32_t ranked_all_ = 0;              // candidates order_ ranks as a whole (alternates), 0: none
+  uint16_t occluded_[kOccludedKept] = {};
+  uint32_t n_occluded_ = 0;
+  // Counts a failed verdict under its check, and keeps the first refusals for occlusion.
+  void count_failure(uint16_t index, const CheckVerdict& v, CheckRejections& rejected);
 };
 
 }  // namespace fg
