@@ -56,6 +56,7 @@ Status Planner::finish(PlanResult& out, const PlanTally& tally, Status s, NoGras
   out.viewpoints = tally.views_before + views_.n;
   out.candidates = tally.candidates_before + candidates_.n;
   out.rejected = RejectCounts::of(out.rejected_by_check);
+  look_ = out.look;
   out.stage_us[static_cast<uint32_t>(Stage::total)] =
       static_cast<uint32_t>(platform::monotonic_us() - tally.t_start) + tally.earlier_us;
   return s;

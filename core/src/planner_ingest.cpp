@@ -65,6 +65,7 @@ void Planner::reset() {
   chosen_candidate_ = kMaxCandidates;
   n_alternates_ = 0;
   registration_ = RegistrationResult{};
+  look_ = LookAdvice{};
   message_ = "";
 }
 

@@ -515,6 +515,21 @@ fg_status fg_set_registration(fg_workspace* ws, int32_t on) {
   return FG_OK;
 }
 
+fg_status fg_look_advice(fg_workspace* ws, fg_look_advice_result* out) {
+  if (!valid(ws)) return FG_ERR_NOT_A_WORKSPACE;
+  if (out == nullptr) return fail(ws, FG_ERR_INVALID_ARGUMENT, "look advice output pointer is null");
+  const fg::LookAdvice& a = ws->planner.look();
+  *out = fg_look_advice_result{};
+  if (!a.valid) return FG_OK;
+  out->valid = 1;
+  out->sensor = static_cast<int32_t>(a.sensor);
+  for (int i = 0; i < 3; ++i) {
+    out->at[i] = a.at[i];
+    out->from[i] = a.from[i];
+  }
+  return FG_OK;
+}
+
 fg_status fg_registration(fg_workspace* ws, fg_registration_result* out) {
   if (!valid(ws)) return FG_ERR_NOT_A_WORKSPACE;
   if (out == nullptr) return fail(ws, FG_ERR_INVALID_ARGUMENT, "registration output pointer is null");

@@ -295,6 +295,23 @@ FG_NODISCARD fg_status fg_set_registration(fg_workspace *ws, int32_t on);
  *  FG_ERR_INVALID_ARGUMENT. */
 FG_NODISCARD fg_status fg_registration(fg_workspace *ws, fg_registration_result *out);
 
+/** After a plan refused its target as occluded (FG_REASON_OCCLUDED): which sensor would
+ *  have to look where (docs/method.md, "The report": look). */
+typedef struct fg_look_advice_result {
+  int32_t valid;  /**< 1 when the last plan was refused as occluded and showed the hidden
+                       space; else 0 and the rest zero */
+  int32_t sensor; /**< an fg_sensor_role: the one whose direction from `at` lies nearest the
+                       advised view (the one that turns least) */
+  float at[3];    /**< world: the centre of the space that refused the first candidate */
+  float from[3];  /**< world: where that sensor would look from, beyond `at` and 45 deg above
+                       it, at its present distance */
+} fg_look_advice_result;
+
+/** The advice of the last fg_plan, fg_plan_ranked, fg_plan_object or
+ *  fg_plan_object_ranked call (valid 0 after any other outcome). A null out:
+ *  FG_ERR_INVALID_ARGUMENT. */
+FG_NODISCARD fg_status fg_look_advice(fg_workspace *ws, fg_look_advice_result *out);
+
 /** Adds one sensor's points: count xyz triples of float (sensor frame, metres), the
  *  first float of point i at xyz + i * stride_bytes (stride >= 12; any alignment).
  *  NaN points are skipped. role: an fg_sensor_role, each at most once per capture. */

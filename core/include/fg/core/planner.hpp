@@ -203,6 +203,8 @@ class Planner {
   RegistrationMode registration_mode() const { return registration_mode_; }
   //! The registration since reset() (also in plan()'s result).
   const RegistrationResult& registration() const { return registration_; }
+  //! The last plan's advice after a refusal as occluded (also in its result).
+  const LookAdvice& look() const { return look_; }
 
   //! This planner's ingest vector width: 0 (the default) the widest this CPU runs (8
   //! lanes on x86-64 with AVX2, else 4), 4 the path of every target. Every width gives
@@ -391,6 +393,7 @@ class Planner {
   // A.4b registration of the hand sensor to the head.
   RegistrationMode registration_mode_ = RegistrationMode::on;
   RegistrationResult registration_;
+  LookAdvice look_;  // the last plan's (PlanResult::look)
   bool registers(SensorRole role) const;
   void begin_hand_pass(ingest::State& in);
   //! False when the hand's points are to stay out (sensor_disagreement).
