@@ -374,44 +374,6 @@ TEST_F(TightBox, SpaceHiddenByAnotherObjectStillCounts) {
   EXPECT_TRUE(w.checks->could_be_solid(in_other));
 }
 
-TEST(Checks, TheBodyEndsAtTheOutermostSeenPointsNotBeyond) {
-  // A box 74 mm across x, 120 mm along y, 100 mm high, at (0.5, 0); its top and its -x
-  // face seen. Depth noise along the rays scatters the face's points up to 4.4 mm to
-  // either side of it (the sum of three sines: a bell about the face, sd 1.8 mm), one
-  // per voxel column of the face.
-  constexpr float kNarrow = 0.074f, kLong = 0.12f, kHigh = 0.1f, kScatter = 0.0045f;
-  const float near_face = kBoxX - 0.5f * kNarrow, far_face = kBoxX + 0.5f * kNarrow;
-  std::vector<Vec3> seen;
-  for (float x = near_face + 0.5f * kLeaf; x < far_face; x += kLeaf)
-    for (float y = -0.5f * kLong + 0.5f * kLeaf; y < 0.5f * kLong; y += kLeaf) seen.emplace_back(x, y, kHigh - 0.0025f);
-  int i = 0;
-  float outermost = near_face;
-  for (float y = -0.5f * kLong + 0.5f * kLeaf; y < 0.5f * kLong; y += kLeaf)
-    for (float z = 0.0025f; z < kHigh - kLeaf; z += kLeaf, ++i) {
-      const float e = kScatter / 3.f *
-                      (std::sin(2.399963f * static_cast<float>(i)) + std::sin(1.7f * static_cast<float>(i) + 1.f) +
-                       std::sin(0.77f * static_cast<float>(i) + 2.f));
-      seen.emplace_back(near_face + e, y, z);
-      outermost = std::min(outermost, near_face + e);
-    }
-  ASSERT_LT(outermost, near_face - 0.004f);
-  CheckWorld w;
-  w.build(seen);
-  const float z = 0.5f * kHigh;
-  // The noise puts the outermost points millimetres beyond the face, where partly filled
-  // voxels would put them half a voxel inside it: the body is their hull, not grown.
-  // Beyond every seen point nothing says the target is there (grown by half a voxel, the
-  // body would take 2.5 mm more of the clearance a tight fit has).
-  EXPECT_FALSE(w.checks->plausibly_solid(Vec3(outermost - 0.001f, 0.f, z)));
-  EXPECT_TRUE(w.checks->plausibly_solid(Vec3(near_face - 0.002f, 0.f, z)));
-  EXPECT_TRUE(w.checks->plausibly_solid(Vec3(near_face + 0.001f, 0.f, z)));
-  // The unseen far face: the top's rim there, its voxels' centres half a voxel inside
-  // it (a finger reaching past them meets the rim's voxels in its sweep).
-  EXPECT_TRUE(w.checks->plausibly_solid(Vec3(far_face - 0.003f, 0.f, z)));
-  EXPECT_FALSE(w.checks->plausibly_solid(Vec3(far_face + 0.006f, 0.f, z)));
-  EXPECT_FALSE(w.checks->plausibly_solid(Vec3(kBoxX, 0.5f * kLong + 0.001f, z)));
-}
-
 TEST(Checks, ARoundBodyKeepsEveryHiddenSampleAsPossiblySolid) {
   // A can (74 mm across) seen from one side: its footprint is a disc, which may bulge
   // beyond what was seen; no body bounds it.

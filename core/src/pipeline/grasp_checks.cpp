@@ -296,12 +296,8 @@ void GraspChecks::build_plausible_body(Vec2* scratch) {
 }
 
 bool GraspChecks::plausibly_solid(const Vec3& q) const {
-  // The hull through the outermost centroids, not grown: depth noise along the sensors'
-  // rays scatters a seen face's centroids to both sides of it, and the outermost of its
-  // hundreds lie millimetres beyond it, farther than a partly filled voxel's centroid lies
-  // inside a surface (half a voxel at most; a finger reaching past a rim's centroids meets
-  // them in its sweep, swept_collision).
-  return n_body_edges_ < 3 || in_body(q, 0.f);
+  // Voxel centroids lie up to half a voxel inside the surface.
+  return n_body_edges_ < 3 || in_body(q, 0.5f * cfg_.voxel_leaf_m);
 }
 
 bool GraspChecks::in_body(const Vec3& q, float grow) const {

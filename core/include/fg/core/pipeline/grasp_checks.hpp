@@ -126,7 +126,7 @@ class GraspChecks {
   //! The target could be solid at q: q lies in its plausible body, the prism over the
   //! convex hull, on the support plane, of its points and their mirror images through
   //! the hull's centre (the seen part completed by the symmetry of a body about its
-  //! vertical axis), from the plane up to its highest point.
+  //! vertical axis), from the plane up to its highest point, grown by half a voxel.
   //! Everywhere true without a support plane or without such a hull.
   [[nodiscard]] bool plausibly_solid(const Vec3& q) const;
   //! A hidden q (visibility) could be solid: it lies inside the target's plausible
