@@ -20,6 +20,7 @@
 #include "fg/task/grasp_task.hpp"
 #include "sim/calibration_error.hpp"
 #include "sim/grasp_judge.hpp"
+#include "sim/pinhole.hpp"
 #include "sim/scene_export.hpp"
 #include "sim/scene_gen.hpp"
 #include "sim/sim_hal.hpp"
@@ -252,6 +253,48 @@ void write_trial_files(const std::string& name, const SimOptions& opt, Planner& 
 
 }  // namespace
 
+namespace {
+
+//! One more plan after a refusal as occluded: the sensor the advice names looks from the
+//! advised view at the advised point, the other sensor as it was (true poses; no arm and
+//! no arm's check: it shows what the view shows, not whether the arm can put the camera
+//! there). "success" when the judge passes the grasp on the gripper's criteria, else the
+//! judge's or the planner's reason.
+std::string plan_after_advised_look(const sim::GeneratedScene& scene, const LookAdvice& look, const SimOptions& opt,
+                                    const PlannerConfig& cfg, Planner& planner) {
+  constexpr uint64_t kRelookStream = 0xD1B54A32D192ED03ull;  // the new image's own noise
+  const sim::SceneImages img = sim::render_scene(scene);
+  const bool hand_moves = look.sensor == SensorRole::hand;
+  sim::Camera moved = hand_moves ? scene.hand : scene.head;
+  moved.world_T_sensor = sim::look_at(look.from.cast<double>(), look.at.cast<double>());
+  const sim::DepthImage moved_img = sim::render_depth(
+      scene.world, moved, scene.noise, (hand_moves ? scene.hand_noise_seed : scene.head_noise_seed) ^ kRelookStream);
+  planner.reset();
+  for (const SensorRole role : {SensorRole::head, SensorRole::hand}) {  // the head first (A.4b)
+    const bool head = role == SensorRole::head, advised = role == look.sensor;
+    if (!advised && !(head ? opt.use_head : opt.use_hand)) continue;
+    const sim::Camera& cam = advised ? moved : head ? scene.head : scene.hand;
+    const sim::DepthImage& im = advised ? moved_img : head ? img.head : img.hand;
+    if (sim::add_rendered(planner, role, im, cam) != Status::ok) return "points_refused";
+  }
+  PlanResult r;
+  const Status s = planner.plan(r);
+  if (s == Status::no_grasp) return std::string("no_grasp:") + to_string(r.reason);
+  if (s != Status::ok) return std::string("plan:") + to_string(s);
+  sim::Grasp g;
+  g.position = r.grasp.position;
+  g.approach = r.grasp.approach;
+  g.closing = r.grasp.closing;
+  g.width = r.grasp.width;
+  sim::JudgeOptions jo;
+  jo.mu = opt.mu;
+  jo.width_tolerance = std::numeric_limits<double>::infinity();
+  const sim::JudgeResult j = sim::judge_grasp(scene.world, scene.target, g, cfg.gripper, jo);
+  return j.success ? "success" : j.reason.substr(0, j.reason.find(' '));
+}
+
+}  // namespace
+
 SimTrial run_sim_trial(const std::string& kind_name, uint64_t seed, const SimOptions& opt, const PlannerConfig& cfg,
                        Planner& planner) {
   SimTrial out;
@@ -314,6 +357,10 @@ SimTrial run_sim_trial(const std::string& kind_name, uint64_t seed, const SimOpt
   }
   give_verdict(out, pr, scene, cfg, opt, run, grasp_task.state());
   write_trial_files(kind_name + "-" + std::to_string(seed), opt, planner, pr, scene, hw);
+  if (pr.status == Status::no_grasp && pr.reason == NoGraspReason::occluded && pr.look.valid) {
+    const LookAdvice look = pr.look;  // pr is the planner's task's, which the next plan replaces
+    out.relook = plan_after_advised_look(scene, look, opt, cfg, planner);
+  }
   return out;
 }
 
@@ -450,6 +497,23 @@ void print_registration(const std::vector<SimTrial>& trials) {
               pct(given, 0.5), pct(given, 0.9), pct(used, 0.5), pct(used, 0.9));
 }
 
+//! The refusals as occluded that advised a view, and one more plan from it.
+void print_relook(const std::vector<SimTrial>& trials) {
+  uint32_t advised = 0, fits_advised = 0, fits_grasped = 0;
+  for (const SimTrial& t : trials) {
+    if (t.relook.empty()) continue;
+    ++advised;
+    if (!t.fits) continue;
+    ++fits_advised;
+    fits_grasped += t.relook == "success" ? 1u : 0u;
+  }
+  if (advised > 0)
+    std::printf(
+        "refused as occluded with a view advised: %u (%u fit); one more plan from that view grasped %u of "
+        "those that fit\n",
+        advised, fits_advised, fits_grasped);
+}
+
 json trial_json(const SimTrial& t) {
   json r{{"kind", t.kind},
          {"seed", t.seed},
@@ -464,6 +528,7 @@ json trial_json(const SimTrial& t) {
          {"task_s", t.task_s},
          {"ticks", t.ticks},
          {"registration", t.registration}};
+  if (!t.relook.empty()) r["relook"] = t.relook;
   if (t.hand_error_given_mm >= 0.0)
     r["hand_error_mm"] = json{{"given", t.hand_error_given_mm}, {"used", t.hand_error_used_mm}};
   if (t.has_grasp) {
@@ -493,6 +558,7 @@ nlohmann::json run_sim(const SimOptions& opt, const PlannerConfig& cfg, Planner&
   const std::vector<SimTrial> trials = run_trials(opt, cfg, planner);
   json table = results_table(trials, opt);
   print_registration(trials);
+  print_relook(trials);
   json records = json::array();
   for (const SimTrial& t : trials) records.push_back(trial_json(t));
   return json{{"distribution", sim::distribution_name(opt.distribution)},

@@ -78,6 +78,10 @@ struct SimTrial {
   // scene's viewpoint.
   std::string registration;
   double hand_error_given_mm = -1.0, hand_error_used_mm = -1.0;
+  // After a refusal as occluded that said which sensor would have to look where: one
+  // more plan with that sensor looking from there (plan_after_advised_look), "success"
+  // or why not; empty otherwise.
+  std::string relook;
 };
 
 //! Runs one trial with the planner configuration `cfg`. `planner` is reused between
