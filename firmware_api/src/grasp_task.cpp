@@ -4,6 +4,9 @@
 
 #include <cmath>
 
+#include "fg/core/constants.hpp"
+#include "fg/robot/ur5_ik.hpp"
+
 namespace fg::task {
 namespace {
 
@@ -78,6 +81,9 @@ const char* to_string(TaskFailure f) {
 Status GraspTask::start(const TaskConfig& cfg) {
   state_ = TaskState::idle;
   ticks_ = 0;
+  relooks_ = 0;
+  followed_ = LookAdvice{};
+  move_first_ = false;
   plan_ = PlanResult{};
   const bool ok = all_finite(cfg.world_T_base) && all_finite(cfg.world_T_head) && all_finite(cfg.tool0_T_hand) &&
                   (cfg.use_head || cfg.use_hand) && std::isfinite(cfg.tcp_offset_m) && cfg.tcp_offset_m >= 0.f &&
@@ -186,6 +192,13 @@ TaskState GraspTask::step(Planner& planner, const TaskHal& hal) {
 }
 
 TaskState GraspTask::step_capture(Planner& planner, const TaskHal& hal, uint64_t now) {
+  // Looking again from an advised view: the arm takes the wrist sensor there first.
+  if (move_first_) {
+    const bool moving = entry_done_;
+    const TaskState s = step_move(hal, now, q_relook_, TaskState::capturing);
+    if (s == TaskState::capturing && moving && !entry_done_) move_first_ = false;  // there
+    return s;
+  }
   hal::DepthSensor* sensors[2] = {hal.head, hal.hand};
   const bool used[2] = {cfg_.use_head, cfg_.use_hand};
   if (!entry_done_) {
@@ -252,6 +265,16 @@ TaskState GraspTask::step_plan(Planner& planner, const TaskHal&, uint64_t now) {
   planner.set_grasp_check(callers_check);
   if (planned != Status::ok) {
     if (plan_.reason == NoGraspReason::unreachable) return fail(TaskFailure::unreachable, plan_.message);
+    // Refused as occluded: the robot can look from elsewhere and plan again, from the
+    // view the plan advises, when the arm can put the wrist sensor there.
+    if (plan_.reason == NoGraspReason::occluded && plan_.look.valid && cfg_.use_hand && relooks_ < cfg_.max_relooks &&
+        relook_joints(q_relook_)) {
+      ++relooks_;
+      followed_ = plan_.look;
+      move_first_ = true;
+      enter(TaskState::capturing, now);
+      return state_;
+    }
     return fail(TaskFailure::no_grasp, plan_.message);
   }
   if (!check_.has_motion())
@@ -266,6 +289,43 @@ TaskState GraspTask::step_plan(Planner& planner, const TaskHal&, uint64_t now) {
   waypoint_ = 0;
   enter(TaskState::opening, now);
   return state_;
+}
+
+// The joints that put the wrist sensor on the advised view's line through the hidden
+// space (PlanResult::look), at its distance from that space when it captured, looking
+// at it: rolls about the optical axis of 0, -30, +30, ... deg, each the IK solution
+// nearest the capture joints inside the limits.
+bool GraspTask::relook_joints(double q[6]) const {
+  const LookAdvice& a = plan_.look;
+  robot::PoseD base_T_tool0;
+  if (!robot::ur5_forward_d(cfg_.robot, q_capture_, base_T_tool0)) return false;
+  const robot::PoseD world_T_hand = compose(compose(to_d(cfg_.world_T_base), base_T_tool0), to_d(cfg_.tool0_T_hand));
+  const Eigen::Vector3d at = a.at.cast<double>();
+  Eigen::Vector3d back = (a.from - a.at).cast<double>();
+  const double dist = (world_T_hand.t - at).norm();
+  if (!(back.norm() > 1e-9) || !(dist > 1e-6)) return false;
+  back.normalize();
+  const Eigen::Vector3d z = -back;  // the optical axis, towards the hidden space
+  const Eigen::Vector3d x0 = z.unitOrthogonal(), y0 = z.cross(x0);
+  const robot::PoseD base_T_world = robot::inverse(to_d(cfg_.world_T_base));
+  const robot::PoseD hand_T_tool0 = robot::inverse(to_d(cfg_.tool0_T_hand));
+  constexpr int kRolls = 12;
+  for (int r = 0; r < kRolls; ++r) {
+    const double roll = (r % 2 == 0 ? 1.0 : -1.0) * static_cast<double>((r + 1) / 2) * (2.0 * kPi / kRolls);
+    robot::PoseD world_T_camera;
+    world_T_camera.R.col(0) = std::cos(roll) * x0 + std::sin(roll) * y0;
+    world_T_camera.R.col(2) = z;
+    world_T_camera.R.col(1) = z.cross(world_T_camera.R.col(0));
+    world_T_camera.t = at + back * dist;
+    robot::IkSolutions sols;
+    const robot::PoseD target = compose(base_T_world, compose(world_T_camera, hand_T_tool0));
+    if (!robot::ik_has_solution(robot::ur5_inverse(cfg_.robot, target, sols, cfg_.ik))) continue;
+    const robot::IkChoice c = robot::choose_nearest(q_capture_, sols, cfg_.ik.limits);
+    if (c.status != robot::IkStatus::ok) continue;
+    for (int i = 0; i < 6; ++i) q[i] = c.q[i];
+    return true;
+  }
+  return false;
 }
 
 TaskState GraspTask::step_move(const TaskHal& hal, uint64_t now, const double* target, TaskState next) {

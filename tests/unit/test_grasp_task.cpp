@@ -324,6 +324,56 @@ TEST(GraspTask, RefusesBadConfigurationsAndIdles) {
   EXPECT_EQ(rig.head.requests, 0);
 }
 
+// Refused as occluded, the task moves the wrist sensor to the view the plan advises,
+// captures and plans once more (the fake sensors give the same images again, so the plan
+// refuses again): the arm's one motion puts the camera on the advised line through the
+// hidden space, at the camera's distance from it, looking at it. With max_relooks 0, or a
+// refusal for another reason, the arm does not move. Big spheres, too wide: some of their
+// refusals are for occlusion.
+TEST(GraspTask, RefusedAsOccludedItLooksAgainFromTheAdvisedView) {
+  int looked = 0;
+  for (uint64_t seed = 1; seed <= 12 && looked == 0; ++seed) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    Rig rig(fg::sim::ObjectKind::big_sphere, seed);
+    GraspTask task;
+    ASSERT_EQ(task.start(rig.cfg), Status::ok);
+    EXPECT_EQ(rig.run(task), TaskState::failed);
+    if (task.relooks() == 0) {
+      EXPECT_NE(task.plan_result().reason, fg::NoGraspReason::occluded);
+      EXPECT_TRUE(rig.arm.targets.empty());
+      continue;
+    }
+    ++looked;
+    EXPECT_EQ(task.relooks(), 1u);
+    EXPECT_EQ(task.failure(), TaskFailure::no_grasp);
+    EXPECT_EQ(rig.hand.requests, 2);
+    EXPECT_EQ(rig.head.requests, 2);
+    ASSERT_EQ(rig.arm.targets.size(), 1u);
+    const fg::LookAdvice& look = task.followed_advice();
+    ASSERT_TRUE(look.valid);
+    // The camera before: the scene's (the rig's mount makes FK(home) put it there).
+    const Eigen::Vector3d before = rig.scene.hand.world_T_sensor.t;
+    const fg::robot::PoseD after =
+        fg::robot::compose(fk(rig.arm.targets[0].data()), fg::robot::to_d(rig.cfg.tool0_T_hand));
+    const Eigen::Vector3d at = look.at.cast<double>();
+    const Eigen::Vector3d line = (look.from - look.at).cast<double>().normalized();
+    EXPECT_NEAR((after.t - at).norm(), (before - at).norm(), 1e-5);
+    EXPECT_GT((after.t - at).normalized().dot(line), 1.0 - 1e-6);
+    EXPECT_GT(after.R.col(2).dot(-line), 1.0 - 1e-6);
+    // Configured not to look again: refused at once, the arm still.
+    Rig still(fg::sim::ObjectKind::big_sphere, seed);
+    still.cfg.max_relooks = 0;
+    GraspTask once;
+    ASSERT_EQ(once.start(still.cfg), Status::ok);
+    EXPECT_EQ(still.run(once), TaskState::failed);
+    EXPECT_EQ(once.relooks(), 0u);
+    EXPECT_EQ(once.plan_result().reason, fg::NoGraspReason::occluded);
+    EXPECT_EQ(still.hand.requests, 1);
+    EXPECT_TRUE(still.arm.targets.empty());
+  }
+  EXPECT_GT(looked, 0) << "no plan was refused as occluded: the test shows nothing";
+}
+
 TEST(GraspTask, OneSensorIsEnough) {
   Rig rig(fg::sim::ObjectKind::box, 1);
   rig.cfg.use_hand = false;

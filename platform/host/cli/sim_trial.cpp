@@ -329,6 +329,7 @@ SimTrial run_sim_trial(const std::string& kind_name, uint64_t seed, const SimOpt
   const TaskRun run = run_task(grasp_task, tc, hw, scene, planner, cfg.gripper);
 
   out.ticks = run.ticks;
+  out.relooks = grasp_task.relooks();
   out.task_s = static_cast<double>(hw.clock.time_us()) * 1e-6;
   const PlanResult& pr = grasp_task.plan_result();
   out.plan_ms = pr.stage_us[static_cast<int>(Stage::total)] > 0 ? pr.stage_us[static_cast<int>(Stage::total)] * 1e-3
@@ -499,7 +500,14 @@ void print_registration(const std::vector<SimTrial>& trials) {
 
 //! The refusals as occluded that advised a view, and one more plan from it.
 void print_relook(const std::vector<SimTrial>& trials) {
-  uint32_t advised = 0, fits_advised = 0, fits_grasped = 0;
+  uint32_t advised = 0, fits_advised = 0, fits_grasped = 0, task_looked = 0, task_right = 0;
+  for (const SimTrial& t : trials) {
+    task_looked += t.relooks > 0 ? 1u : 0u;
+    task_right += t.relooks > 0 && t.success ? 1u : 0u;
+  }
+  if (task_looked > 0)
+    std::printf("the task's wrist sensor looked again from an advised view in %u trials, %u of them right\n",
+                task_looked, task_right);
   for (const SimTrial& t : trials) {
     if (t.relook.empty()) continue;
     ++advised;
@@ -529,6 +537,7 @@ json trial_json(const SimTrial& t) {
          {"ticks", t.ticks},
          {"registration", t.registration}};
   if (!t.relook.empty()) r["relook"] = t.relook;
+  if (t.relooks > 0) r["relooks"] = t.relooks;
   if (t.hand_error_given_mm >= 0.0)
     r["hand_error_mm"] = json{{"given", t.hand_error_given_mm}, {"used", t.hand_error_used_mm}};
   if (t.has_grasp) {

@@ -78,6 +78,7 @@ struct SimTrial {
   // scene's viewpoint.
   std::string registration;
   double hand_error_given_mm = -1.0, hand_error_used_mm = -1.0;
+  uint32_t relooks = 0;  //!< times the task's wrist sensor looked again from an advised view
   // After a refusal as occluded that said which sensor would have to look where: one
   // more plan with that sensor looking from there (plan_after_advised_look), "success"
   // or why not; empty otherwise.

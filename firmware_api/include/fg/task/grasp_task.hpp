@@ -69,6 +69,10 @@ struct TaskConfig {
   //! the support plane and the target with libccd, where the build has it.
   bool check_tool_collision = true;
   float tool_body_half_width_m = 0.032f;
+  //! After a refusal as occluded, the wrist sensor looks again from the view the plan
+  //! advises (PlanResult::look: along its line, at the wrist's own distance) and the task
+  //! captures and plans once more: at most this many times (0: never).
+  uint32_t max_relooks = 1;
 };
 
 //! The hardware the task drives; a sensor pointer may be null when it is not used.
@@ -100,6 +104,10 @@ class GraspTask {
   //! Ticks spent in step() since start() (bounded work per tick, but how many ticks
   //! a grasp takes depends on the hardware).
   uint32_t ticks() const { return ticks_; }
+  //! Times the wrist sensor looked again from an advised view since start(), and the
+  //! advice it followed last (invalid before any).
+  uint32_t relooks() const { return relooks_; }
+  const LookAdvice& followed_advice() const { return followed_; }
 
  private:
   void enter(TaskState s, uint64_t now_us);
@@ -108,6 +116,7 @@ class GraspTask {
   TaskState step_capture(Planner& planner, const TaskHal& hal, uint64_t now_us);
   TaskState step_plan(Planner& planner, const TaskHal& hal, uint64_t now_us);
   TaskState step_move(const TaskHal& hal, uint64_t now_us, const double* target, TaskState next);
+  [[nodiscard]] bool relook_joints(double q[6]) const;
 
   TaskConfig cfg_;
   TaskState state_ = TaskState::idle;
@@ -121,6 +130,10 @@ class GraspTask {
   double q_pre_[6] = {}, q_grasp_[6] = {}, q_lift_[6] = {};
   double q_approach_[robot::GraspMotion::kApproachSteps][6] = {};  // the last one is q_grasp_
   int waypoint_ = 0;                                               // of the approach
+  uint32_t relooks_ = 0;
+  LookAdvice followed_;
+  bool move_first_ = false;  // capturing: the arm first takes q_relook_
+  double q_relook_[6] = {};
   PlanResult plan_;
   robot::Ur5GraspCheck check_;
 };
