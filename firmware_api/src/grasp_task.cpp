@@ -311,7 +311,8 @@ bool GraspTask::relook_joints(double q[6]) const {
   const robot::PoseD hand_T_tool0 = robot::inverse(to_d(cfg_.tool0_T_hand));
   constexpr int kRolls = 12;
   for (int r = 0; r < kRolls; ++r) {
-    const double roll = (r % 2 == 0 ? 1.0 : -1.0) * static_cast<double>((r + 1) / 2) * (2.0 * kPi / kRolls);
+    const int steps = (r + 1) / 2;  // 0, 1, 1, 2, 2, ...: the nearest rolls first
+    const double roll = (r % 2 == 0 ? 1.0 : -1.0) * static_cast<double>(steps) * (2.0 * kPi / kRolls);
     robot::PoseD world_T_camera;
     world_T_camera.R.col(0) = std::cos(roll) * x0 + std::sin(roll) * y0;
     world_T_camera.R.col(2) = z;
