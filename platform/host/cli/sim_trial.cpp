@@ -167,23 +167,29 @@ TaskRun run_task(task::GraspTask& grasp_task, const task::TaskConfig& tc, TrialH
   return run;
 }
 
-//! The judge's verdict on the planned grasp, on the true geometry; what it measured is
+//! The judge's verdict on a planned grasp, on the true geometry, by the criteria of a
+//! grasp the task executes: both pads on the target, normals in the friction cone, no
+//! collision, the width within the opening. The reported width is not one of them (the
+//! gripper closes until contact): its error is only measured.
+[[nodiscard]] sim::JudgeResult judge_as_executed(const Grasp& grasp, const sim::GeneratedScene& scene,
+                                                 const PlannerConfig& cfg, const SimOptions& opt) {
+  sim::Grasp g;
+  g.position = grasp.position;
+  g.approach = grasp.approach;
+  g.closing = grasp.closing;
+  g.width = grasp.width;
+  sim::JudgeOptions jo;
+  jo.mu = opt.mu;
+  jo.width_tolerance = std::numeric_limits<double>::infinity();
+  return sim::judge_grasp(scene.world, scene.target, g, cfg.gripper, jo);
+}
+
+//! The judge's verdict on the planned grasp (judge_as_executed); what it measured is
 //! recorded in out.
 [[nodiscard]] sim::JudgeResult judge_planned_grasp(SimTrial& out, const PlanResult& pr,
                                                    const sim::GeneratedScene& scene, const PlannerConfig& cfg,
                                                    const SimOptions& opt) {
-  sim::Grasp g;
-  g.position = pr.grasp.position;
-  g.approach = pr.grasp.approach;
-  g.closing = pr.grasp.closing;
-  g.width = pr.grasp.width;
-  // The criteria of a grasp the task executes: both pads on the target, normals in the
-  // friction cone, no collision, the width within the opening. The reported width is
-  // not one of them (the gripper closes until contact): its error is recorded only.
-  sim::JudgeOptions jo;
-  jo.mu = opt.mu;
-  jo.width_tolerance = std::numeric_limits<double>::infinity();
-  sim::JudgeResult j = sim::judge_grasp(scene.world, scene.target, g, cfg.gripper, jo);
+  sim::JudgeResult j = judge_as_executed(pr.grasp, scene, cfg, opt);
   if (j.true_width >= 0.f) out.width_error_m = std::fabs(j.true_width - pr.grasp.width);
   out.has_grasp = true;
   out.grasp = pr.grasp;
@@ -281,15 +287,7 @@ std::string plan_after_advised_look(const sim::GeneratedScene& scene, const Look
   const Status s = planner.plan(r);
   if (s == Status::no_grasp) return std::string("no_grasp:") + to_string(r.reason);
   if (s != Status::ok) return std::string("plan:") + to_string(s);
-  sim::Grasp g;
-  g.position = r.grasp.position;
-  g.approach = r.grasp.approach;
-  g.closing = r.grasp.closing;
-  g.width = r.grasp.width;
-  sim::JudgeOptions jo;
-  jo.mu = opt.mu;
-  jo.width_tolerance = std::numeric_limits<double>::infinity();
-  const sim::JudgeResult j = sim::judge_grasp(scene.world, scene.target, g, cfg.gripper, jo);
+  const sim::JudgeResult j = judge_as_executed(r.grasp, scene, cfg, opt);
   return j.success ? "success" : j.reason.substr(0, j.reason.find(' '));
 }
 
