@@ -386,7 +386,7 @@ uint32_t Planner::search_grasp(PlanResult& out, NoGraspReason& reason, const cha
     // Where a sensor would have to look: the hidden space of the first refused candidate
     // that has any (a thin grasp's refusal may be for space no sensor covered at all).
     const Vec3 up = support_.found ? Vec3(support_.plane.n.normalized()) : Vec3::UnitZ();
-    Vec3 hidden;
+    Vec3 hidden = Vec3::Zero();
     for (uint32_t k = 0; k < selection_.n_occluded() && !out.look.valid; ++k)
       if (checks_.hidden_centre(candidates_.items[selection_.occluded(k)], hidden))
         out.look = advise_look(hidden, frame_.centroid, up, sensors_);

@@ -637,7 +637,7 @@ int GraspChecks::fingers_in_seen_space(const Vec3& pos, const ViewFrame& f, floa
           hidden += counts ? 1u : 0u;
           if (counts && hidden_sum != nullptr) *hidden_sum += q;
           seen_free += v > 0 ? 1u : 0u;
-          if (v <= 0) not_free_sum += q;
+          if (v <= 0 && hidden_sum != nullptr) not_free_sum += q;
         }
     if (hidden - before > kSeenFingerHidden) partly_hidden |= 1u << side;
     if (thin && seen_free - free_before < kThinSeenFree) {

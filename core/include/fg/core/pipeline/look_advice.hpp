@@ -1,6 +1,6 @@
 // After a refusal for occlusion: which sensor would have to look where. The hidden
-// space that turned the best-ranked refused candidate down (its open fingers' samples
-// no sensor saw, where the target could be solid) is seen from beyond it, looking back
+// space that turned the first candidate refused for occlusion down (its open fingers'
+// samples no sensor saw, where the target could be solid) is seen from beyond it, looking back
 // at it over the target: from above and from the far side of that space, away from the
 // target's centre, so that the target itself does not stand in the way.
 #pragma once
