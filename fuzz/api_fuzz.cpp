@@ -350,6 +350,24 @@ void op_plan(Reader& r) {
   const fg_status s = named(fg_plan(ws, null_out ? nullptr : &g));
   fg_fuzz::disarm();
   if (g_verbose) std::fprintf(stderr, "api_fuzz: plan %s\n", fg_status_str(s));
+  // The advice after it: finite when given, zero throughout when not; after a plan that
+  // ran (ok or no_grasp), given only for a refusal as occluded.
+  fg_look_advice_result look;
+  fg_fuzz::arm();
+  const fg_status ls = named(fg_look_advice(ws, null_out ? nullptr : &look));  // no byte more read
+  fg_fuzz::disarm();
+  if (null_out && ls == FG_OK) breach("a null look advice output was accepted", ls);
+  if (ls == FG_OK) {
+    const bool planned = (s == FG_OK || s == FG_NO_GRASP) && !null_out;
+    if (look.valid != 0 && look.valid != 1) breach("look advice neither valid nor not", s);
+    if (planned && look.valid != 0 && !(s == FG_NO_GRASP && g.reason == FG_REASON_OCCLUDED))
+      breach("look advice outside a refusal as occluded", s);
+    for (int i = 0; i < 3; ++i) {
+      if (look.valid != 0 && !(std::isfinite(look.at[i]) && std::isfinite(look.from[i])))
+        breach("non-finite look advice", s);
+      if (look.valid == 0 && (look.at[i] != 0.f || look.from[i] != 0.f)) breach("look advice without valid", s);
+    }
+  }
   if (s != FG_OK) return;
   if (null_out) breach("fg_plan returned FG_OK without an output", s);
   check_grasp(g, s);
