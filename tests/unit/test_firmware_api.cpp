@@ -252,8 +252,6 @@ TEST(FirmwareApiRegistration, ReportsThePlannersRegistration) {
   EXPECT_EQ(fg_set_registration(nullptr, 1), FG_ERR_NOT_A_WORKSPACE);
 }
 
-// The example's hand 12 cm and 8 degrees off, beyond the registration's reach: on, the
-// hand is left out (the plan is the head's); strict, fg_plan fails naming it.
 // After a refusal as occluded: the advice Planner::look() gives, field for field, bit for
 // bit; after a plan that found a grasp, none. Scenes of round bodies rendered by hal/sim
 // for the head alone, until one of each outcome was compared.
@@ -307,6 +305,8 @@ TEST(FirmwareApiLookAdvice, ReportsThePlannersAdvice) {
   EXPECT_GT(grasped, 0);
 }
 
+// The example's hand 12 cm and 8 degrees off, beyond the registration's reach: on, the
+// hand is left out (the plan is the head's); strict, fg_plan fails naming it.
 TEST(FirmwareApiRegistration, StrictModeRefusesCloudsThatDisagree) {
   SceneData d;
   ASSERT_TRUE(load(FG_SOURCE_DIR "/examples/two-sensor-box/scene.json", d));
