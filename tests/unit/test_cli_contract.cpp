@@ -1281,9 +1281,6 @@ TEST_F(CliContract, HeadOffLevelPlansFromTheHand) {
   EXPECT_TRUE(ok["left_out"].is_null() && ok["head_tilt_deg"].is_null()) << ok.dump();
 }
 
-// `forcegrasp sim --sensors head|hand`: the task captures with that sensor alone, so
-// nothing is registered and, with the head alone, no wrist pose error is measured; the
-// default captures with both and registers the wrist. An unknown value is refused.
 // A trial refused as occluded plans once more with the advised sensor looking from the
 // advised view, and the report says how that went; no other trial does. Round bodies
 // seen by the head alone: a few of 40 are refused for occlusion.
@@ -1308,6 +1305,9 @@ TEST_F(CliContract, SimPlansOnceMoreFromTheAdvisedView) {
   EXPECT_NE(r.out.find("refused as occluded with a view advised"), std::string::npos) << describe(r);
 }
 
+// `forcegrasp sim --sensors head|hand`: the task captures with that sensor alone, so
+// nothing is registered and, with the head alone, no wrist pose error is measured; the
+// default captures with both and registers the wrist. An unknown value is refused.
 TEST_F(CliContract, SimPlansFromTheSensorsAsked) {
   const auto sim_report = [&](const std::string& sensors) {
     const std::string out = path("sim_" + sensors + ".json");
