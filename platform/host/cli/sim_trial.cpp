@@ -470,7 +470,6 @@ json results_table(const std::vector<SimTrial>& trials, const SimOptions& opt) {
 
 json vec_json(const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
 
-//! One trial's record: its outcome and, with a grasp, the grasp and what the judge measured.
 //! The registration's outcomes, and the hand pose's error at the target as given and
 //! as used (median and 90th percentile over the trials whose wrist looked from the
 //! scene's viewpoint).
@@ -520,6 +519,7 @@ void print_relook(const std::vector<SimTrial>& trials) {
         advised, fits_advised, fits_grasped);
 }
 
+//! One trial's record: its outcome and, with a grasp, the grasp and what the judge measured.
 json trial_json(const SimTrial& t) {
   json r{{"kind", t.kind},
          {"seed", t.seed},
