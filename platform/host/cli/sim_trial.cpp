@@ -257,10 +257,6 @@ void write_trial_files(const std::string& name, const SimOptions& opt, Planner& 
   }
 }
 
-}  // namespace
-
-namespace {
-
 //! One more plan after a refusal as occluded: the sensor the advice names looks from the
 //! advised view at the advised point, the other sensor as it was (true poses; no arm and
 //! no arm's check: it shows what the view shows, not whether the arm can put the camera
@@ -269,18 +265,19 @@ namespace {
 std::string plan_after_advised_look(const sim::GeneratedScene& scene, const LookAdvice& look, const SimOptions& opt,
                                     const PlannerConfig& cfg, Planner& planner) {
   constexpr uint64_t kRelookStream = 0xD1B54A32D192ED03ull;  // the new image's own noise
-  const sim::SceneImages img = sim::render_scene(scene);
-  const bool hand_moves = look.sensor == SensorRole::hand;
-  sim::Camera moved = hand_moves ? scene.hand : scene.head;
-  moved.world_T_sensor = sim::look_at(look.from.cast<double>(), look.at.cast<double>());
-  const sim::DepthImage moved_img = sim::render_depth(
-      scene.world, moved, scene.noise, (hand_moves ? scene.hand_noise_seed : scene.head_noise_seed) ^ kRelookStream);
   planner.reset();
   for (const SensorRole role : {SensorRole::head, SensorRole::hand}) {  // the head first (A.4b)
     const bool head = role == SensorRole::head, advised = role == look.sensor;
     if (!advised && !(head ? opt.use_head : opt.use_hand)) continue;
-    const sim::Camera& cam = advised ? moved : head ? scene.head : scene.hand;
-    const sim::DepthImage& im = advised ? moved_img : head ? img.head : img.hand;
+    // The advised sensor renders from the advised view with noise of its own; the other
+    // as the task saw it (render_scene's image).
+    sim::Camera cam = head ? scene.head : scene.hand;
+    uint64_t noise_seed = head ? scene.head_noise_seed : scene.hand_noise_seed;
+    if (advised) {
+      cam.world_T_sensor = sim::look_at(look.from.cast<double>(), look.at.cast<double>());
+      noise_seed ^= kRelookStream;
+    }
+    const sim::DepthImage im = sim::render_depth(scene.world, cam, scene.noise, noise_seed);
     if (sim::add_rendered(planner, role, im, cam) != Status::ok) return "points_refused";
   }
   PlanResult r;
@@ -501,17 +498,13 @@ void print_relook(const std::vector<SimTrial>& trials) {
   for (const SimTrial& t : trials) {
     task_looked += t.relooks > 0 ? 1u : 0u;
     task_right += t.relooks > 0 && t.success ? 1u : 0u;
+    advised += t.relook.empty() ? 0u : 1u;
+    fits_advised += !t.relook.empty() && t.fits ? 1u : 0u;
+    fits_grasped += t.fits && t.relook == "success" ? 1u : 0u;
   }
   if (task_looked > 0)
     std::printf("the task's wrist sensor looked again from an advised view in %u trials, %u of them right\n",
                 task_looked, task_right);
-  for (const SimTrial& t : trials) {
-    if (t.relook.empty()) continue;
-    ++advised;
-    if (!t.fits) continue;
-    ++fits_advised;
-    fits_grasped += t.relook == "success" ? 1u : 0u;
-  }
   if (advised > 0)
     std::printf(
         "refused as occluded with a view advised: %u (%u fit); one more plan from that view grasped %u of "
