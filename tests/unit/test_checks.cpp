@@ -374,6 +374,84 @@ TEST_F(TightBox, SpaceHiddenByAnotherObjectStillCounts) {
   EXPECT_TRUE(w.checks->could_be_solid(in_other));
 }
 
+// A 60 x 60 x 100 mm box with a 30 x 30 x 30 mm neck on top, at (0.5, 0), seen from
+// the robot's side (-x) and above: the neck hides the body's top behind it (+x) and the
+// space beside the neck over it. Grasped top-down across the neck, each pad closes from
+// 42.5 mm out to 15 mm: on the +x side through that space.
+struct NeckOnABody : ::testing::Test {
+  static constexpr float kBody = 0.06f, kBodyTop = 0.1f, kNeck = 0.03f, kNeckTop = 0.13f;
+  CheckWorld w;
+  std::vector<Vec3> world;
+  void SetUp() override {
+    // What the head sees of the target: the neck's top and -x face, the body's -x face,
+    // and its top but for the strip behind the neck (x > 15 mm, |y| < 20 mm).
+    std::vector<Vec3> seen;
+    for (const Vec3& p : box_surface(kBoxX, 0.f, kBody, kBody, kBodyTop)) {
+      const bool top = p.z() > kBodyTop - kLeaf, under_neck = std::fabs(p.x() - kBoxX) < 0.5f * kNeck &&
+                                                              std::fabs(p.y()) < 0.5f * kNeck;
+      const bool behind = p.x() > kBoxX + 0.5f * kNeck && std::fabs(p.y()) < 0.02f;
+      if ((top && !under_neck && !behind) || p.x() < kBoxX - 0.5f * kBody + kLeaf) seen.push_back(p);
+    }
+    for (const Vec3& p : box_surface(kBoxX, 0.f, kNeck, kNeck, kNeckTop - kBodyTop)) {
+      const Vec3 q(p.x(), p.y(), p.z() + kBodyTop);
+      if (q.z() > kNeckTop - kLeaf || q.x() < kBoxX - 0.5f * kNeck + kLeaf) seen.push_back(q);
+    }
+    w.build(seen);
+    add_box_faces(world, kBoxX, 0.f, kBody, kBody, kBodyTop, 0.002f);
+    std::vector<Vec3> neck;
+    add_box_faces(neck, kBoxX, 0.f, kNeck, kNeck, kNeckTop - kBodyTop, 0.002f);
+    for (const Vec3& p : neck) world.emplace_back(p.x(), p.y(), p.z() + kBodyTop);
+    add_table_around(world, 0.003f);
+  }
+  void look_from_the_robot() {
+    see(*w.sensors, 0, look_at(Vec3(0.05f, 0.1f, 0.65f), Vec3(kBoxX, 0.f, 0.1f)), world);
+  }
+  void look_from_beyond() {  // the wrist sensor on the far side (+x), above
+    see(*w.sensors, 1, look_at(Vec3(0.9f, 0.05f, 0.5f), Vec3(kBoxX, 0.f, 0.1f)), world);
+  }
+  fg::Candidate across_neck(float height) const {
+    return top_down(Vec3(kBoxX, 0.f, height), Vec3::UnitX(), kNeck);
+  }
+};
+
+TEST_F(NeckOnABody, APadClosingThroughSpaceNoSensorSawWaits) {
+  look_from_the_robot();
+  // Beside the neck on the +x side, over the body: hidden, inside the body's outline.
+  const Vec3 beside(kBoxX + 0.5f * kNeck + 0.01f, 0.f, kBodyTop + 0.015f);
+  ASSERT_EQ(w.sensors->visibility(beside), fg::Sight::hidden);
+  EXPECT_TRUE(w.checks->could_be_solid(beside));
+  // The open fingers (42.5-52.5 mm out) clear the 30 mm half-body: only the +x pad's
+  // stroke meets what the head did not see. The first pass defers the grasp; the
+  // second takes it (nothing else fails).
+  const fg::Candidate c = across_neck(kNeckTop);
+  const CheckVerdict first = w.checks->evaluate(c, true);
+  EXPECT_EQ(first.outcome, CheckVerdict::Outcome::wait);
+  EXPECT_EQ(first.check, CheckId::unknown_space);
+  EXPECT_TRUE(w.checks->evaluate(c, false).passed());
+}
+
+TEST_F(NeckOnABody, TheSameGraspPassesWhenASensorSawThatSpaceFree) {
+  look_from_the_robot();
+  look_from_beyond();
+  const Vec3 beside(kBoxX + 0.5f * kNeck + 0.01f, 0.f, kBodyTop + 0.015f);
+  ASSERT_EQ(w.sensors->visibility(beside), fg::Sight::seen_free);
+  const CheckVerdict v = w.checks->evaluate(across_neck(kNeckTop), true);
+  EXPECT_TRUE(v.passed()) << fg::to_string(v.check);
+}
+
+TEST_F(NeckOnABody, APadWhoseTipClosesIntoTheBodyWaitsWhateverWasSeen) {
+  look_from_the_robot();
+  look_from_beyond();
+  // 18 mm lower (the palm still 5.5 mm over the neck) the pads' tips reach 8 mm below
+  // the body's top, and the +x pad's closes into the body, which no sensor sees into:
+  // it would meet the body's edge before the neck. Every other check passes.
+  const fg::Candidate c = across_neck(kNeckTop - 0.018f);
+  EXPECT_NEAR(margins_of(w, c)[CheckId::swept_collision], 0.0055f, 1e-4f);
+  const CheckVerdict v = w.checks->evaluate(c, true);
+  EXPECT_EQ(v.outcome, CheckVerdict::Outcome::wait);
+  EXPECT_EQ(v.check, CheckId::unknown_space);
+}
+
 TEST(Checks, ARoundBodyKeepsEveryHiddenSampleAsPossiblySolid) {
   // A can (74 mm across) seen from one side: its footprint is a disc, which may bulge
   // beyond what was seen; no body bounds it.

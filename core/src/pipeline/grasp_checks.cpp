@@ -127,13 +127,6 @@ constexpr uint32_t kVouchNormals = 3;
 // Straight down: an approach within 5 deg (half the extension families' 10 deg step) of
 // the support plane's downward normal.
 constexpr float kTopDownCos = 0.9962f;
-// A grasp on a cap (lower_tip_unseen): an approach off straight down by at most 25 deg,
-// a grasp at least kCapNarrower narrower than the target along the closing direction,
-// and more than kCapTipHidden of the 12 samples around the lower pad's tip, between its
-// open pose and its contact, in hidden space.
-constexpr float kCapTiltCos = 0.9063f;  // 25 deg
-constexpr float kCapNarrower = 0.020f;
-constexpr uint32_t kCapTipHidden = 6;
 // The contact tilt fit (contact_tilt): points up to this deep inside each side, at
 // least this many, spread over at least this depth.
 constexpr float kTiltFitDepth = 0.012f;
@@ -236,6 +229,7 @@ void GraspChecks::begin_target(uint32_t* storage, uint32_t* tables, Vec2* scratc
 
 void GraspChecks::build_plausible_body(Vec2* scratch) {
   n_body_edges_ = 0;
+  flat_sided_ = false;
   const uint32_t m = object_.size();
   if (!support_.found || m < 3) return;
   const Vec3 n = support_.plane.n.normalized();
@@ -271,11 +265,11 @@ void GraspChecks::build_plausible_body(Vec2* scratch) {
   if (convex_hull_2d(pts, 2 * h, work, hull, kMaxBodyEdges, h) != Status::ok || h < 3) return;
   // Only a flat-sided body (a prism on the plane: a box, a carton) ends where its seen
   // outline ends; a round one (a sphere, an ellipsoid, a bottle's body) may bulge
-  // beyond it below what was seen, and keeps every hidden sample as possibly solid.
-  // A disc fills pi/4 of its smallest rectangle, a rectangle all of it.
+  // beyond it below what was seen, and keeps every hidden sample as possibly solid
+  // (plausibly_solid). A disc fills pi/4 of its smallest rectangle, a rectangle all of it.
   float major_x = 0.f, major_y = 0.f;
   const float rectangle = min_area_rectangle(hull, h, major_x, major_y);
-  if (!(polygon_area(hull, h) >= kFlatSidedFill * rectangle)) return;
+  flat_sided_ = polygon_area(hull, h) >= kFlatSidedFill * rectangle;
   body_lo_[0] = body_hi_[0] = hull[0].x;
   body_lo_[1] = body_hi_[1] = hull[0].y;
   for (uint32_t i = 0; i < h; ++i) {
@@ -292,12 +286,17 @@ void GraspChecks::build_plausible_body(Vec2* scratch) {
     body_lo_[1] = std::min(body_lo_[1], p.y);
     body_hi_[1] = std::max(body_hi_[1], p.y);
   }
+  flat_sided_ = flat_sided_ && n_body_edges_ >= 3;
   body_top_ = top;
 }
 
 bool GraspChecks::plausibly_solid(const Vec3& q) const {
   // Voxel centroids lie up to half a voxel inside the surface.
-  return n_body_edges_ < 3 || in_body(q, 0.5f * cfg_.voxel_leaf_m);
+  return !flat_sided_ || in_body(q, 0.5f * cfg_.voxel_leaf_m);
+}
+
+bool GraspChecks::in_outline(const Vec3& q) const {
+  return n_body_edges_ >= 3 && in_body(q, 0.5f * cfg_.voxel_leaf_m);
 }
 
 bool GraspChecks::in_body(const Vec3& q, float grow) const {
@@ -312,7 +311,7 @@ bool GraspChecks::in_body(const Vec3& q, float grow) const {
 }
 
 bool GraspChecks::plausible_wall(const Vec3& q, Vec3& outward) const {
-  if (n_body_edges_ < 3) return false;
+  if (!flat_sided_) return false;
   const float x = body_u_.dot(q), y = body_v_.dot(q);
   uint32_t nearest = 0;
   float best = std::numeric_limits<float>::infinity();
@@ -346,7 +345,7 @@ bool GraspChecks::could_be_solid(const Vec3& q) const {
 }
 
 // The checks in order, up to the first that fails or, in the first pass, defers the
-// candidate: a finger partly in hidden space, or a cap's lower fingertip in it. A pad
+// candidate: a finger partly in hidden space, or a pad closing through it. A pad
 // whose edge meets a surface beside it (Candidate::corners_clear) is deferred by the
 // selection unchecked.
 CheckVerdict GraspChecks::evaluate(const Candidate& c, bool first_pass) {
@@ -395,6 +394,9 @@ CheckVerdict GraspChecks::evaluate(const Candidate& c, bool first_pass) {
   // (rounded objects, tilted approaches): only a balanced grasp whose seen side,
   // extended along its last slope, stays clear of the open finger.
   if (sight == 1 && !c.balanced) return CheckVerdict::fail(CheckId::unknown_space);
+  // A pad that closes through space no sensor saw may meet something else first: such a
+  // grasp waits for those whose strokes were seen.
+  if (first_pass && hidden_in_strokes(c.position, f, c.width) != 0u) return CheckVerdict::wait(CheckId::unknown_space);
   for (int side = 0; side < 2; ++side)
     if ((hidden_sides >> side & 1u) != 0u && !unseen_side_clear(c.position, f, side))
       return CheckVerdict::fail(CheckId::unseen_side);
@@ -405,9 +407,6 @@ CheckVerdict GraspChecks::evaluate(const Candidate& c, bool first_pass) {
   // A round body closed on its unseen tangents: the model is the friction argument.
   if (cfg_.friction_mu > 0.f && !c.tangent_contacts && (!c.sides_in_cone || !friction_ok(c.position, f, c.width)))
     return CheckVerdict::fail(CheckId::friction_cone);
-  // A cap grasped off straight down whose lower fingertip closes through space no
-  // sensor saw waits too: the body under the cap may flare out there.
-  if (first_pass && lower_tip_unseen(c.position, f, c.width)) return CheckVerdict::wait(CheckId::unseen_side);
   return CheckVerdict::pass();
 }
 
@@ -505,48 +504,6 @@ bool GraspChecks::fingers_clear_of_hull(const Vec3& pos, const ViewFrame& f, flo
     if (gjk_intersect(bs, hs)) return false;
   }
   return true;
-}
-
-// A cap or a neck on a wider body, grasped from a little off straight down: the lower
-// pad's tip reaches deeper than the other's, and under a cap (a mustard bottle's) the
-// body flares out into a shoulder on the far side, which no sensor saw. There the tip
-// meets the shoulder before the pad meets the cap, 47-56 deg outside the cone (of the
-// bottle's grasps approached 8-25 deg off straight down 17 of 58 held, of those
-// straight down 44 of 45). True when the approach is 5-25 deg off the support plane's
-// normal, the grasp is at least kCapNarrower narrower than the target's extent along
-// the closing direction laid on the plane (a cap; across a whole round body, an
-// ellipsoid's top, the two differ by less), and most samples around the lower pad's tip
-// (4 across its path from the open pose to the contact, 3 along the approach from 5 mm
-// short of the tip to 5 mm past it) lie in hidden space.
-bool GraspChecks::lower_tip_unseen(const Vec3& pos, const ViewFrame& f, float width) {
-  if (!support_.found) return false;
-  const float down = -f.Z.dot(support_.plane.n);  // cosine of the approach's tilt off straight down
-  if (down >= kTopDownCos || down < kCapTiltCos) return false;
-  const GripperGeometry& g = cfg_.gripper;
-  const float half_open = 0.5f * g.max_opening_m, tip = 0.5f * g.finger_depth_m;
-  const float from = 0.5f * width + cfg_.voxel_leaf_m;  // a voxel off the contact
-  // The lower pad: on the side the closing direction points down to.
-  const float x_sign = f.X.dot(support_.plane.n) > 0.f ? -1.f : 1.f;
-  uint32_t hidden = 0;
-  for (int ix = 0; ix < 4; ++ix)
-    for (int iz = 0; iz < 3; ++iz) {
-      const float x = x_sign * (from + (half_open - from) * (0.125f + 0.25f * static_cast<float>(ix)));
-      const float z = tip + 0.005f * static_cast<float>(iz - 1);
-      const Vec3 q = pos + f.X * x + f.Z * z;
-      hidden += visibility(q) < 0 && could_be_solid(q) ? 1u : 0u;
-    }
-  if (hidden <= kCapTipHidden) return false;
-  Vec3 along = f.X - support_.plane.n * f.X.dot(support_.plane.n);
-  const float len = along.norm();
-  if (!(len > 1e-3f)) return false;
-  along /= len;
-  float lo = std::numeric_limits<float>::max(), hi = std::numeric_limits<float>::lowest();
-  for (uint32_t i = 0; i < object_.size(); ++i) {
-    const float v = along.dot(object_[i]);
-    lo = std::min(lo, v);
-    hi = std::max(hi, v);
-  }
-  return hi - lo >= width + kCapNarrower;
 }
 
 bool GraspChecks::straight_down(const Vec3& approach) const {
@@ -660,6 +617,39 @@ int GraspChecks::fingers_in_seen_space(const Vec3& pos, const ViewFrame& f, floa
   const bool top_down = straight_down(f.Z);
   if (static_cast<float>(hidden) > kMaxHiddenShare * static_cast<float>(total) && !(one_finger && top_down)) return 2;
   return partly_hidden != 0 ? 1 : 0;
+}
+
+// Each pad's closing stroke: the space it sweeps from the open pose to its contact,
+// from the sight maps' margin off the contact (closer to a surface no return frees or
+// hides a point) to the open finger's inner face, sampled 3 across the stroke x 3 across
+// the pad's width x 5 along its depth. A sample hidden from every sensor yet inside the
+// target's outline (the prism over its completed hull, round bodies' too) may be matter
+// the pad meets before its contact: a bottle's shoulder under the cap it closes on, the
+// far flank of an oblong body that widens past its seen end. The grasp would close
+// there, at another width and normal. A pad with more than kSeenFingerHidden such
+// samples (silhouettes' edges blur, as for an open finger) counts; returns the pads
+// that do (bit 0 left, bit 1 right).
+uint32_t GraspChecks::hidden_in_strokes(const Vec3& pos, const ViewFrame& f, float width) const {
+  const GripperGeometry& g = cfg_.gripper;
+  const float half_open = 0.5f * g.max_opening_m;
+  const float from = 0.5f * width + SensorViews::kSightMargin;
+  if (!(half_open > from)) return 0u;
+  uint32_t hidden_pads = 0;
+  for (int side = 0; side < 2; ++side) {
+    const float sign = side == 0 ? -1.f : 1.f;
+    uint32_t hidden = 0;
+    for (int ix = 0; ix < 3; ++ix)
+      for (int iy = 0; iy < 3; ++iy)
+        for (int iz = 0; iz < 5; ++iz) {
+          const float x = from + (half_open - from) * (static_cast<float>(ix) + 0.5f) / 3.f;
+          const float y = g.finger_width_m * (static_cast<float>(iy) - 1.f) * 0.5f;
+          const float z = g.finger_depth_m * (static_cast<float>(iz) * 0.25f - 0.5f);
+          const Vec3 q = pos + f.X * (sign * x) + f.Y * y + f.Z * z;
+          hidden += visibility(q) < 0 && in_outline(q) ? 1u : 0u;
+        }
+    if (hidden > kSeenFingerHidden) hidden_pads |= 1u << side;
+  }
+  return hidden_pads;
 }
 
 bool GraspChecks::hidden_centre(const Candidate& c, Vec3& centre) {

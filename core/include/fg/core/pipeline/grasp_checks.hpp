@@ -48,7 +48,7 @@ struct CheckMargins {
 };
 
 //! A candidate's verdict: it passes, fails a check, or waits for the second pass
-//! because of a check (a partly hidden finger, an unseen lower fingertip).
+//! because of a check (a partly hidden finger, a pad closing through hidden space).
 struct CheckVerdict {
   enum class Outcome : uint8_t { pass, fail, wait };
   Outcome outcome = Outcome::pass;
@@ -108,8 +108,8 @@ class GraspChecks {
   }
 
   //! The checks in order, up to the first that fails or defers the candidate. In the
-  //! first pass (first_pass) a finger partly in hidden space, or a cap's lower
-  //! fingertip in it, defers; in the second it is judged.
+  //! first pass (first_pass) a finger partly in hidden space, or a pad whose closing
+  //! stroke passes through it, defers; in the second it is judged.
   [[nodiscard]] CheckVerdict evaluate(const Candidate& c, bool first_pass);
 
   //! Every check's margin for a candidate (the returned grasp): measured once, after
@@ -168,12 +168,12 @@ class GraspChecks {
   [[nodiscard]] bool fingers_clear_of_hull(const Vec3& pos, const ViewFrame& f, float grow = 0.f);
   [[nodiscard]] bool footprint_applies(const ViewFrame& f, float width) const;
   [[nodiscard]] bool fingers_clear_of_footprint(const Vec3& pos, const ViewFrame& f, float width, float grow = 0.f);
-  [[nodiscard]] bool lower_tip_unseen(const Vec3& pos, const ViewFrame& f, float width);
   // hidden_sum: the sum of the hidden samples that count (world), hidden_share their share
   // of all; a thin grasp refused for too little space seen free: that finger's samples
   // not seen free.
   [[nodiscard]] int fingers_in_seen_space(const Vec3& pos, const ViewFrame& f, float width, uint32_t& partly_hidden,
                                           float* hidden_share = nullptr, Vec3* hidden_sum = nullptr);
+  [[nodiscard]] uint32_t hidden_in_strokes(const Vec3& pos, const ViewFrame& f, float width) const;
   float swept_clearance(const Candidate& c) const;
   float friction_margin_deg(const Candidate& c);
   [[nodiscard]] bool unseen_side_clear(const Vec3& pos, const ViewFrame& f, int side);
@@ -208,10 +208,13 @@ class GraspChecks {
   // offsets in the plane's (u, v) frame, n . p >= d inside, and its height.
   void build_plausible_body(Vec2* scratch);
   [[nodiscard]] bool in_body(const Vec3& q, float grow) const;
+  //! q within the outline's prism grown by half a voxel, for any body (false without one).
+  [[nodiscard]] bool in_outline(const Vec3& q) const;
   Vec3 body_u_ = Vec3::UnitX(), body_v_ = Vec3::UnitY();
   Vec2 body_normal_[kMaxBodyEdges];
   float body_offset_[kMaxBodyEdges];
   uint32_t n_body_edges_ = 0;
+  bool flat_sided_ = false;  // the outline is the body's (plausibly_solid)
   float body_top_ = 0.f;
   float body_lo_[2] = {0.f, 0.f}, body_hi_[2] = {0.f, 0.f};  // the hull's bounding box
 
