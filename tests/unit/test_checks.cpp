@@ -387,8 +387,8 @@ struct NeckOnABody : ::testing::Test {
     // and its top but for the strip behind the neck (x > 15 mm, |y| < 20 mm).
     std::vector<Vec3> seen;
     for (const Vec3& p : box_surface(kBoxX, 0.f, kBody, kBody, kBodyTop)) {
-      const bool top = p.z() > kBodyTop - kLeaf, under_neck = std::fabs(p.x() - kBoxX) < 0.5f * kNeck &&
-                                                              std::fabs(p.y()) < 0.5f * kNeck;
+      const bool top = p.z() > kBodyTop - kLeaf,
+                 under_neck = std::fabs(p.x() - kBoxX) < 0.5f * kNeck && std::fabs(p.y()) < 0.5f * kNeck;
       const bool behind = p.x() > kBoxX + 0.5f * kNeck && std::fabs(p.y()) < 0.02f;
       if ((top && !under_neck && !behind) || p.x() < kBoxX - 0.5f * kBody + kLeaf) seen.push_back(p);
     }
@@ -403,15 +403,11 @@ struct NeckOnABody : ::testing::Test {
     for (const Vec3& p : neck) world.emplace_back(p.x(), p.y(), p.z() + kBodyTop);
     add_table_around(world, 0.003f);
   }
-  void look_from_the_robot() {
-    see(*w.sensors, 0, look_at(Vec3(0.05f, 0.1f, 0.65f), Vec3(kBoxX, 0.f, 0.1f)), world);
-  }
+  void look_from_the_robot() { see(*w.sensors, 0, look_at(Vec3(0.05f, 0.1f, 0.65f), Vec3(kBoxX, 0.f, 0.1f)), world); }
   void look_from_beyond() {  // the wrist sensor on the far side (+x), above
     see(*w.sensors, 1, look_at(Vec3(0.9f, 0.05f, 0.5f), Vec3(kBoxX, 0.f, 0.1f)), world);
   }
-  fg::Candidate across_neck(float height) const {
-    return top_down(Vec3(kBoxX, 0.f, height), Vec3::UnitX(), kNeck);
-  }
+  fg::Candidate across_neck(float height) const { return top_down(Vec3(kBoxX, 0.f, height), Vec3::UnitX(), kNeck); }
 };
 
 TEST_F(NeckOnABody, APadClosingThroughSpaceNoSensorSawWaits) {

@@ -295,9 +295,7 @@ bool GraspChecks::plausibly_solid(const Vec3& q) const {
   return !flat_sided_ || in_body(q, 0.5f * cfg_.voxel_leaf_m);
 }
 
-bool GraspChecks::in_outline(const Vec3& q) const {
-  return n_body_edges_ >= 3 && in_body(q, 0.5f * cfg_.voxel_leaf_m);
-}
+bool GraspChecks::in_outline(const Vec3& q) const { return n_body_edges_ >= 3 && in_body(q, 0.5f * cfg_.voxel_leaf_m); }
 
 bool GraspChecks::in_body(const Vec3& q, float grow) const {
   const float h = support_.plane.height(q);
