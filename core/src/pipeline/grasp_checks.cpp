@@ -171,6 +171,13 @@ constexpr float kMaxClosingTurn = 0.6f;
 
 namespace {
 using Box = FrameBox;
+// A sample of a finger's or a pad's column at x along the closing direction: iy of 3
+// across the finger's width (its edges and centre), iz of 5 along its depth (quarters).
+Vec3 pad_sample(const GripperGeometry& g, const Vec3& pos, const ViewFrame& f, float x, int iy, int iz) {
+  const float y = g.finger_width_m * (static_cast<float>(iy) - 1.f) * 0.5f;
+  const float z = g.finger_depth_m * (static_cast<float>(iz) * 0.25f - 0.5f);
+  return pos + f.X * x + f.Y * y + f.Z * z;
+}
 // Fingers open and palm, swept from the pre-grasp to the grasp (grasp frame).
 void gripper_boxes(const PlannerConfig& cfg, Box out[3]) {
   const GripperGeometry& g = cfg.gripper;
@@ -582,11 +589,8 @@ int GraspChecks::fingers_in_seen_space(const Vec3& pos, const ViewFrame& f, floa
     for (int ix = 0; ix < 2; ++ix)
       for (int iy = 0; iy < 3; ++iy)
         for (int iz = 0; iz < 5; ++iz) {
-          const float x = x0 + t * (0.25f + 0.5f * static_cast<float>(ix));
-          const float y = g.finger_width_m * (static_cast<float>(iy) - 1.f) * 0.5f;
-          const float z = g.finger_depth_m * (static_cast<float>(iz) * 0.25f - 0.5f);
           ++total;
-          const Vec3 q = pos + f.X * x + f.Y * y + f.Z * z;
+          const Vec3 q = pad_sample(g, pos, f, x0 + t * (0.25f + 0.5f * static_cast<float>(ix)), iy, iz);
           const int v = visibility(q);
           const bool counts = v < 0 && could_be_solid(q);
           hidden += counts ? 1u : 0u;
@@ -640,9 +644,7 @@ uint32_t GraspChecks::hidden_in_strokes(const Vec3& pos, const ViewFrame& f, flo
       for (int iy = 0; iy < 3; ++iy)
         for (int iz = 0; iz < 5; ++iz) {
           const float x = from + (half_open - from) * (static_cast<float>(ix) + 0.5f) / 3.f;
-          const float y = g.finger_width_m * (static_cast<float>(iy) - 1.f) * 0.5f;
-          const float z = g.finger_depth_m * (static_cast<float>(iz) * 0.25f - 0.5f);
-          const Vec3 q = pos + f.X * (sign * x) + f.Y * y + f.Z * z;
+          const Vec3 q = pad_sample(g, pos, f, sign * x, iy, iz);
           hidden += visibility(q) < 0 && in_outline(q) ? 1u : 0u;
         }
     if (hidden > kSeenFingerHidden) hidden_pads |= 1u << side;
