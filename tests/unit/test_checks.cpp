@@ -407,13 +407,14 @@ struct NeckOnABody : ::testing::Test {
   void look_from_beyond() {  // the wrist sensor on the far side (+x), above
     see(*w.sensors, 1, look_at(Vec3(0.9f, 0.05f, 0.5f), Vec3(kBoxX, 0.f, 0.1f)), world);
   }
+  // 10 mm beyond the neck's +x face, 15 mm over the body's top.
+  const Vec3 beside{kBoxX + 0.5f * kNeck + 0.01f, 0.f, kBodyTop + 0.015f};
   fg::Candidate across_neck(float height) const { return top_down(Vec3(kBoxX, 0.f, height), Vec3::UnitX(), kNeck); }
 };
 
 TEST_F(NeckOnABody, APadClosingThroughSpaceNoSensorSawWaits) {
   look_from_the_robot();
-  // Beside the neck on the +x side, over the body: hidden, inside the body's outline.
-  const Vec3 beside(kBoxX + 0.5f * kNeck + 0.01f, 0.f, kBodyTop + 0.015f);
+  // Beside the neck, over the body: hidden, inside the body's outline.
   ASSERT_EQ(w.sensors->visibility(beside), fg::Sight::hidden);
   EXPECT_TRUE(w.checks->could_be_solid(beside));
   // The open fingers (42.5-52.5 mm out) clear the 30 mm half-body: only the +x pad's
@@ -429,7 +430,6 @@ TEST_F(NeckOnABody, APadClosingThroughSpaceNoSensorSawWaits) {
 TEST_F(NeckOnABody, TheSameGraspPassesWhenASensorSawThatSpaceFree) {
   look_from_the_robot();
   look_from_beyond();
-  const Vec3 beside(kBoxX + 0.5f * kNeck + 0.01f, 0.f, kBodyTop + 0.015f);
   ASSERT_EQ(w.sensors->visibility(beside), fg::Sight::seen_free);
   const CheckVerdict v = w.checks->evaluate(across_neck(kNeckTop), true);
   EXPECT_TRUE(v.passed()) << fg::to_string(v.check);
