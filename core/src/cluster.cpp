@@ -365,17 +365,24 @@ void cluster_and_pick(const VoxelGrid& grid, uint8_t* state, uint32_t* queue, co
   float best_score = 0.f;
   uint32_t free_total = 0;
   const TargetSpec* const probe = prm.target.kind == TargetKind::by_rule ? nullptr : &prm.target;
+  // Each cluster of min_points or more stays in the queue after the ones before it
+  // (ObjectSummary::first); a smaller one is overwritten by the next.
+  uint32_t kept = 0;
   for (uint32_t i = next_in_state(state, n, 0, kVoxelFree); i < n; i = next_in_state(state, n, i + 1u, kVoxelFree)) {
     Walk w;
     w.probe = probe;
+    uint32_t* const walk = queue + kept;
     const uint32_t size = free_cells != nullptr
-                              ? flood_bits(grid, state, queue, i, off, lin, n_off, *free_cells, kVoxelVisited, w)
-                              : flood(grid, state, queue, i, off, hashes, n_off, kVoxelFree, kVoxelVisited, w);
+                              ? flood_bits(grid, state, walk, i, off, lin, n_off, *free_cells, kVoxelVisited, w)
+                              : flood(grid, state, walk, i, off, hashes, n_off, kVoxelFree, kVoxelVisited, w);
     free_total += size;
     if (size < prm.min_points) continue;
+    kept += size;
     ++res.clusters;
     keep_largest(res, ClusterSummary{i, size, w.x0, w.x1, w.y0, w.y1});
-    keep_nearest(res, summarize(grid, i, size, w), prm.centre_x, prm.centre_y);
+    ObjectSummary o = summarize(grid, i, size, w);
+    o.first = kept - size;
+    keep_nearest(res, o, prm.centre_x, prm.centre_y);
     float score;
     if (prm.target.kind == TargetKind::nearest_point) {
       score = w.near_d2;
@@ -396,7 +403,7 @@ void cluster_and_pick(const VoxelGrid& grid, uint8_t* state, uint32_t* queue, co
       // Keep the leader's voxels (its walk is in the queue until the next flood), so
       // the winner need not be walked again. Each component is copied at most once.
       if (size <= target_capacity)
-        for (uint32_t k = 0; k < size; ++k) target[k] = queue[k];
+        for (uint32_t k = 0; k < size; ++k) target[k] = walk[k];
     }
   }
   if (best_seed == VoxelGrid::kNone) {
@@ -479,6 +486,16 @@ uint32_t mark_cluster(const VoxelGrid& grid, uint8_t* state, uint32_t* queue, co
   const uint32_t kept = size < target_capacity ? size : target_capacity;
   for (uint32_t k = 0; k < kept; ++k) target[k] = queue[k];
   return size;
+}
+
+uint32_t walk_cluster(const VoxelGrid& grid, uint8_t* state, uint32_t* queue, const ClusterParams& prm, uint32_t seed,
+                      uint8_t from, uint8_t mark) {
+  if (seed >= grid.size() || state[seed] != from || from == mark) return 0;
+  Offset off[kMaxOffsets];
+  OffsetHashes hashes;
+  const uint32_t n_off = make_offsets(prm.cells > 2 ? 2u : prm.cells, off, hashes);
+  Walk w;
+  return flood(grid, state, queue, seed, off, hashes, n_off, from, mark, w);
 }
 
 Status validate(const TargetSpec& t, const char** message) {

@@ -148,6 +148,8 @@ Status Planner::plan(PlanResult& out) {
     StageTimer t(out.stage_us, Stage::cluster);
     const LentWords lent{view_words_, sizeof(view_words_) / sizeof(view_words_[0]), kViewWorkWordBits};
     find_target(grid_, state_, cp, queue, lent, object_voxel_, clusters_);
+    join_fragments(grid_, state_, queue, cp, sensors_, fragment_gap(cfg_), lent, object_voxel_, kMaxObjectPoints,
+                   clusters_);
     objects_ready_ = true;
     if (clusters_.target_size == 0) {
       const char* why = target_.kind == TargetKind::inside_box ? "no object has a voxel inside the target box"
@@ -212,8 +214,8 @@ Status Planner::plan_object(uint32_t k, PlanResult& out) {
   uint32_t* const queue = grid_.lend_count_storage();
   {
     StageTimer t(out.stage_us, Stage::cluster);
-    const uint32_t size = mark_cluster(grid_, state_, queue, target_cluster_params(cfg_), clusters_.objects[k].seed,
-                                       object_voxel_, kMaxObjectPoints);
+    const uint32_t size = mark_object(grid_, state_, queue, target_cluster_params(cfg_), clusters_.objects[k],
+                                      object_voxel_, kMaxObjectPoints);
     counts_.object = size;
     if (size == 0)  // plan() left every listed seed in the visited or target state
       return finish(out, tally, Status::internal_error, NoGraspReason::none,

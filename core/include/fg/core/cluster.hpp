@@ -36,12 +36,23 @@ struct ClusterParams {
   TargetSpec target;  //!< by_rule: `rule` picks
 };
 
+//! Clusters joined to one object at most, besides its own (pipeline/fragments.hpp):
+//! every other listed one.
+inline constexpr uint32_t kMaxJoinedFragments = kMaxObjects > 1u ? kMaxObjects - 1u : 1u;
+
 //! One object on the support plane, as the labelling found it (world frame).
 struct ObjectSummary {
   uint32_t seed = 0;             //!< its first voxel (lowest index): mark_cluster() takes it again
-  uint32_t voxels = 0;           //!< its voxels
+  uint32_t voxels = 0;           //!< its voxels (its fragments' included)
   Vec3 centroid = Vec3::Zero();  //!< the mean of its voxel centroids
   Vec3 box_min = Vec3::Zero(), box_max = Vec3::Zero();  //!< the box of its voxels' cells
+  //! Clusters of the same object that no connected voxels join to it, only space no
+  //! sensor saw (join_fragments): a seed each.
+  uint32_t fragment_seed[kMaxJoinedFragments] = {};
+  uint32_t fragments = 0;
+  //! Right after cluster_and_pick: its voxels' indices start at queue[first] (the
+  //! labelling's queue holds every listed cluster, one after another).
+  uint32_t first = 0;
 };
 
 //! One cluster as the labelling found it: its first voxel (lowest index), its size
@@ -137,6 +148,12 @@ uint32_t retarget_to_cover(const VoxelGrid& grid, uint8_t* state, uint32_t* queu
 //! `queue` needs grid.size() entries. O(voxels + the cluster's voxels * neighbours).
 uint32_t mark_cluster(const VoxelGrid& grid, uint8_t* state, uint32_t* queue, const ClusterParams& params,
                       uint32_t seed, uint32_t* target, uint32_t target_capacity);
+
+//! The component of voxel `seed` through voxels in state `from`, marked `mark` (!=
+//! from); its voxel indices in queue[0, size), its size returned (0 when seed is not
+//! in state `from`). `queue` needs grid.size() entries.
+uint32_t walk_cluster(const VoxelGrid& grid, uint8_t* state, uint32_t* queue, const ClusterParams& params,
+                      uint32_t seed, uint8_t from, uint8_t mark);
 
 namespace detail {
 //! The lookup filter's verdicts on the hashes kh + oh[o], o < n <= 32: bit o set when

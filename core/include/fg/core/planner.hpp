@@ -19,6 +19,7 @@
 #include "fg/core/pipeline/sensor_views.hpp"
 #include "fg/core/pipeline/stage_timer.hpp"
 #include "fg/core/pipeline/support_plane.hpp"
+#include "fg/core/pipeline/fragments.hpp"
 #include "fg/core/pipeline/target.hpp"
 #include "fg/core/pipeline/viewpoints.hpp"
 #include "fg/core/plane.hpp"
