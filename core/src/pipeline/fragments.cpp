@@ -148,27 +148,32 @@ void join_fragments(const VoxelGrid& grid, uint8_t* state, const uint32_t* queue
     o.fragment_seed[o.fragments++] = f.seed;
   }
   // The list: the roots, nearest the centre first (insertion, stable: ties keep their
-  // order), the fragments' entries gone. `order` keeps which listed object each is.
-  uint32_t order[kMaxObjects], kept = 0;
+  // order), the fragments' entries gone, sorted in place. `listed` keeps which listed
+  // object each entry is.
+  uint32_t listed[kMaxObjects], kept = 0;
   for (uint32_t k = 0; k < n; ++k) {
     if (find(k) != k) continue;
-    uint32_t pos = kept++;
-    const float d = distance2_to_centre(res.objects[k], cp);
-    while (pos > 0 && d < distance2_to_centre(res.objects[order[pos - 1]], cp)) {
-      order[pos] = order[pos - 1];
-      --pos;
-    }
-    order[pos] = k;
+    res.objects[kept] = res.objects[k];  // kept <= k: an entry not yet read, or itself
+    listed[kept++] = k;
   }
-  ObjectSummary sorted[kMaxObjects];
-  for (uint32_t k = 0; k < kept; ++k) sorted[k] = res.objects[order[k]];
-  for (uint32_t k = 0; k < kept; ++k) res.objects[k] = sorted[k];
+  for (uint32_t k = 1; k < kept; ++k) {
+    const ObjectSummary o = res.objects[k];
+    const uint32_t l = listed[k];
+    const float d = distance2_to_centre(o, cp);
+    uint32_t pos = k;
+    for (; pos > 0 && d < distance2_to_centre(res.objects[pos - 1], cp); --pos) {
+      res.objects[pos] = res.objects[pos - 1];
+      listed[pos] = listed[pos - 1];
+    }
+    res.objects[pos] = o;
+    listed[pos] = l;
+  }
   res.n_objects = kept;
   res.clusters -= joins;
   // The target: the nearest object by the default rule, else the group of the one the
   // labelling picked; a target not listed, or alone and unchanged, stays as it was.
   const bool nearest = cp.target.kind == TargetKind::by_rule && cp.rule == TargetRule::nearest_to_centre;
-  const uint32_t target_root = nearest ? order[0] : (old_target < n ? find(old_target) : n);
+  const uint32_t target_root = nearest ? listed[0] : (old_target < n ? find(old_target) : n);
   if (target_root == n || (members[target_root] == 1u && target_root == old_target)) return;
   for (uint32_t v = 0; v < res.target_size; ++v) state[target_voxels[v]] = kVoxelVisited;
   uint32_t size = 0;
