@@ -5,6 +5,8 @@
 
 namespace fg {
 namespace {
+// A group holds at most the listed objects: its root keeps the others' seeds.
+static_assert(kMaxJoinedFragments + 1u >= kMaxObjects, "every other listed object fits a group's fragments");
 // Segments tested between two objects at most: from evenly chosen points of one.
 constexpr uint32_t kFragmentSegments = 16;
 
@@ -119,8 +121,7 @@ void join_fragments(const VoxelGrid& grid, uint8_t* state, const uint32_t* queue
   for (uint32_t i = 0; i < n && tests < kMaxFragmentTests; ++i)
     for (uint32_t j = i + 1; j < n && tests < kMaxFragmentTests; ++j) {
       const uint32_t ri = find(i), rj = find(j);
-      if (ri == rj || members[ri] + members[rj] > 1u + kMaxJoinedFragments) continue;
-      if (voxels[ri] + voxels[rj] > capacity) continue;
+      if (ri == rj || voxels[ri] + voxels[rj] > capacity) continue;
       const ObjectSummary &oi = res.objects[i], &oj = res.objects[j];
       if (box_gap(oi.box_min, oi.box_max, oj.box_min, oj.box_max) > max_gap) continue;
       ++tests;
