@@ -6,6 +6,7 @@
 // scenes are constructed here, noise-free, world frame: the table top at z = 0.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <random>
@@ -29,14 +30,20 @@ constexpr double kStep = 0.002;
 
 // The can (kCx, kCy, radius kR, height kH) as a solid for the rays: true when the
 // segment from `eye` to `p` passes through it before reaching p (p itself outside it).
+// In x-y the segment is inside the can's circle for t in [t0, t1] (a quadratic in t);
+// its height is linear in t, so it meets the solid when that stretch, within the
+// segment, spans some height between 0 and kH.
 bool can_blocks(const Vec3& eye, const Vec3& p) {
-  const int n = 400;
-  for (int i = 1; i < n; ++i) {
-    const Vec3 q = eye + (p - eye) * (static_cast<float>(i) / n);
-    const double dx = q.x() - kCx, dy = q.y() - kCy;
-    if (dx * dx + dy * dy < kR * kR * 0.999 && q.z() > 0.0 && q.z() < kH) return true;
-  }
-  return false;
+  const double ex = eye.x() - kCx, ey = eye.y() - kCy;
+  const double dx = p.x() - eye.x(), dy = p.y() - eye.y(), dz = p.z() - eye.z();
+  const double a = dx * dx + dy * dy, b = 2.0 * (ex * dx + ey * dy), c = ex * ex + ey * ey - kR * kR;
+  const double disc = b * b - 4.0 * a * c;
+  if (a <= 0.0 || disc <= 0.0) return false;
+  const double t0 = std::max(0.0, (-b - std::sqrt(disc)) / (2.0 * a));
+  const double t1 = std::min(1.0, (-b + std::sqrt(disc)) / (2.0 * a));
+  if (t0 >= t1) return false;
+  const double z0 = eye.z() + t0 * dz, z1 = eye.z() + t1 * dz;
+  return std::min(z0, z1) < kH && std::max(z0, z1) > 0.0;
 }
 
 // What a sensor at `eye` returns of the table (0.8 x 0.8 about (0.5, 0)) and of the
@@ -50,7 +57,7 @@ std::vector<Vec3> seen_by(const Vec3& eye) {
       const Vec3 p = fg::test::v3(x, y, 0.0);
       const double dx = x - kCx, dy = y - kCy;
       if (dx * dx + dy * dy <= kR * kR) continue;  // under the can
-      if (std::fabs(dx) < 0.1 && std::fabs(dy) < 0.1 && can_blocks(eye, p)) continue;
+      if (can_blocks(eye, p)) continue;
       pts.push_back(p);
     }
   const double facing = std::atan2(eye.y() - kCy, eye.x() - kCx);
